@@ -1,0 +1,68 @@
+// koma: the reference client. Results on stdout, diagnostics on stderr.
+// Exit codes: 0 ok, 1 failure (RPC error, bad file), 2 usage error.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+
+#include "client/channel.h"
+#include "client/health_command.h"
+#include "client/skeletal_command.h"
+
+namespace {
+
+constexpr int kUsageError = 2;
+
+void AddSkeletal(CLI::App& app, koma::client::SkeletalArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "skeletal", "Retime a BVH mocap clip into anime timing (RetimeSkeletal)");
+  cmd->add_option("input", args.input, "BVH file to retime")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", args.output, "retimed BVH file to write")->required();
+  cmd->add_option("--omit", args.omissions, "inbetween omissions Nio (default 4)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--hold", args.holds, "holds Nhf (default frames / 3)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-hold", args.max_hold, "longest run of one drawing (default 3)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("!--no-keep-length", args.keep_length,
+                "do not re-insert duplicates: the clip gets shorter by the omissions");
+  cmd->add_flag("--hold-first", args.hold_first, "run holds before omissions");
+  cmd->add_flag("--root-relative", args.root_relative,
+                "measure speed relative to the root joint (ignore locomotion)");
+  cmd->add_option("--timing", args.timing, "timing sheet CSV to write");
+  cmd->add_option("--server", args.server, "server host:port (default $KOMA_SERVER or "
+                                           "127.0.0.1:50051)");
+  cmd->add_option("--deadline", args.deadline_seconds, "RPC deadline in seconds (default 60)")
+      ->check(CLI::PositiveNumber);
+}
+
+void AddHealth(CLI::App& app, koma::client::HealthArgs& args) {
+  CLI::App* cmd = app.add_subcommand("health", "Ask the server's grpc.health.v1 service");
+  cmd->add_option("--server", args.server, "server host:port");
+  cmd->add_option("--service", args.service, "service name (default: the whole server)");
+  cmd->add_option("--deadline", args.deadline_seconds, "RPC deadline in seconds (default 5)")
+      ->check(CLI::PositiveNumber);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"koma: retime animation into Japanese limited-animation timing"};
+  app.require_subcommand(1);
+  koma::client::SkeletalArgs skeletal;
+  koma::client::HealthArgs health;
+  skeletal.server = health.server = koma::client::DefaultServer();
+  AddSkeletal(app, skeletal);
+  AddHealth(app, health);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);  // prints the problem and the usage line to stderr
+    return kUsageError;
+  }
+  if (app.got_subcommand("skeletal")) return koma::client::RunSkeletal(skeletal);
+  return koma::client::RunHealth(health);
+}

@@ -1,0 +1,126 @@
+#include "client/skeletal_command.h"
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "client/channel.h"
+#include "client/files.h"
+#include "client/skeletal_convert.h"
+#include "formats/bvh.h"
+#include "formats/timing_sheet.h"
+#include "koma/v1/retime.grpc.pb.h"
+
+namespace koma::client {
+namespace {
+
+int ReportError(const absl::Status& status) {
+  std::fprintf(stderr, "koma: %s\n", std::string(status.message()).c_str());
+  return 1;
+}
+
+v1::RetimeSkeletalRequest MakeRequest(const SkeletalArgs& args, const SkeletalClip& clip) {
+  v1::RetimeSkeletalRequest request;
+  *request.mutable_motion() = ToProto(clip);
+  if (args.omissions) request.set_omissions(*args.omissions);
+  if (args.holds) request.set_holds(*args.holds);
+  if (args.max_hold) request.set_max_hold(*args.max_hold);
+  request.set_keep_length(args.keep_length);
+  request.set_order(args.hold_first ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
+  request.set_root_relative(args.root_relative);
+  return request;
+}
+
+// "3-5, 9, 12-13": ascending integers as compact ranges; "none" when empty.
+std::string Ranges(const std::vector<int>& sorted) {
+  if (sorted.empty()) return "none";
+  std::vector<std::string> parts;
+  size_t i = 0;
+  while (i < sorted.size()) {
+    size_t j = i;
+    while (j + 1 < sorted.size() && sorted[j + 1] == sorted[j] + 1) ++j;
+    parts.push_back(i == j ? absl::StrCat(sorted[i])
+                           : absl::StrCat(sorted[i], "-", sorted[j]));
+    i = j + 1;
+  }
+  return absl::StrJoin(parts, ", ");
+}
+
+std::vector<int> OutputFramesOfKind(const v1::RetimeSkeletalResponse& response,
+                                    v1::FrameKind kind) {
+  std::vector<int> frames;
+  for (int t = 0; t < response.kinds_size(); ++t) {
+    if (response.kinds(t) == kind) frames.push_back(t);
+  }
+  return frames;
+}
+
+int LongestRun(const v1::RetimeSkeletalResponse& response) {
+  int longest = 0;
+  int run = 0;
+  for (int t = 0; t < response.source_frames_size(); ++t) {
+    run = (t > 0 && response.source_frames(t) == response.source_frames(t - 1)) ? run + 1 : 1;
+    longest = std::max(longest, run);
+  }
+  return longest;
+}
+
+void PrintSummary(const SkeletalArgs& args, const SkeletalClip& clip,
+                  const v1::RetimeSkeletalResponse& response) {
+  const std::vector<int> deleted(response.deleted_frames().begin(),
+                                 response.deleted_frames().end());
+  const std::vector<int> hidden(response.hidden_frames().begin(), response.hidden_frames().end());
+  std::printf("%s: %d frames, %zu joints, %.4g fps -> %s (%d frames)\n", args.input.c_str(),
+              clip.frame_count, clip.skeleton.joints.size(), 1.0 / clip.frame_time,
+              args.output.c_str(), response.source_frames_size());
+  std::printf("  omitted    %3d  source frames %s\n", response.omissions_applied(),
+              Ranges(deleted).c_str());
+  std::printf("  duplicated %3d  at output frames %s%s\n", response.duplicates_applied(),
+              Ranges(OutputFramesOfKind(response, v1::DUPLICATE)).c_str(),
+              response.duplicates_skipped() > 0
+                  ? absl::StrCat(" (", response.duplicates_skipped(), " skipped)").c_str()
+                  : "");
+  std::printf("  held       %3d  at output frames %s\n", response.holds_applied(),
+              Ranges(OutputFramesOfKind(response, v1::HELD)).c_str());
+  std::printf("                   hiding source frames %s\n", Ranges(hidden).c_str());
+  std::printf("  longest hold %d frames; requested omissions %d, holds %d, max_hold %d\n",
+              LongestRun(response), response.omissions_requested(),
+              response.holds_requested(), response.max_hold());
+  if (!args.timing.empty()) std::printf("  timing sheet: %s\n", args.timing.c_str());
+}
+
+}  // namespace
+
+int RunSkeletal(const SkeletalArgs& args) {
+  absl::StatusOr<std::string> text = ReadFile(args.input);
+  if (!text.ok()) return ReportError(text.status());
+  absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(*text);
+  if (!clip.ok()) {
+    return ReportError(absl::InvalidArgumentError(
+        absl::StrCat(args.input, ": ", clip.status().message())));
+  }
+  auto stub = v1::Retime::NewStub(MakeChannel(args.server));
+  grpc::ClientContext context;
+  SetDeadline(&context, args.deadline_seconds);
+  v1::RetimeSkeletalResponse response;
+  const grpc::Status status = stub->RetimeSkeletal(&context, MakeRequest(args, *clip), &response);
+  if (!status.ok()) return ReportRpcError(status);
+
+  absl::StatusOr<SkeletalClip> retimed = ClipFromResponse(response, clip->skeleton);
+  if (!retimed.ok()) return ReportError(retimed.status());
+  if (absl::Status s = WriteFile(args.output, formats::WriteBvh(*retimed)); !s.ok()) {
+    return ReportError(s);
+  }
+  if (!args.timing.empty()) {
+    const std::string sheet =
+        formats::WriteTimingSheetCsv(TimingMapFromResponse(response), clip->frame_time);
+    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return ReportError(s);
+  }
+  PrintSummary(args, *clip, response);
+  return 0;
+}
+
+}  // namespace koma::client

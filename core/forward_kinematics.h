@@ -1,0 +1,25 @@
+// Forward kinematics from BVH channels to world joint positions.
+#ifndef KOMA_CORE_FORWARD_KINEMATICS_H_
+#define KOMA_CORE_FORWARD_KINEMATICS_H_
+
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "core/skeleton.h"
+
+namespace koma {
+
+// World positions of every joint in every frame, frame-major: frame_count x joints x 3.
+//
+// Convention (the common BVH reading): a joint's local transform is
+//   T(offset) * T(position channels) * R(c1) * R(c2) * ...
+// where the rotation channels are applied in the order they are listed (intrinsic), angles in
+// degrees; position channels add to the offset whatever their place in the list. World =
+// parent world * local; a joint's position is the translation of its world transform.
+// Requires ValidateSkeleton OK and values.size() == frame_count * ChannelCount.
+// INVALID_ARGUMENT if the sizes disagree.
+absl::StatusOr<std::vector<double>> ComputeWorldPositions(const SkeletalClip& clip);
+
+}  // namespace koma
+
+#endif  // KOMA_CORE_FORWARD_KINEMATICS_H_

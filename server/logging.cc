@@ -1,0 +1,92 @@
+#include "server/logging.h"
+
+#include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <ctime>
+#include <nlohmann/json.hpp>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "server/status_mapping.h"
+
+namespace koma::server {
+namespace {
+
+LogFormat g_format = LogFormat::kText;
+
+// UTC time with milliseconds, ISO 8601: 2026-11-21T13:05:28.123Z.
+std::string NowIso8601() {
+  const auto now = std::chrono::system_clock::now();
+  const std::time_t seconds = std::chrono::system_clock::to_time_t(now);
+  const auto millis =
+      std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() %
+      1000;
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  char buffer[32];
+  std::strftime(buffer, sizeof(buffer), "%Y-%m-%dT%H:%M:%S", &utc);
+  return absl::StrFormat("%s.%03dZ", buffer, static_cast<int>(millis));
+}
+
+void Emit(spdlog::level::level_enum level, nlohmann::json fields, std::string text) {
+  if (g_format == LogFormat::kJson) {
+    fields["ts"] = NowIso8601();
+    fields["level"] = spdlog::level::to_string_view(level).data();
+    // Invalid UTF-8 from a client (a peer string, a joint name) is replaced, not thrown.
+    spdlog::log(level, "{}", fields.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+  } else {
+    spdlog::log(level, "{}", text);
+  }
+}
+
+}  // namespace
+
+absl::Status ConfigureLogging(absl::string_view level, absl::string_view format) {
+  const spdlog::level::level_enum parsed = spdlog::level::from_str(std::string(level));
+  if (parsed == spdlog::level::off && level != "off") {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--log_level: \"", level, "\" (expected trace, debug, info, warn, error, critical, off)"));
+  }
+  if (format == "text") {
+    g_format = LogFormat::kText;
+  } else if (format == "json") {
+    g_format = LogFormat::kJson;
+  } else {
+    return absl::InvalidArgumentError(
+        absl::StrCat("--log_format: \"", format, "\" (expected text or json)"));
+  }
+  auto logger = spdlog::stderr_logger_mt("koma");
+  logger->set_level(parsed);
+  logger->set_pattern(g_format == LogFormat::kJson ? "%v" : "%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
+  logger->flush_on(spdlog::level::trace);
+  spdlog::set_default_logger(logger);
+  return absl::OkStatus();
+}
+
+void LogRpc(const RpcRecord& r) {
+  const std::string code = GrpcCodeName(r.code);
+  nlohmann::json fields = {{"msg", "rpc"},         {"method", r.method},
+                           {"peer", r.peer},       {"frames", r.frames},
+                           {"joints", r.joints},   {"bytes_in", r.bytes_in},
+                           {"bytes_out", r.bytes_out}, {"code", code},
+                           {"latency_ms", r.latency_ms}};
+  std::string text = absl::StrFormat("rpc %s peer=%s frames=%d joints=%d in=%dB out=%dB code=%s "
+                                     "latency_ms=%.3f",
+                                     r.method, r.peer, r.frames, r.joints, r.bytes_in,
+                                     r.bytes_out, code, r.latency_ms);
+  if (r.code != grpc::StatusCode::OK) {
+    fields["error"] = r.error;
+    absl::StrAppend(&text, " error=\"", r.error, "\"");
+  }
+  Emit(r.code == grpc::StatusCode::INTERNAL ? spdlog::level::err : spdlog::level::info,
+       std::move(fields), std::move(text));
+}
+
+void LogEvent(absl::string_view message, bool warning) {
+  Emit(warning ? spdlog::level::warn : spdlog::level::info, {{"msg", message}},
+       std::string(message));
+}
+
+}  // namespace koma::server

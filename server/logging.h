@@ -1,0 +1,41 @@
+// Server logging on spdlog (stderr): plain text, or one JSON object per line for log
+// pipelines. spdlog 1.10 has no JSON formatter, so JSON lines are built with nlohmann::json,
+// which escapes every string.
+#ifndef KOMA_SERVER_LOGGING_H_
+#define KOMA_SERVER_LOGGING_H_
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "absl/status/statusor.h"
+#include <grpcpp/support/status.h>
+
+namespace koma::server {
+
+enum class LogFormat { kText, kJson };
+
+// `level`: trace, debug, info, warn, error, critical or off. `format`: text or json.
+// INVALID_ARGUMENT naming the flag on an unknown value.
+absl::Status ConfigureLogging(absl::string_view level, absl::string_view format);
+
+// One line per finished RPC.
+struct RpcRecord {
+  absl::string_view method;  // "RetimeSkeletal"
+  std::string peer;         // "ipv4:127.0.0.1:53422"
+  int64_t frames = 0;       // input frames, 0 if the request was rejected before parsing
+  int64_t joints = 0;
+  int64_t bytes_in = 0;     // serialized request size
+  int64_t bytes_out = 0;    // serialized response size, 0 on error
+  grpc::StatusCode code = grpc::StatusCode::OK;
+  std::string error;        // status message when not OK
+  double latency_ms = 0.0;  // from the handler's start to Finish
+};
+void LogRpc(const RpcRecord& record);
+
+// Lifecycle messages (listening, shutting down): info level, or warn when `warning`.
+void LogEvent(absl::string_view message, bool warning = false);
+
+}  // namespace koma::server
+
+#endif  // KOMA_SERVER_LOGGING_H_

@@ -1,0 +1,100 @@
+// koma_server: the koma gRPC service. Flags are listed by --help.
+#include <signal.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "absl/flags/flag.h"
+#include "absl/flags/parse.h"
+#include "absl/flags/usage.h"
+#include "absl/strings/str_cat.h"
+#include "absl/time/time.h"
+#include "server/logging.h"
+#include "server/server.h"
+
+ABSL_FLAG(std::string, address, "127.0.0.1:50051",
+          "host:port to listen on; port 0 picks a free port (see --port_file); use "
+          "0.0.0.0:50051 or [::]:50051 to accept remote clients");
+ABSL_FLAG(std::string, port_file, "",
+          "if set, write the bound port number to this file once the server is serving");
+ABSL_FLAG(int, max_message_bytes, 256 * 1024 * 1024,
+          "largest request or response in bytes (default 256 MiB: a 100k-frame, 31-joint "
+          "clip is about 77 MB)");
+ABSL_FLAG(int64_t, max_values, 20'000'000,
+          "largest frames x values-per-frame in one request (values-per-frame = max(channels, "
+          "3 x joints)); larger requests get RESOURCE_EXHAUSTED");
+ABSL_FLAG(int, max_joints, 4096, "largest skeleton in joints");
+ABSL_FLAG(int, worker_threads, 0, "threads that run retiming; 0 = one per core");
+ABSL_FLAG(int, max_queued, 64,
+          "requests that may wait for a worker; beyond that, RESOURCE_EXHAUSTED");
+ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn, error, critical or off");
+ABSL_FLAG(std::string, log_format, "text", "text, or json (one JSON object per line)");
+ABSL_FLAG(int, shutdown_grace_ms, 10000,
+          "on SIGTERM/SIGINT, how long calls in flight may finish before they are cancelled");
+
+namespace {
+
+koma::server::ServerConfig ConfigFromFlags() {
+  koma::server::ServerConfig config;
+  config.address = absl::GetFlag(FLAGS_address);
+  config.max_message_bytes = absl::GetFlag(FLAGS_max_message_bytes);
+  config.limits.max_values = absl::GetFlag(FLAGS_max_values);
+  config.limits.max_joints = absl::GetFlag(FLAGS_max_joints);
+  config.worker_threads = absl::GetFlag(FLAGS_worker_threads);
+  config.max_queued = absl::GetFlag(FLAGS_max_queued);
+  return config;
+}
+
+// Writes the port through a temporary file and a rename, so a reader never sees it half
+// written.
+bool WritePortFile(const std::string& path, int port) {
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    if (!(out << port << '\n')) return false;
+  }
+  return std::rename(temporary.c_str(), path.c_str()) == 0;
+}
+
+int Fail(const std::string& message) {
+  std::fprintf(stderr, "koma_server: %s\n", message.c_str());
+  return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  absl::SetProgramUsageMessage("koma_server [--address=HOST:PORT] [flags]: the koma gRPC service");
+  absl::ParseCommandLine(argc, argv);
+  if (absl::Status s = koma::server::ConfigureLogging(absl::GetFlag(FLAGS_log_level),
+                                                      absl::GetFlag(FLAGS_log_format));
+      !s.ok()) {
+    return Fail(std::string(s.message()));
+  }
+  // Block the stop signals in every thread (gRPC's threads inherit this mask) and take them
+  // synchronously below with sigwait, so no handler runs inside gRPC code.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGTERM);
+  sigaddset(&stop_signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  auto server = koma::server::KomaServer::Start(ConfigFromFlags());
+  if (!server.ok()) return Fail(std::string(server.status().message()));
+  const std::string port_file = absl::GetFlag(FLAGS_port_file);
+  if (!port_file.empty() && !WritePortFile(port_file, (*server)->port())) {
+    return Fail(absl::StrCat("--port_file: cannot write ", port_file));
+  }
+  koma::server::LogEvent(absl::StrCat("koma_server listening on ", absl::GetFlag(FLAGS_address),
+                                      " (port ", (*server)->port(), ")"));
+
+  int signal_number = 0;
+  sigwait(&stop_signals, &signal_number);
+  koma::server::LogEvent(absl::StrCat("received ", signal_number == SIGTERM ? "SIGTERM" : "SIGINT",
+                                      ", draining (grace ", absl::GetFlag(FLAGS_shutdown_grace_ms),
+                                      " ms)"));
+  (*server)->Shutdown(absl::Milliseconds(absl::GetFlag(FLAGS_shutdown_grace_ms)));
+  koma::server::LogEvent("koma_server stopped");
+  return 0;
+}

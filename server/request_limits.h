@@ -1,0 +1,20 @@
+// Per-request limits the server enforces before doing any work. Each one is a server flag.
+#ifndef KOMA_SERVER_REQUEST_LIMITS_H_
+#define KOMA_SERVER_REQUEST_LIMITS_H_
+
+#include <cstdint>
+
+namespace koma::server {
+
+struct RequestLimits {
+  // Largest frames x values-per-frame in one request, where values-per-frame is the larger
+  // of the channel count and 3 x joints. 20M covers a 100k-frame, 31-joint (96-channel) clip
+  // with room to spare; memory per request is about 3 x 8 bytes per value.
+  int64_t max_values = 20'000'000;
+  // Largest skeleton, in joints.
+  int32_t max_joints = 4096;
+};
+
+}  // namespace koma::server
+
+#endif  // KOMA_SERVER_REQUEST_LIMITS_H_

@@ -1,0 +1,37 @@
+// The koma.v1.Retime service on gRPC's callback API. Each RPC is handed to a WorkerPool so
+// CPU-bound retiming never runs on gRPC's own event threads; the reactor is finished from the
+// worker.
+#ifndef KOMA_SERVER_RETIME_SERVICE_H_
+#define KOMA_SERVER_RETIME_SERVICE_H_
+
+#include <grpcpp/grpcpp.h>
+
+#include "koma/v1/retime.grpc.pb.h"
+#include "server/request_limits.h"
+#include "server/worker_pool.h"
+
+namespace koma::server {
+
+class RetimeService final : public v1::Retime::CallbackService {
+ public:
+  // `pool` must outlive the service and every call it accepted.
+  RetimeService(const RequestLimits& limits, WorkerPool* pool) : limits_(limits), pool_(pool) {}
+
+  grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
+                                           const v1::RetimeSkeletalRequest* request,
+                                           v1::RetimeSkeletalResponse* response) override;
+  grpc::ServerUnaryReactor* RetimeCurves(grpc::CallbackServerContext* context,
+                                         const v1::RetimeCurvesRequest* request,
+                                         v1::RetimeCurvesResponse* response) override;
+  grpc::ServerUnaryReactor* LipBlink(grpc::CallbackServerContext* context,
+                                     const v1::LipBlinkRequest* request,
+                                     v1::LipBlinkResponse* response) override;
+
+ private:
+  const RequestLimits limits_;
+  WorkerPool* const pool_;
+};
+
+}  // namespace koma::server
+
+#endif  // KOMA_SERVER_RETIME_SERVICE_H_

@@ -1,0 +1,78 @@
+#include "server/server.h"
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/health_check_service_interface.h>
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "server/logging.h"
+
+namespace koma::server {
+namespace {
+
+constexpr char kServiceName[] = "koma.v1.Retime";
+
+int DefaultWorkerThreads() {
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+}  // namespace
+
+absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig& config) {
+  if (config.max_message_bytes < 1024) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--max_message_bytes: ", config.max_message_bytes, " is below 1024"));
+  }
+  if (config.max_queued < 0 || config.worker_threads < 0) {
+    return absl::InvalidArgumentError("--max_queued and --worker_threads must be >= 0");
+  }
+  std::unique_ptr<KomaServer> server(new KomaServer());
+  const int threads = config.worker_threads > 0 ? config.worker_threads : DefaultWorkerThreads();
+  server->pool_ = std::make_unique<WorkerPool>(threads, static_cast<size_t>(config.max_queued));
+  server->service_ = std::make_unique<RetimeService>(config.limits, server->pool_.get());
+  server->max_message_bytes_ = config.max_message_bytes;
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  if (!config.address.empty()) {
+    builder.AddListeningPort(config.address, grpc::InsecureServerCredentials(), &server->port_);
+  }
+  builder.SetMaxReceiveMessageSize(config.max_message_bytes);
+  builder.SetMaxSendMessageSize(config.max_message_bytes);
+  builder.RegisterService(server->service_.get());
+  server->server_ = builder.BuildAndStart();
+  if (server->server_ == nullptr || (!config.address.empty() && server->port_ == 0)) {
+    return absl::UnavailableError(
+        absl::StrCat("--address: could not listen on ", config.address,
+                     " (in use, or not a valid host:port)"));
+  }
+  grpc::HealthCheckServiceInterface* health = server->server_->GetHealthCheckService();
+  health->SetServingStatus(true);
+  health->SetServingStatus(kServiceName, true);
+  return server;
+}
+
+KomaServer::~KomaServer() { Shutdown(absl::ZeroDuration()); }
+
+std::shared_ptr<grpc::Channel> KomaServer::InProcessChannel() {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(max_message_bytes_);
+  args.SetMaxSendMessageSize(max_message_bytes_);
+  return server_->InProcessChannel(args);
+}
+
+void KomaServer::Shutdown(absl::Duration grace) {
+  if (shut_down_ || server_ == nullptr) return;
+  shut_down_ = true;
+  server_->GetHealthCheckService()->SetServingStatus(false);
+  const auto deadline = std::chrono::system_clock::now() + absl::ToChronoMilliseconds(grace);
+  server_->Shutdown(deadline);
+  pool_.reset();  // runs what was accepted; every reactor gets its Finish
+  server_->Wait();
+}
+
+}  // namespace koma::server

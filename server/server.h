@@ -1,0 +1,61 @@
+// Builds and runs the koma gRPC server: the Retime service, health (grpc.health.v1) and
+// reflection (grpc.reflection.v1alpha), with message-size and request limits.
+#ifndef KOMA_SERVER_SERVER_H_
+#define KOMA_SERVER_SERVER_H_
+
+#include <grpcpp/grpcpp.h>
+
+#include <memory>
+#include <string>
+
+#include "absl/status/statusor.h"
+#include "absl/time/time.h"
+#include "server/request_limits.h"
+#include "server/retime_service.h"
+#include "server/worker_pool.h"
+
+namespace koma::server {
+
+struct ServerConfig {
+  // "127.0.0.1:50051", "[::1]:0" (0 picks a free port), "0.0.0.0:50051" in a container.
+  // Empty: no listening port, only InProcessChannel() (tests).
+  std::string address = "127.0.0.1:50051";
+  // Largest request and response, bytes. 256 MiB holds a 100k-frame, 96-channel clip
+  // (77 MB of doubles) in and out with room to spare.
+  int max_message_bytes = 256 * 1024 * 1024;
+  RequestLimits limits;
+  // Threads that run retiming; 0 = one per core.
+  int worker_threads = 0;
+  // Requests that may wait for a worker before new ones get RESOURCE_EXHAUSTED.
+  int max_queued = 64;
+};
+
+class KomaServer {
+ public:
+  static absl::StatusOr<std::unique_ptr<KomaServer>> Start(const ServerConfig& config);
+  ~KomaServer();
+
+  // The bound port (the chosen one when the address asked for port 0); 0 without a port.
+  int port() const { return port_; }
+  // A channel to this server that bypasses the network (tests), with the same size limits.
+  std::shared_ptr<grpc::Channel> InProcessChannel();
+  // Health to NOT_SERVING, stop accepting, let calls in flight finish for up to `grace`
+  // then cancel them, and wait for the workers. Safe to call more than once.
+  void Shutdown(absl::Duration grace);
+
+ private:
+  KomaServer() = default;
+
+  int port_ = 0;
+  int max_message_bytes_ = 0;
+  bool shut_down_ = false;
+  // Declaration order is destruction order in reverse: the server goes before the service
+  // and the pool it calls into.
+  std::unique_ptr<WorkerPool> pool_;
+  std::unique_ptr<RetimeService> service_;
+  std::unique_ptr<grpc::Server> server_;
+};
+
+}  // namespace koma::server
+
+#endif  // KOMA_SERVER_SERVER_H_

@@ -1,0 +1,100 @@
+// Run half of server/skeletal_request.h: validated request -> FK -> RetimeFast -> response.
+#include <cstring>
+#include <vector>
+
+#include "core/forward_kinematics.h"
+#include "core/status_macros.h"
+#include "server/skeletal_request.h"
+
+namespace koma::server {
+namespace {
+
+v1::FrameKind ToProto(FrameKind kind) {
+  switch (kind) {
+    case FrameKind::kOriginal: return v1::ORIGINAL;
+    case FrameKind::kDuplicate: return v1::DUPLICATE;
+    case FrameKind::kHeld: return v1::HELD;
+  }
+  return v1::FRAME_KIND_UNSPECIFIED;
+}
+
+absl::StatusOr<std::vector<double>> WorldPositions(const v1::SkeletalMotion& motion,
+                                                   const SkeletalJob& job) {
+  if (!job.channel_form) {
+    const auto& values = motion.positions().values();
+    return std::vector<double>(values.begin(), values.end());
+  }
+  SkeletalClip clip;
+  clip.skeleton = job.skeleton;
+  clip.frame_time = motion.frame_time();
+  clip.frame_count = job.frame_count;
+  clip.values.assign(motion.channels().values().begin(), motion.channels().values().end());
+  return ComputeWorldPositions(clip);
+}
+
+// Output frame t is a verbatim copy of source frame map.source_frames[t].
+void CopyFrames(const google::protobuf::RepeatedField<double>& source, int per_frame,
+                const TimingMap& map, google::protobuf::RepeatedField<double>* out) {
+  out->Resize(static_cast<int>(map.source_frames.size()) * per_frame, 0.0);
+  if (per_frame == 0) return;
+  double* dst = out->mutable_data();
+  for (int32_t frame : map.source_frames) {
+    std::memcpy(dst, source.data() + static_cast<size_t>(frame) * per_frame,
+                sizeof(double) * per_frame);
+    dst += per_frame;
+  }
+}
+
+void FillMotion(const v1::SkeletalMotion& in, const SkeletalJob& job, const TimingMap& map,
+                v1::SkeletalMotion* out) {
+  *out->mutable_skeleton() = in.skeleton();
+  out->set_frame_time(in.frame_time());
+  out->set_frame_count(static_cast<int32_t>(map.source_frames.size()));
+  const int per_frame = job.channel_form ? ChannelCount(job.skeleton)
+                                         : 3 * static_cast<int>(job.skeleton.joints.size());
+  if (job.channel_form) {
+    CopyFrames(in.channels().values(), per_frame, map,
+               out->mutable_channels()->mutable_values());
+  } else {
+    CopyFrames(in.positions().values(), per_frame, map,
+               out->mutable_positions()->mutable_values());
+  }
+}
+
+void FillResponse(const v1::RetimeSkeletalRequest& request, const SkeletalJob& job,
+                  const TimingMap& map, const std::vector<double>& input_ssd,
+                  v1::RetimeSkeletalResponse* response) {
+  response->mutable_source_frames()->Add(map.source_frames.begin(), map.source_frames.end());
+  response->mutable_kinds()->Reserve(static_cast<int>(map.kinds.size()));
+  for (FrameKind kind : map.kinds) response->add_kinds(ToProto(kind));
+  response->mutable_deleted_frames()->Add(map.deleted.begin(), map.deleted.end());
+  response->mutable_hidden_frames()->Add(map.hidden.begin(), map.hidden.end());
+  response->mutable_input_ssd()->Add(input_ssd.begin(), input_ssd.end());
+  response->set_omissions_applied(map.omissions_applied);
+  response->set_duplicates_applied(map.duplicates_applied);
+  response->set_duplicates_skipped(map.duplicates_skipped);
+  response->set_holds_applied(map.holds_applied);
+  response->set_omissions_requested(job.retime_options.omissions);
+  response->set_holds_requested(job.retime_options.holds);
+  response->set_max_hold(job.retime_options.max_hold);
+  if (job.return_motion) FillMotion(request.motion(), job, map, response->mutable_motion());
+}
+
+}  // namespace
+
+absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
+                                  const RequestLimits& limits,
+                                  v1::RetimeSkeletalResponse* response) {
+  KOMA_ASSIGN_OR_RETURN(const SkeletalJob job, ValidateSkeletalRequest(request, limits));
+  KOMA_ASSIGN_OR_RETURN(const std::vector<double> positions,
+                        WorldPositions(request.motion(), job));
+  KOMA_ASSIGN_OR_RETURN(
+      const FrameDistance distance,
+      FrameDistance::Create(positions, job.frame_count,
+                            static_cast<int>(job.skeleton.joints.size()), job.distance_options));
+  const TimingMap map = RetimeFast(distance, job.retime_options);
+  FillResponse(request, job, map, distance.InputSsd(), response);
+  return absl::OkStatus();
+}
+
+}  // namespace koma::server

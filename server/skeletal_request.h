@@ -1,0 +1,40 @@
+// RetimeSkeletal: proto request -> validated core inputs -> core algorithm -> proto response.
+#ifndef KOMA_SERVER_SKELETAL_REQUEST_H_
+#define KOMA_SERVER_SKELETAL_REQUEST_H_
+
+#include <optional>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "core/distance.h"
+#include "core/retime.h"
+#include "core/skeleton.h"
+#include "koma/v1/retime.pb.h"
+#include "server/request_limits.h"
+
+namespace koma::server {
+
+// Everything the core needs, checked. Channel values stay in the request message.
+struct SkeletalJob {
+  Skeleton skeleton;
+  int frame_count = 0;
+  bool channel_form = true;  // false: the request carried world positions
+  DistanceOptions distance_options;
+  RetimeOptions retime_options;
+  bool return_motion = true;
+};
+
+// Checks every field and returns INVALID_ARGUMENT, OUT_OF_RANGE or RESOURCE_EXHAUSTED with
+// the field path and value on the first problem. No algorithm work happens here.
+absl::StatusOr<SkeletalJob> ValidateSkeletalRequest(const v1::RetimeSkeletalRequest& request,
+                                                    const RequestLimits& limits);
+
+// Validates, runs forward kinematics (channel form) and RetimeFast, and fills `response`.
+absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
+                                  const RequestLimits& limits,
+                                  v1::RetimeSkeletalResponse* response);
+
+}  // namespace koma::server
+
+#endif  // KOMA_SERVER_SKELETAL_REQUEST_H_

@@ -1,0 +1,193 @@
+// Validation half of server/skeletal_request.h: proto fields -> core types, every field
+// checked before any work, errors naming the field path and the value.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "absl/strings/str_cat.h"
+#include "core/status_macros.h"
+#include "server/skeletal_request.h"
+
+namespace koma::server {
+namespace {
+
+absl::Status Prefixed(const absl::Status& status, absl::string_view prefix) {
+  if (status.ok()) return status;
+  return absl::Status(status.code(), absl::StrCat(prefix, status.message()));
+}
+
+absl::StatusOr<Skeleton> ConvertSkeleton(const v1::Skeleton& proto, const RequestLimits& limits) {
+  if (proto.joints_size() == 0) {
+    return absl::InvalidArgumentError("motion.skeleton.joints: the skeleton has no joints");
+  }
+  if (proto.joints_size() > limits.max_joints) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("motion.skeleton.joints: ", proto.joints_size(),
+                     " joints exceeds the server limit --max_joints=", limits.max_joints));
+  }
+  Skeleton skeleton;
+  skeleton.joints.resize(proto.joints_size());
+  for (int i = 0; i < proto.joints_size(); ++i) {
+    const v1::Joint& in = proto.joints(i);
+    Joint& out = skeleton.joints[i];
+    out.name = in.name();
+    out.parent = in.parent();
+    out.offset = {in.offset().x(), in.offset().y(), in.offset().z()};
+    for (const v1::Vec3& site : in.end_sites()) out.end_sites.push_back({site.x(), site.y(), site.z()});
+    for (int c = 0; c < in.channels_size(); ++c) {
+      absl::StatusOr<ChannelKind> kind = ParseChannelName(in.channels(c));
+      if (!kind.ok()) {
+        return Prefixed(kind.status(),
+                        absl::StrCat("motion.skeleton.joints[", i, "].channels[", c, "]: "));
+      }
+      out.channels.push_back(*kind);
+    }
+  }
+  KOMA_RETURN_IF_ERROR(Prefixed(ValidateSkeleton(skeleton), "motion.skeleton."));
+  return skeleton;
+}
+
+absl::Status CheckTiming(const v1::SkeletalMotion& motion) {
+  if (!std::isfinite(motion.frame_time()) || motion.frame_time() <= 0.0) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "motion.frame_time: ", motion.frame_time(), " s must be finite and > 0"));
+  }
+  if (motion.frame_count() < 2) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "motion.frame_count: ", motion.frame_count(), " frames, retiming needs at least 2"));
+  }
+  return absl::OkStatus();
+}
+
+// Size limit first, then the exact count, then every value finite.
+absl::Status CheckValues(const google::protobuf::RepeatedField<double>& values,
+                         absl::string_view field, int frame_count, int per_frame,
+                         absl::string_view breakdown, int64_t work_per_frame,
+                         const RequestLimits& limits) {
+  const int64_t work = static_cast<int64_t>(frame_count) * work_per_frame;
+  if (work > limits.max_values) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "motion: ", frame_count, " frames x ", work_per_frame, " values per frame = ", work,
+        " exceeds the server limit --max_values=", limits.max_values));
+  }
+  const int64_t expected = static_cast<int64_t>(frame_count) * per_frame;
+  if (values.size() != expected) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        field, ": expected ", expected, " values (", frame_count, " frames x ", breakdown,
+        "), got ", values.size()));
+  }
+  for (int i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      return absl::InvalidArgumentError(absl::StrCat(field, "[", i, "]: ", values[i],
+                                                     " is not finite (frame ", i / per_frame,
+                                                     ", value ", i % per_frame, ")"));
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::Status CheckMotionData(const v1::SkeletalMotion& motion, const Skeleton& skeleton,
+                             const RequestLimits& limits, bool* channel_form) {
+  const int joints = static_cast<int>(skeleton.joints.size());
+  const int64_t position_values = 3LL * joints;
+  switch (motion.data_case()) {
+    case v1::SkeletalMotion::kChannels: {
+      *channel_form = true;
+      const int channels = ChannelCount(skeleton);
+      return CheckValues(motion.channels().values(), "motion.channels.values",
+                         motion.frame_count(), channels, absl::StrCat(channels, " channels"),
+                         std::max<int64_t>(channels, position_values), limits);
+    }
+    case v1::SkeletalMotion::kPositions:
+      *channel_form = false;
+      return CheckValues(motion.positions().values(), "motion.positions.values",
+                         motion.frame_count(), 3 * joints,
+                         absl::StrCat(joints, " joints x 3 coordinates"), position_values,
+                         limits);
+    default:
+      return absl::InvalidArgumentError(
+          "motion.data: neither channels nor positions is set");
+  }
+}
+
+absl::StatusOr<DistanceOptions> ConvertDistanceOptions(const v1::RetimeSkeletalRequest& request,
+                                                       int joints) {
+  DistanceOptions options;
+  options.root_relative = request.root_relative();
+  if (request.joint_weights_size() != 0) {
+    if (request.joint_weights_size() != joints) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "joint_weights: ", request.joint_weights_size(), " weights for ", joints,
+          " joints (give one per joint, or none for all 1)"));
+    }
+    for (int i = 0; i < joints; ++i) {
+      const double w = request.joint_weights(i);
+      if (!std::isfinite(w) || w < 0.0) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("joint_weights[", i, "]: ", w, " must be finite and >= 0"));
+      }
+    }
+    options.weights.assign(request.joint_weights().begin(), request.joint_weights().end());
+  }
+  if (request.camera_size() != 0) {
+    if (request.camera_size() != 16) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "camera: ", request.camera_size(), " values, a 4x4 matrix needs 16 (column-major)"));
+    }
+    std::array<double, 16> matrix;
+    for (int i = 0; i < 16; ++i) {
+      if (!std::isfinite(request.camera(i))) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("camera[", i, "]: ", request.camera(i), " is not finite"));
+      }
+      matrix[i] = request.camera(i);
+    }
+    options.camera = matrix;
+  }
+  return options;
+}
+
+absl::StatusOr<RetimeOptions> ConvertRetimeOptions(const v1::RetimeSkeletalRequest& request,
+                                                   int frame_count) {
+  RetimeOptions options = DefaultRetimeOptions(frame_count);
+  if (request.has_omissions()) options.omissions = request.omissions();
+  if (request.has_holds()) options.holds = request.holds();
+  if (request.has_max_hold()) options.max_hold = request.max_hold();
+  if (request.has_keep_length()) options.keep_length = request.keep_length();
+  switch (request.order()) {
+    case v1::STEP_ORDER_UNSPECIFIED:
+    case v1::OMIT_THEN_HOLD:
+      options.order = StepOrder::kOmitThenHold;
+      break;
+    case v1::HOLD_THEN_OMIT:
+      options.order = StepOrder::kHoldThenOmit;
+      break;
+    default:
+      return absl::InvalidArgumentError(absl::StrCat(
+          "order: ", static_cast<int>(request.order()),
+          " is not a StepOrder (1 OMIT_THEN_HOLD, 2 HOLD_THEN_OMIT)"));
+  }
+  KOMA_RETURN_IF_ERROR(ValidateRetimeOptions(options, frame_count));
+  return options;
+}
+
+}  // namespace
+
+absl::StatusOr<SkeletalJob> ValidateSkeletalRequest(const v1::RetimeSkeletalRequest& request,
+                                                    const RequestLimits& limits) {
+  if (!request.has_motion()) return absl::InvalidArgumentError("motion: required, not set");
+  const v1::SkeletalMotion& motion = request.motion();
+  SkeletalJob job;
+  KOMA_ASSIGN_OR_RETURN(job.skeleton, ConvertSkeleton(motion.skeleton(), limits));
+  KOMA_RETURN_IF_ERROR(CheckTiming(motion));
+  job.frame_count = motion.frame_count();
+  KOMA_RETURN_IF_ERROR(CheckMotionData(motion, job.skeleton, limits, &job.channel_form));
+  const int joints = static_cast<int>(job.skeleton.joints.size());
+  KOMA_ASSIGN_OR_RETURN(job.distance_options, ConvertDistanceOptions(request, joints));
+  KOMA_ASSIGN_OR_RETURN(job.retime_options, ConvertRetimeOptions(request, job.frame_count));
+  job.return_motion = !request.has_return_motion() || request.return_motion();
+  return job;
+}
+
+}  // namespace koma::server

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# End to end: the real koma_server on a free loopback port, the real koma client on the
+# bundled sample. Usage: skeletal_e2e_test.sh KOMA_SERVER KOMA SAMPLE_BVH
+set -euo pipefail
+server_bin=$1 client_bin=$2 sample=$3
+
+work=$(mktemp -d)
+server_pid=""
+cleanup() {
+  if [ -n "$server_pid" ] && kill -0 "$server_pid" 2>/dev/null; then kill -KILL "$server_pid"; fi
+  rm -rf "$work"
+}
+trap cleanup EXIT
+fail() { echo "FAIL: $*" >&2; echo "--- server log" >&2; cat "$work/server.log" >&2 || true; exit 1; }
+
+"$server_bin" --address=127.0.0.1:0 --port_file="$work/port" --log_format=json \
+  --worker_threads=2 2>"$work/server.log" &
+server_pid=$!
+for _ in $(seq 100); do [ -s "$work/port" ] && break; sleep 0.1; done
+[ -s "$work/port" ] || fail "server did not write its port within 10 s"
+target="127.0.0.1:$(cat "$work/port")"
+
+# Health.
+[ "$("$client_bin" health --server "$target")" = SERVING ] || fail "health is not SERVING"
+
+# The sample, with a timing sheet.
+"$client_bin" skeletal "$sample" -o "$work/out.bvh" --timing "$work/timing.csv" \
+  --server "$target" --deadline 30 >"$work/summary.txt" || fail "koma skeletal failed"
+cat "$work/summary.txt"
+grep -q "omitted" "$work/summary.txt" || fail "summary has no omitted line"
+in_frames=$(sed -n 's/^Frames:[[:space:]]*//p' "$sample" | tr -d '\r')
+out_frames=$(sed -n 's/^Frames:[[:space:]]*//p' "$work/out.bvh")
+[ "$in_frames" = "$out_frames" ] || fail "frames $in_frames in, $out_frames out (keep_length)"
+rows=$(($(wc -l <"$work/timing.csv") - 1))
+[ "$rows" = "$out_frames" ] || fail "timing sheet has $rows rows for $out_frames frames"
+head -1 "$work/timing.csv" | grep -q "^output_frame,source_frame,kind" || fail "timing header"
+grep -q ",HELD," "$work/timing.csv" || fail "no HELD frame in the timing sheet"
+grep -q ",DUPLICATE," "$work/timing.csv" || fail "no DUPLICATE frame in the timing sheet"
+
+# The retimed file is a valid BVH: retime it again.
+"$client_bin" skeletal "$work/out.bvh" -o "$work/again.bvh" --server "$target" >/dev/null \
+  || fail "the written BVH does not read back"
+
+# A bad parameter: the server's code and message, exit 1.
+set +e
+"$client_bin" skeletal "$sample" -o "$work/bad.bvh" --omit 500 --server "$target" \
+  2>"$work/err.txt"
+code=$?
+set -e
+[ "$code" = 1 ] || fail "--omit 500 exited $code, want 1"
+grep -q "OUT_OF_RANGE: omissions: 500" "$work/err.txt" || fail "error text: $(cat "$work/err.txt")"
+[ ! -e "$work/bad.bvh" ] || fail "a failed call wrote an output file"
+
+# A usage error: exit 2.
+set +e
+"$client_bin" skeletal >/dev/null 2>&1
+code=$?
+set -e
+[ "$code" = 2 ] || fail "missing arguments exited $code, want 2"
+
+# A malformed BVH: exit 1 with the line number.
+printf 'HIERARCHY\nROOT Hips\n{\n OFFSET 0 0\n' >"$work/broken.bvh"
+set +e
+"$client_bin" skeletal "$work/broken.bvh" -o "$work/x.bvh" --server "$target" 2>"$work/err.txt"
+code=$?
+set -e
+[ "$code" = 1 ] || fail "broken BVH exited $code, want 1"
+grep -q "line" "$work/err.txt" || fail "broken BVH error names no line: $(cat "$work/err.txt")"
+
+# Graceful stop: SIGTERM, exit 0.
+kill -TERM "$server_pid"
+set +e
+wait "$server_pid"
+code=$?
+set -e
+server_pid=""
+[ "$code" = 0 ] || fail "server exited $code after SIGTERM"
+
+# Every log line is one JSON object; one per RPC with method and code.
+python3 - "$work/server.log" <<'PY' || fail "server log is not JSON lines"
+import json, sys
+lines = open(sys.argv[1]).read().splitlines()
+records = [json.loads(line) for line in lines]
+rpcs = [r for r in records if r.get("msg") == "rpc"]
+assert len(rpcs) >= 4, rpcs
+for r in rpcs:
+    for key in ("method", "peer", "frames", "joints", "code", "latency_ms"):
+        assert key in r, (key, r)
+assert any(r["code"] == "OUT_OF_RANGE" for r in rpcs)
+assert records[-1]["msg"] == "koma_server stopped"
+PY
+echo "PASS: skeletal end to end"
