@@ -1,0 +1,35 @@
+#include "formats/timing_sheet.h"
+
+#include <cassert>
+#include <cstddef>
+
+#include "absl/strings/str_cat.h"
+#include "formats/number_format.h"
+
+namespace koma::formats {
+
+std::string_view FrameKindName(FrameKind kind) {
+  switch (kind) {
+    case FrameKind::kOriginal:
+      return "ORIGINAL";
+    case FrameKind::kDuplicate:
+      return "DUPLICATE";
+    case FrameKind::kHeld:
+      return "HELD";
+  }
+  return "UNKNOWN";  // not reached for a valid enum value
+}
+
+std::string WriteTimingSheetCsv(const TimingMap& map, double frame_time) {
+  assert(map.kinds.size() == map.source_frames.size());
+  std::string out = "output_frame,source_frame,kind,time_s\n";
+  for (size_t t = 0; t < map.source_frames.size(); ++t) {
+    const double time_s = static_cast<double>(t) * frame_time;
+    absl::StrAppend(&out, t, ",", map.source_frames[t], ",");
+    out.append(FrameKindName(map.kinds[t]));  // std::string_view: no StrCat
+    absl::StrAppend(&out, ",", FormatDouble(time_s), "\n");
+  }
+  return out;
+}
+
+}  // namespace koma::formats
