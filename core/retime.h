@@ -4,8 +4,9 @@
 // Two implementations with identical results:
 //  - RetimeNaive follows the steps literally, rescanning the working sequence each step:
 //    O((omissions + holds) * N * J). It is the reference for tests.
-//  - RetimeFast keeps the candidates in ordered sets keyed by (SSD, position) over a linked
-//    list of runs: O(N*J + (omissions + holds) * (J + log N)). The server uses it.
+//  - RetimeFast keeps the candidates in binary heaps with lazy invalidation, keyed by
+//    (SSD, position), over a linked list of runs (all output frames showing one source
+//    frame): O(N*J + (omissions + holds) * (J + log N)). The server uses it.
 #ifndef KOMA_CORE_RETIME_H_
 #define KOMA_CORE_RETIME_H_
 

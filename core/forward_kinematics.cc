@@ -1,0 +1,123 @@
+#include "core/forward_kinematics.h"
+
+#include <cmath>
+#include <cstdint>
+
+#include "absl/strings/str_cat.h"
+#include "core/status_macros.h"
+
+namespace koma {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadiansPerDegree = kPi / 180.0;
+
+// A rigid transform: x' = rotation * x + translation. rotation is row-major 3x3.
+struct Transform {
+  double rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  double translation[3] = {0, 0, 0};
+};
+
+// out = a * b for row-major 3x3 matrices (out must not alias a or b).
+void Multiply3(const double* a, const double* b, double* out) {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      out[3 * r + c] = a[3 * r] * b[c] + a[3 * r + 1] * b[3 + c] + a[3 * r + 2] * b[6 + c];
+    }
+  }
+}
+
+// The right-handed rotation by `degrees` about the axis of a rotation channel.
+void AxisRotation(ChannelKind kind, double degrees, double* out) {
+  const double c = std::cos(degrees * kRadiansPerDegree);
+  const double s = std::sin(degrees * kRadiansPerDegree);
+  switch (kind) {
+    case ChannelKind::kXRotation: {
+      const double m[9] = {1, 0, 0, 0, c, -s, 0, s, c};
+      for (int k = 0; k < 9; ++k) out[k] = m[k];
+      return;
+    }
+    case ChannelKind::kYRotation: {
+      const double m[9] = {c, 0, s, 0, 1, 0, -s, 0, c};
+      for (int k = 0; k < 9; ++k) out[k] = m[k];
+      return;
+    }
+    default: {  // kZRotation
+      const double m[9] = {c, -s, 0, s, c, 0, 0, 0, 1};
+      for (int k = 0; k < 9; ++k) out[k] = m[k];
+      return;
+    }
+  }
+}
+
+// T(offset) * T(position channels) * R(c1) * R(c2) * ... for one joint in one frame;
+// `values` are that joint's channel values in channel order.
+Transform LocalTransform(const Joint& joint, const double* values) {
+  Transform local;
+  local.translation[0] = joint.offset.x;
+  local.translation[1] = joint.offset.y;
+  local.translation[2] = joint.offset.z;
+  for (size_t c = 0; c < joint.channels.size(); ++c) {
+    const ChannelKind kind = joint.channels[c];
+    if (kind == ChannelKind::kXPosition || kind == ChannelKind::kYPosition ||
+        kind == ChannelKind::kZPosition) {
+      local.translation[static_cast<int>(kind) - static_cast<int>(ChannelKind::kXPosition)] +=
+          values[c];
+      continue;
+    }
+    double axis[9];
+    double product[9];
+    AxisRotation(kind, values[c], axis);
+    Multiply3(local.rotation, axis, product);  // intrinsic: later channels on the right
+    for (int k = 0; k < 9; ++k) local.rotation[k] = product[k];
+  }
+  return local;
+}
+
+// parent * local.
+Transform Compose(const Transform& parent, const Transform& local) {
+  Transform world;
+  Multiply3(parent.rotation, local.rotation, world.rotation);
+  for (int r = 0; r < 3; ++r) {
+    world.translation[r] = parent.translation[r] + parent.rotation[3 * r] * local.translation[0] +
+                           parent.rotation[3 * r + 1] * local.translation[1] +
+                           parent.rotation[3 * r + 2] * local.translation[2];
+  }
+  return world;
+}
+
+}  // namespace
+
+absl::StatusOr<std::vector<double>> ComputeWorldPositions(const SkeletalClip& clip) {
+  KOMA_RETURN_IF_ERROR(ValidateSkeleton(clip.skeleton));
+  const std::vector<Joint>& joints = clip.skeleton.joints;
+  const int channel_count = ChannelCount(clip.skeleton);
+  if (clip.frame_count < 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("frame_count: ", clip.frame_count, " is negative"));
+  }
+  const int64_t expected = int64_t{clip.frame_count} * channel_count;
+  if (static_cast<int64_t>(clip.values.size()) != expected) {
+    return absl::InvalidArgumentError(absl::StrCat("values: expected ", expected, " values (",
+                                                   clip.frame_count, " frames x ", channel_count,
+                                                   " channels), got ", clip.values.size()));
+  }
+  const size_t joint_count = joints.size();
+  std::vector<double> positions(static_cast<size_t>(clip.frame_count) * joint_count * 3);
+  std::vector<Transform> world(joint_count);  // this frame's world transforms
+  for (int f = 0; f < clip.frame_count; ++f) {
+    const double* values = clip.values.data() + static_cast<size_t>(f) * channel_count;
+    double* out = positions.data() + static_cast<size_t>(f) * joint_count * 3;
+    for (size_t j = 0; j < joint_count; ++j) {
+      const Joint& joint = joints[j];
+      const Transform local = LocalTransform(joint, values);
+      values += joint.channels.size();
+      // Parents precede children (ValidateSkeleton rule 2), so world[parent] is ready.
+      world[j] = joint.parent < 0 ? local : Compose(world[joint.parent], local);
+      for (int c = 0; c < 3; ++c) out[3 * j + c] = world[j].translation[c];
+    }
+  }
+  return positions;
+}
+
+}  // namespace koma

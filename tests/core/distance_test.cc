@@ -1,0 +1,172 @@
+#include "core/distance.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <limits>
+#include <vector>
+
+#include "tests/testing/status_matchers.h"
+
+namespace koma {
+namespace {
+
+using ::koma::testing::IsOk;
+using ::koma::testing::StatusIs;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// 3 frames x 2 joints. Joint 0 (root) walks along x; joint 1 rides 1 above it and swings.
+const std::vector<double> kPositions = {
+    0, 0, 0, /**/ 0, 1, 0,  // frame 0
+    1, 0, 0, /**/ 1, 1, 2,  // frame 1
+    3, 0, 0, /**/ 3, 1, 2,  // frame 2
+};
+
+// clip.x = 2x + 1, clip.y = 3y, clip.w = z; column-major: columns are (2,0,0,0), (0,3,0,0),
+// (0,0,1,1) and the translation (1,0,0,0).
+constexpr std::array<double, 16> kCamera = {2, 0, 0, 0, 0, 3, 0, 0, 0, 0, 1, 1, 1, 0, 0, 0};
+
+TEST(DistanceTest, DefaultWeightsSumSquaredDistances) {
+  ASSERT_OK_AND_ASSIGN(const FrameDistance d, FrameDistance::Create(kPositions, 3, 2, {}));
+  EXPECT_EQ(d.frame_count(), 3);
+  EXPECT_EQ(d.joint_count(), 2);
+  EXPECT_EQ(d(0, 1), 1.0 + (1.0 + 4.0));  // root moves 1; joint 1 moves (1, 0, 2)
+  EXPECT_EQ(d(1, 2), 4.0 + 4.0);
+  EXPECT_EQ(d(0, 2), 9.0 + (9.0 + 4.0));
+  EXPECT_EQ(d(2, 0), d(0, 2));
+  EXPECT_EQ(d(1, 1), 0.0);
+}
+
+TEST(DistanceTest, WeightsScaleEachJoint) {
+  DistanceOptions options;
+  options.weights = {0.5, 2.0};
+  ASSERT_OK_AND_ASSIGN(const FrameDistance d, FrameDistance::Create(kPositions, 3, 2, options));
+  EXPECT_EQ(d(0, 1), 0.5 * 1.0 + 2.0 * 5.0);
+}
+
+TEST(DistanceTest, RootRelativeIgnoresLocomotion) {
+  DistanceOptions options;
+  options.root_relative = true;
+  ASSERT_OK_AND_ASSIGN(const FrameDistance d, FrameDistance::Create(kPositions, 3, 2, options));
+  EXPECT_EQ(d(0, 1), 4.0);  // joint 1 relative to the root: (0, 1, 0) -> (0, 1, 2)
+  EXPECT_EQ(d(1, 2), 0.0);  // pure translation
+}
+
+TEST(DistanceTest, InputSsdStartsWithZero) {
+  ASSERT_OK_AND_ASSIGN(const FrameDistance d, FrameDistance::Create(kPositions, 3, 2, {}));
+  EXPECT_THAT(d.InputSsd(), ElementsAre(0.0, 6.0, 8.0));
+}
+
+TEST(DistanceTest, CameraProjectsColumnMajorToNdc) {
+  // One joint at (1, 1, 2) then (1, 1, 4): ndc (3/2, 3/2) then (3/4, 3/4).
+  const std::vector<double> positions = {1, 1, 2, 1, 1, 4};
+  DistanceOptions options;
+  options.camera = kCamera;
+  ASSERT_OK_AND_ASSIGN(const FrameDistance d, FrameDistance::Create(positions, 2, 1, options));
+  EXPECT_EQ(d(0, 1), 0.75 * 0.75 + 0.75 * 0.75);
+}
+
+TEST(DistanceTest, CameraUsesOnlyScreenComponents) {
+  // With x = -0.5 and y = 0, clip x = 2x + 1 = 0 and clip y = 0: moving along z (depth)
+  // does not move the point on screen, so the distance is 0 though it moved 6 in world.
+  const std::vector<double> positions = {-0.5, 0, 2, -0.5, 0, 8};
+  DistanceOptions options;
+  options.camera = kCamera;
+  ASSERT_OK_AND_ASSIGN(const FrameDistance d, FrameDistance::Create(positions, 2, 1, options));
+  EXPECT_EQ(d(0, 1), 0.0);
+}
+
+TEST(DistanceTest, RootRelativeIsAppliedInWorldSpaceBeforeTheCamera) {
+  // w = z + 1, clip.x = x. Joint 1 relative to the root: (1, 0, 1) then (1, 0, 3), so ndc x
+  // 1/2 then 1/4; the root itself sits at the origin, ndc (0, 0).
+  std::array<double, 16> camera = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 0, 0, 1};
+  const std::vector<double> positions = {5, 0, 10, 6, 0, 11, /**/ 7, 0, 20, 8, 0, 23};
+  DistanceOptions options;
+  options.root_relative = true;
+  options.camera = camera;
+  ASSERT_OK_AND_ASSIGN(const FrameDistance d, FrameDistance::Create(positions, 2, 2, options));
+  EXPECT_EQ(d(0, 1), 0.25 * 0.25);
+}
+
+TEST(DistanceTest, CameraWZeroIsRejectedWithFrameAndJoint) {
+  const std::vector<double> positions = {1, 1, 2, 1, 1, 2, /**/ 1, 1, 2, 1, 1, 0};
+  DistanceOptions options;
+  options.camera = kCamera;
+  EXPECT_THAT(FrameDistance::Create(positions, 2, 2, options),
+              StatusIs(absl::StatusCode::kInvalidArgument,
+                       HasSubstr("camera: frame 1 joint 1 projects with w = 0")));
+}
+
+TEST(DistanceTest, ZeroWeightJointsTakeNoPart) {
+  // Joint 1 is behind the camera plane (w = 0) and huge, but has weight 0.
+  const std::vector<double> positions = {1, 1, 2, 1e300, 1, 0, /**/ 1, 1, 4, -1e300, 1, 0};
+  DistanceOptions options;
+  options.camera = kCamera;
+  options.weights = {1.0, 0.0};
+  ASSERT_OK_AND_ASSIGN(const FrameDistance d, FrameDistance::Create(positions, 2, 2, options));
+  EXPECT_EQ(d(0, 1), 0.75 * 0.75 + 0.75 * 0.75);
+  options.camera.reset();
+  ASSERT_OK_AND_ASSIGN(const FrameDistance world, FrameDistance::Create(positions, 2, 2, options));
+  EXPECT_EQ(world(0, 1), 4.0);  // not NaN from 0 * inf
+}
+
+TEST(DistanceTest, NegativeWeightIsRejected) {
+  DistanceOptions options;
+  options.weights = {1.0, -1.0};
+  EXPECT_THAT(
+      FrameDistance::Create(kPositions, 3, 2, options),
+      StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("weights[1]: -1 is negative")));
+}
+
+TEST(DistanceTest, NonFiniteWeightIsRejected) {
+  DistanceOptions options;
+  options.weights = {kNaN, 1.0};
+  EXPECT_THAT(
+      FrameDistance::Create(kPositions, 3, 2, options),
+      StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("weights[0]: nan is not finite")));
+}
+
+TEST(DistanceTest, WeightCountMustMatchJoints) {
+  DistanceOptions options;
+  options.weights = {1.0, 1.0, 1.0};
+  EXPECT_THAT(
+      FrameDistance::Create(kPositions, 3, 2, options),
+      StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("weights: 3 weights for 2 joints")));
+  options.weights = {0.0, 0.0};
+  EXPECT_THAT(FrameDistance::Create(kPositions, 3, 2, options), IsOk());
+}
+
+TEST(DistanceTest, SizesMustAgree) {
+  EXPECT_THAT(
+      FrameDistance::Create(kPositions, 4, 2, {}),
+      StatusIs(absl::StatusCode::kInvalidArgument,
+               HasSubstr("world_positions: expected 24 values (4 frames x 2 joints x 3), got 18")));
+  EXPECT_THAT(FrameDistance::Create({}, 0, 2, {}),
+              StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("frame_count: 0")));
+  EXPECT_THAT(FrameDistance::Create({}, 1, 0, {}),
+              StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("joint_count: 0")));
+}
+
+TEST(DistanceTest, NonFinitePositionIsRejectedWithItsPlace) {
+  std::vector<double> positions = kPositions;
+  positions[16] = kNaN;  // frame 2, joint 1, y
+  EXPECT_THAT(FrameDistance::Create(positions, 3, 2, {}),
+              StatusIs(absl::StatusCode::kInvalidArgument,
+                       HasSubstr("world_positions[16]: nan is not finite (frame 2 joint 1 y)")));
+}
+
+TEST(DistanceTest, NonFiniteCameraEntryIsRejected) {
+  DistanceOptions options;
+  options.camera = kCamera;
+  (*options.camera)[7] = kNaN;
+  EXPECT_THAT(
+      FrameDistance::Create(kPositions, 3, 2, options),
+      StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("camera[7]: nan is not finite")));
+}
+
+}  // namespace
+}  // namespace koma
