@@ -76,16 +76,17 @@ void PrintSummary(const SkeletalArgs& args, const SkeletalClip& clip,
   std::printf("%s: %d frames, %zu joints, %.4g fps -> %s (%d frames)\n", args.input.c_str(),
               clip.frame_count, clip.skeleton.joints.size(), 1.0 / clip.frame_time,
               args.output.c_str(), response.source_frames_size());
-  std::printf("  omitted    %3d  source frames %s\n", response.omissions_applied(),
-              Ranges(deleted).c_str());
-  std::printf("  duplicated %3d  at output frames %s%s\n", response.duplicates_applied(),
-              Ranges(OutputFramesOfKind(response, v1::DUPLICATE)).c_str(),
+  std::printf("  omitted    %3d inbetweens; source frames gone: %s\n",
+              response.omissions_applied(), Ranges(deleted).c_str());
+  std::printf("  duplicated %3d frames to keep the length%s; DUPLICATE at output frames %s\n",
+              response.duplicates_applied(),
               response.duplicates_skipped() > 0
                   ? absl::StrCat(" (", response.duplicates_skipped(), " skipped)").c_str()
-                  : "");
-  std::printf("  held       %3d  at output frames %s\n", response.holds_applied(),
+                  : "",
+              Ranges(OutputFramesOfKind(response, v1::DUPLICATE)).c_str());
+  std::printf("  held       %3d hold steps; HELD at output frames %s\n", response.holds_applied(),
               Ranges(OutputFramesOfKind(response, v1::HELD)).c_str());
-  std::printf("                   hiding source frames %s\n", Ranges(hidden).c_str());
+  std::printf("                 source frames hidden by holds: %s\n", Ranges(hidden).c_str());
   std::printf("  longest hold %d frames; requested omissions %d, holds %d, max_hold %d\n",
               LongestRun(response), response.omissions_requested(),
               response.holds_requested(), response.max_hold());

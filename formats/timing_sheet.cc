@@ -4,7 +4,7 @@
 #include <cstddef>
 
 #include "absl/strings/str_cat.h"
-#include "formats/number_format.h"
+#include "absl/strings/str_format.h"
 
 namespace koma::formats {
 
@@ -27,7 +27,9 @@ std::string WriteTimingSheetCsv(const TimingMap& map, double frame_time) {
     const double time_s = static_cast<double>(t) * frame_time;
     absl::StrAppend(&out, t, ",", map.source_frames[t], ",");
     out.append(FrameKindName(map.kinds[t]));  // std::string_view: no StrCat
-    absl::StrAppend(&out, ",", FormatDouble(time_s), "\n");
+    // 10 significant digits: sub-microsecond up to 1000 s, and no binary noise such as
+    // 0.6250005000000001 for 15 x 0.0416667 in a sheet people read.
+    absl::StrAppend(&out, ",", absl::StrFormat("%.10g", time_s), "\n");
   }
   return out;
 }

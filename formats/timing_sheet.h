@@ -14,7 +14,7 @@ namespace koma::formats {
 std::string_view FrameKindName(FrameKind kind);
 
 // The header `output_frame,source_frame,kind,time_s` and one row per output frame t:
-//   t,map.source_frames[t],FrameKindName(map.kinds[t]),FormatDouble(t * frame_time)
+//   t,map.source_frames[t],FrameKindName(map.kinds[t]),t * frame_time (printf "%.10g")
 // `frame_time` is in seconds per frame. Each time is one multiplication, never a running sum,
 // so row 1000 carries no accumulated rounding. "\n" line endings, including after the last
 // row. Requires map.kinds.size() == map.source_frames.size() (checked with assert only).

@@ -57,6 +57,13 @@ bool WritePortFile(const std::string& path, int port) {
   return std::rename(temporary.c_str(), path.c_str()) == 0;
 }
 
+// The --address with its port replaced by the bound one ("127.0.0.1:0" -> "127.0.0.1:41149").
+std::string ListeningAddress(const std::string& address, int port) {
+  const size_t colon = address.rfind(':');
+  if (colon == std::string::npos) return absl::StrCat(address, " (port ", port, ")");
+  return absl::StrCat(address.substr(0, colon + 1), port);
+}
+
 int Fail(const std::string& message) {
   std::fprintf(stderr, "koma_server: %s\n", message.c_str());
   return 1;
@@ -86,8 +93,9 @@ int main(int argc, char** argv) {
   if (!port_file.empty() && !WritePortFile(port_file, (*server)->port())) {
     return Fail(absl::StrCat("--port_file: cannot write ", port_file));
   }
-  koma::server::LogEvent(absl::StrCat("koma_server listening on ", absl::GetFlag(FLAGS_address),
-                                      " (port ", (*server)->port(), ")"));
+  koma::server::LogEvent(absl::StrCat("koma_server listening on ",
+                                      ListeningAddress(absl::GetFlag(FLAGS_address),
+                                                       (*server)->port())));
 
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);

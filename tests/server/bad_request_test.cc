@@ -25,6 +25,8 @@ struct BadRequest {
   Mutation mutate;
   grpc::StatusCode code;
   std::string message;
+
+  friend void PrintTo(const BadRequest& bad, std::ostream* os) { *os << bad.name; }
 };
 
 v1::Joint& JointOf(v1::RetimeSkeletalRequest& r, int i) {
