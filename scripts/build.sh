@@ -1,8 +1,21 @@
 #!/usr/bin/env bash
 # Installs missing Debian packages, configures and builds koma in ./build (or $KOMA_BUILD_DIR).
+# With KOMA_BUILD_LOG=FILE the compiler output goes to FILE (its tail is shown on failure).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${KOMA_BUILD_DIR:-$root/build}
 "$root/scripts/install-deps.sh"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="${KOMA_BUILD_TYPE:-RelWithDebInfo}" >/dev/null
-cmake --build "$build" -j"$(nproc)"
+build_steps() {
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="${KOMA_BUILD_TYPE:-RelWithDebInfo}"
+  cmake --build "$build" -j"$(nproc)"
+}
+if [ -n "${KOMA_BUILD_LOG:-}" ]; then
+  echo "building koma in $build (compiler output: $KOMA_BUILD_LOG)"
+  if ! build_steps >"$KOMA_BUILD_LOG" 2>&1; then
+    tail -n 40 "$KOMA_BUILD_LOG" >&2
+    echo "build failed; full output in $KOMA_BUILD_LOG" >&2
+    exit 1
+  fi
+else
+  build_steps
+fi

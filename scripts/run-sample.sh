@@ -6,8 +6,8 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${KOMA_BUILD_DIR:-$root/build}
 out=$root/out
-"$root/scripts/build.sh"
 mkdir -p "$out"
+KOMA_BUILD_LOG="$out/build.log" "$root/scripts/build.sh"
 
 port_file=$(mktemp)
 "$build/server/koma_server" --address=127.0.0.1:0 --port_file="$port_file" \
