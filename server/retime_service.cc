@@ -40,6 +40,21 @@ grpc::Status Busy(absl::string_view method) {
                                            "(--max_queued); retry with backoff"));
 }
 
+// Answers UNIMPLEMENTED for an RPC that is declared in koma.v1 but not built yet.
+template <typename Response>
+grpc::ServerUnaryReactor* Unimplemented(grpc::CallbackServerContext* context, Response* response,
+                                        absl::string_view method, absl::string_view issue) {
+  RpcRecord record;
+  record.method = method;
+  record.peer = context->peer();
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  FinishAndLog(reactor,
+               grpc::Status(grpc::StatusCode::UNIMPLEMENTED,
+                            absl::StrCat(method, " is not implemented yet (koma.v1, ", issue, ")")),
+               response, record, Clock::now());
+  return reactor;
+}
+
 }  // namespace
 
 grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(
@@ -70,29 +85,13 @@ grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(
 grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContext* context,
                                                       const v1::RetimeCurvesRequest*,
                                                       v1::RetimeCurvesResponse* response) {
-  RpcRecord record;
-  record.method = "RetimeCurves";
-  record.peer = context->peer();
-  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  FinishAndLog(reactor,
-               grpc::Status(grpc::StatusCode::UNIMPLEMENTED,
-                            "RetimeCurves is not implemented yet (koma.v1, issue 3)"),
-               response, record, Clock::now());
-  return reactor;
+  return Unimplemented(context, response, "RetimeCurves", "issue 3");
 }
 
 grpc::ServerUnaryReactor* RetimeService::LipBlink(grpc::CallbackServerContext* context,
                                                   const v1::LipBlinkRequest*,
                                                   v1::LipBlinkResponse* response) {
-  RpcRecord record;
-  record.method = "LipBlink";
-  record.peer = context->peer();
-  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  FinishAndLog(reactor,
-               grpc::Status(grpc::StatusCode::UNIMPLEMENTED,
-                            "LipBlink is not implemented yet (koma.v1, issue 4)"),
-               response, record, Clock::now());
-  return reactor;
+  return Unimplemented(context, response, "LipBlink", "issue 4");
 }
 
 }  // namespace koma::server
