@@ -1,6 +1,8 @@
 #include "core/distance.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <string>
 
@@ -89,6 +91,24 @@ absl::Status Project(const std::array<double, 16>& m, const double* p, int frame
   return absl::OkStatus();
 }
 
+// Every dist(a, b) is at most sum(w) * dims * (2 * max|coordinate|)^2. Requiring that bound
+// to stay well below DBL_MAX (a factor 8 covers rounding in the summation order) keeps every
+// distance finite, so the candidate orderings never meet inf or NaN.
+absl::Status CheckDistanceBound(const std::vector<double>& points,
+                                const std::vector<double>& weights, int dims) {
+  double largest = 0.0;
+  for (double c : points) largest = std::max(largest, std::fabs(c));
+  double total_weight = 0.0;
+  for (double w : weights) total_weight += w;
+  const double bound = total_weight * dims * (2.0 * largest) * (2.0 * largest);
+  if (std::isfinite(largest) && bound < std::numeric_limits<double>::max() / 8) {
+    return absl::OkStatus();
+  }
+  return absl::OutOfRangeError(absl::StrCat(
+      "positions: largest |coordinate| ", largest, " with total weight ", total_weight,
+      " would overflow the frame distance (squared, in double); scale the clip down"));
+}
+
 }  // namespace
 
 absl::StatusOr<FrameDistance> FrameDistance::Create(absl::Span<const double> world_positions,
@@ -120,6 +140,7 @@ absl::StatusOr<FrameDistance> FrameDistance::Create(absl::Span<const double> wor
       }
     }
   }
+  KOMA_RETURN_IF_ERROR(CheckDistanceBound(distance.points_, distance.weights_, dims));
   return distance;
 }
 

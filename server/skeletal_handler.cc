@@ -2,6 +2,7 @@
 #include <cstring>
 #include <vector>
 
+#include "absl/strings/str_cat.h"
 #include "core/forward_kinematics.h"
 #include "core/status_macros.h"
 #include "server/skeletal_request.h"
@@ -88,12 +89,16 @@ absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
   KOMA_ASSIGN_OR_RETURN(const SkeletalJob job, ValidateSkeletalRequest(request, limits));
   KOMA_ASSIGN_OR_RETURN(const std::vector<double> positions,
                         WorldPositions(request.motion(), job));
-  KOMA_ASSIGN_OR_RETURN(
-      const FrameDistance distance,
+  absl::StatusOr<FrameDistance> distance =
       FrameDistance::Create(positions, job.frame_count,
-                            static_cast<int>(job.skeleton.joints.size()), job.distance_options));
-  const TimingMap map = RetimeFast(distance, job.retime_options);
-  FillResponse(request, job, map, distance.InputSsd(), response);
+                            static_cast<int>(job.skeleton.joints.size()), job.distance_options);
+  if (!distance.ok()) {
+    // Inputs are finite here; what fails is their size after FK or the transforms.
+    return absl::Status(distance.status().code(),
+                        absl::StrCat("motion: ", distance.status().message()));
+  }
+  const TimingMap map = RetimeFast(*distance, job.retime_options);
+  FillResponse(request, job, map, distance->InputSsd(), response);
   return absl::OkStatus();
 }
 

@@ -168,5 +168,28 @@ TEST(DistanceTest, NonFiniteCameraEntryIsRejected) {
       StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("camera[7]: nan is not finite")));
 }
 
+// Finite positions whose squared differences would overflow are refused up front, so no
+// distance is ever inf (or NaN from inf - inf) inside the retiming orderings.
+TEST(DistanceTest, PositionsThatWouldOverflowTheDistanceAreOutOfRange) {
+  std::vector<double> positions = kPositions;
+  positions[3] = 1e200;  // frame 0, joint 1, x
+  EXPECT_THAT(FrameDistance::Create(positions, 3, 2, {}),
+              StatusIs(absl::StatusCode::kOutOfRange,
+                       HasSubstr("largest |coordinate| 1e+200 with total weight 2")));
+  positions[3] = 1e150;  // (2e150)^2 * 3 * 2 is still far below DBL_MAX
+  EXPECT_THAT(FrameDistance::Create(positions, 3, 2, {}), IsOk());
+}
+
+// Root-relative subtraction of two huge coordinates overflows to inf: refused too.
+TEST(DistanceTest, RootRelativeOverflowIsOutOfRange) {
+  std::vector<double> positions = kPositions;
+  positions[0] = -1.5e308;  // root x in frame 0
+  positions[3] = 1.5e308;   // joint 1 x in frame 0
+  DistanceOptions options;
+  options.root_relative = true;
+  EXPECT_THAT(FrameDistance::Create(positions, 3, 2, options),
+              StatusIs(absl::StatusCode::kOutOfRange, HasSubstr("largest |coordinate| inf")));
+}
+
 }  // namespace
 }  // namespace koma

@@ -94,6 +94,15 @@ std::vector<BadRequest> BadRequests() {
        kInvalid, "camera[3]: nan is not finite"},
       {"CameraZeroW", [](auto& r) { for (int i = 0; i < 16; ++i) r.add_camera(0.0); },
        kInvalid, "camera"},
+      {"PositionsTooLargeForTheDistance",
+       [](auto& r) { JointOf(r, 2).mutable_offset()->set_x(1e200); }, C::OUT_OF_RANGE,
+       "motion: positions: largest |coordinate| 1e+200"},
+      {"ForwardKinematicsOverflows",
+       [](auto& r) {
+         JointOf(r, 1).mutable_offset()->set_x(1.5e308);
+         JointOf(r, 2).mutable_offset()->set_x(1.5e308);
+       },
+       kInvalid, "is not finite (frame 0 joint 2 x)"},
       {"WeightsCount", [](auto& r) { r.add_joint_weights(1.0); r.add_joint_weights(1.0); },
        kInvalid, "joint_weights: 2 weights for 3 joints"},
       {"WeightNegative",
