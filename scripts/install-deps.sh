@@ -3,14 +3,18 @@
 # calls apt-get when a package is missing, so a second run costs a dpkg query.
 set -euo pipefail
 
+# What building koma_server and koma needs.
 packages=(
   cmake g++ make pkg-config
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libabsl-dev libspdlog-dev libfmt-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev
-  python3 python3-grpcio python3-protobuf
 )
+# What the tests and benchmarks add (python3-grpcio: the interop test's second client).
+# `install-deps.sh --build-only` skips them (the Dockerfile's build stage).
+if [ "${1:-}" != "--build-only" ]; then
+  packages+=(libgtest-dev libgmock-dev libbenchmark-dev python3 python3-grpcio python3-protobuf)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
