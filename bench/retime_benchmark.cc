@@ -11,6 +11,7 @@
 
 #include "core/distance.h"
 #include "core/retime.h"
+#include "core/split_mix64.h"
 
 namespace koma {
 namespace {
@@ -22,25 +23,16 @@ constexpr int kLongFrames = 100000;
 constexpr int kOmissions = 4;    // the paper's default
 constexpr int kPitchHolds = 43;  // 129 / 3
 
-// SplitMix64, only to pick the synthetic motion's parameters deterministically.
-uint64_t SplitMix64(uint64_t& state) {
-  uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-double Unit(uint64_t& state) { return static_cast<double>(SplitMix64(state) >> 11) * 0x1.0p-53; }
-
 // Smooth, random-looking motion: every coordinate is a sum of three sinusoids with periods
 // of 15-200 frames and amplitudes up to 30 units, so speeds vary along the clip.
 std::vector<double> SyntheticPositions(int frames, int joints) {
-  uint64_t state = 2012;
+  SplitMix64 rng(2012);  // only picks the waves' parameters
   struct Wave {
     double amplitude, omega, phase;
   };
   std::vector<Wave> waves(static_cast<size_t>(joints) * 3 * 3);
   for (Wave& w : waves) {
-    w = {30.0 * Unit(state), 2.0 * kPi / (15.0 + 185.0 * Unit(state)), 2.0 * kPi * Unit(state)};
+    w = {30.0 * rng.Unit(), 2.0 * kPi / (15.0 + 185.0 * rng.Unit()), 2.0 * kPi * rng.Unit()};
   }
   std::vector<double> positions(static_cast<size_t>(frames) * joints * 3);
   for (int f = 0; f < frames; ++f) {

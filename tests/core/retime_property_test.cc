@@ -12,34 +12,13 @@
 
 #include "core/distance.h"
 #include "core/retime.h"
+#include "core/split_mix64.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma {
 namespace {
 
 constexpr int kClipCount = 3000;
-
-// SplitMix64 (Steele, Lea, Flood 2014): tiny, seedable and identical on every platform,
-// unlike std::*_distribution.
-class SplitMix64 {
- public:
-  explicit SplitMix64(uint64_t seed) : state_(seed) {}
-  uint64_t Next() {
-    uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  // Uniform-enough integer in [lo, hi] (the modulo bias is irrelevant for tests).
-  int Int(int lo, int hi) {
-    return lo + static_cast<int>(Next() % static_cast<uint64_t>(hi - lo + 1));
-  }
-  double Unit() { return static_cast<double>(Next() >> 11) * 0x1.0p-53; }  // [0, 1)
-  bool OneIn(int n) { return Int(1, n) == 1; }
-
- private:
-  uint64_t state_;
-};
 
 enum class ClipStyle { kContinuous, kTinyIntegers, kStaticStretches, kIntegerWalk, kStill };
 

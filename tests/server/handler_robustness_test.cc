@@ -6,27 +6,12 @@
 #include <cstdint>
 #include <string>
 
+#include "core/split_mix64.h"
 #include "server/skeletal_request.h"
 #include "tests/server/request_builder.h"
 
 namespace koma::server {
 namespace {
-
-// SplitMix64: a tiny portable generator, so every machine runs the same cases.
-class SplitMix64 {
- public:
-  explicit SplitMix64(uint64_t seed) : state_(seed) {}
-  uint64_t Next() {
-    uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  int Below(int n) { return static_cast<int>(Next() % static_cast<uint64_t>(n)); }
-
- private:
-  uint64_t state_;
-};
 
 void ExpectWellFormedAnswer(const v1::RetimeSkeletalRequest& request, uint64_t seed) {
   RequestLimits limits;
@@ -50,9 +35,9 @@ TEST(HandlerRobustnessTest, MangledBytesNeverCrash) {
   for (uint64_t seed = 0; seed < 3000; ++seed) {
     SplitMix64 random(seed);
     std::string bytes = valid;
-    const int flips = 1 + random.Below(8);
+    const int flips = 1 + random.Int(0, 7);
     for (int i = 0; i < flips; ++i) {
-      bytes[random.Below(static_cast<int>(bytes.size()))] = static_cast<char>(random.Next());
+      bytes[random.Int(0, static_cast<int>(bytes.size()) - 1)] = static_cast<char>(random.Next());
     }
     v1::RetimeSkeletalRequest request;
     if (!request.ParseFromString(bytes)) continue;  // gRPC would reject it before us
@@ -65,19 +50,19 @@ TEST(HandlerRobustnessTest, ExtremeFieldValuesNeverCrash) {
   for (uint64_t seed = 0; seed < 2000; ++seed) {
     SplitMix64 random(seed);
     v1::RetimeSkeletalRequest request = koma::testing::MakeSkeletalRequest(12);
-    auto pick = [&] { return extremes[random.Below(12)]; };
-    switch (random.Below(6)) {
+    auto pick = [&] { return extremes[random.Int(0, 11)]; };
+    switch (random.Int(0, 5)) {
       case 0: request.mutable_motion()->set_frame_count(pick()); break;
-      case 1: request.mutable_motion()->mutable_skeleton()->mutable_joints(random.Below(3))
+      case 1: request.mutable_motion()->mutable_skeleton()->mutable_joints(random.Int(0, 2))
                   ->set_parent(pick()); break;
       case 2: request.set_max_hold(pick()); break;
       default: break;
     }
-    if (random.Below(2) == 0) request.set_omissions(pick());
-    if (random.Below(2) == 0) request.set_holds(pick());
-    if (random.Below(3) == 0) request.set_keep_length(false);
-    if (random.Below(3) == 0) request.set_order(v1::HOLD_THEN_OMIT);
-    if (random.Below(4) == 0) request.set_root_relative(true);
+    if (random.Int(0, 1) == 0) request.set_omissions(pick());
+    if (random.Int(0, 1) == 0) request.set_holds(pick());
+    if (random.Int(0, 2) == 0) request.set_keep_length(false);
+    if (random.Int(0, 2) == 0) request.set_order(v1::HOLD_THEN_OMIT);
+    if (random.Int(0, 3) == 0) request.set_root_relative(true);
     ExpectWellFormedAnswer(request, seed);
   }
 }
