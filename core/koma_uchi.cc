@@ -1,0 +1,175 @@
+// RetimeCurves: key poses, per-segment parameters, timings (frames -> drawings -> source
+// times) and the curves sampled at those times. Holds and spacing live in spacing.cc, the
+// options' validation in koma_uchi_options.cc.
+#include "core/koma_uchi.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "core/curve_cursor.h"
+
+namespace koma {
+namespace {
+
+// The n, s_a and s_b of one segment between key poses.
+struct SegmentParams {
+  int frames_per_drawing = 3;
+  double tame = 1.0;
+  double tsume = 1.0;
+};
+
+// The options' defaults with the segment overrides applied.
+std::vector<SegmentParams> DefaultSegmentParams(const KomaUchiOptions& options,
+                                                size_t segment_count) {
+  std::vector<SegmentParams> params(segment_count,
+                                    {options.frames_per_drawing, options.tame, options.tsume});
+  for (const SegmentOverride& o : options.segment_overrides) {
+    SegmentParams& p = params[static_cast<size_t>(o.segment)];
+    p.frames_per_drawing = o.frames_per_drawing.value_or(p.frames_per_drawing);
+    p.tame = o.tame.value_or(p.tame);
+    p.tsume = o.tsume.value_or(p.tsume);
+  }
+  return params;
+}
+
+// Drawings of one segment [keys[x], keys[x + 1]]: each starts where the previous one's hold
+// ends, the first exactly on the key, and samples tau_j = G_x + L * E_j.
+void AppendSegment(int key, int next_key, const SegmentParams& params, DrawingTiming& timing) {
+  const int length = next_key - key;
+  const std::vector<int> holds = HoldLengths(length, params.frames_per_drawing);
+  const std::vector<double> spacing =
+      Spacing(static_cast<int>(holds.size()), params.tame, params.tsume);
+  int frame = key;
+  for (size_t j = 0; j < holds.size(); ++j) {
+    const int drawing = static_cast<int>(timing.drawing_start.size());
+    const double tau = key + length * spacing[j];  // in frames, in [key, next_key]
+    timing.drawing_start.push_back(frame);
+    for (int k = 0; k < holds[j]; ++k, ++frame) {
+      timing.drawing_of_frame[frame] = drawing;
+      timing.source_frame[frame] = tau;
+    }
+  }
+}
+
+DrawingTiming BuildTiming(const std::vector<int>& keys, const std::vector<SegmentParams>& params,
+                          int frames_per_drawing) {
+  const int frame_count = keys.back() + 1;
+  DrawingTiming timing;
+  timing.frames_per_drawing = frames_per_drawing;
+  timing.drawing_of_frame.resize(static_cast<size_t>(frame_count));
+  timing.source_frame.resize(static_cast<size_t>(frame_count));
+  for (size_t x = 0; x < params.size(); ++x) {
+    AppendSegment(keys[x], keys[x + 1], params[x], timing);
+  }
+  // The last key pose is a drawing of its own, held for its one frame.
+  const int last = frame_count - 1;
+  timing.drawing_of_frame[last] = static_cast<int>(timing.drawing_start.size());
+  timing.source_frame[last] = last;
+  timing.drawing_start.push_back(last);
+  return timing;
+}
+
+std::map<int, int> HoldHistogram(const DrawingTiming& timing) {
+  std::map<int, int> histogram;
+  const std::vector<int>& starts = timing.drawing_start;
+  const int frame_count = static_cast<int>(timing.drawing_of_frame.size());
+  for (size_t d = 0; d < starts.size(); ++d) {
+    const int end = d + 1 < starts.size() ? starts[d + 1] : frame_count;
+    ++histogram[end - starts[d]];
+  }
+  return histogram;
+}
+
+// The curve sampled once per drawing (at its tau, non-decreasing, so the cursor only walks
+// forward) and held over the drawing's frames.
+RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const DrawingTiming& timing,
+                       int timing_index, const std::map<int, int>& histogram) {
+  RetimedCurve out;
+  out.timing = timing_index;
+  out.hold_histogram = histogram;
+  const std::vector<int>& starts = timing.drawing_start;
+  const size_t frame_count = timing.drawing_of_frame.size();
+  out.values.resize(frame_count);
+  out.steps.reserve(starts.size());
+  CurveCursor cursor(curve, beziers_restricted);
+  for (size_t d = 0; d < starts.size(); ++d) {
+    const size_t begin = static_cast<size_t>(starts[d]);
+    const size_t end = d + 1 < starts.size() ? static_cast<size_t>(starts[d + 1]) : frame_count;
+    const double value = cursor.Evaluate(timing.source_frame[begin]);
+    std::fill(out.values.begin() + begin, out.values.begin() + end, value);
+    out.steps.push_back({static_cast<double>(begin), value});
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set) {
+  const int last = set.frame_count - 1;
+  // One mark per frame rather than a sort: O(frame_count + keyframes), already unique.
+  std::vector<bool> is_key(static_cast<size_t>(set.frame_count), false);
+  is_key[0] = true;
+  is_key[last] = true;
+  for (int key : options.key_frames) {
+    if (key >= 0 && key <= last) is_key[key] = true;  // valid options have no others
+  }
+  // Nearest frame (halves away from zero: std::round is exact), clamped into [0, last].
+  const auto mark_time = [&is_key, last](double frame) {
+    if (!std::isfinite(frame)) return;  // only in an invalid set
+    is_key[static_cast<size_t>(std::clamp(std::round(frame), 0.0, static_cast<double>(last)))] =
+        true;
+  };
+  if (options.key_frames.empty()) {
+    for (const Curve& curve : set.curves) {
+      if (curve.dense()) continue;
+      mark_time(curve.start.frame);
+      for (const CurveSegment& segment : curve.segments) mark_time(segment.end.frame);
+    }
+  }
+  std::vector<int> keys;
+  for (int f = 0; f <= last; ++f) {
+    if (is_key[f]) keys.push_back(f);
+  }
+  return keys;
+}
+
+KomaUchiResult RetimeCurves(const CurveSet& set, const KomaUchiOptions& options) {
+  KomaUchiResult result;
+  result.key_frames = KeyPoses(options, set);
+  const std::vector<int>& keys = result.key_frames;
+  const std::vector<SegmentParams> defaults = DefaultSegmentParams(options, keys.size() - 1);
+  result.timings.push_back(BuildTiming(keys, defaults, options.frames_per_drawing));
+  // Each distinct per-curve n (ascending) gets a timing with that n in every segment (the
+  // segments' tame and tsume still apply), unless that is timing 0 itself: n is the default
+  // and no segment override changes it.
+  std::set<int> curve_ns;
+  for (const auto& [id, n] : options.curve_frames_per_drawing) curve_ns.insert(n);
+  std::map<int, int> timing_of_n;
+  for (int n : curve_ns) {
+    std::vector<SegmentParams> params = defaults;
+    bool same_as_default = n == options.frames_per_drawing;
+    for (SegmentParams& p : params) {
+      same_as_default = same_as_default && p.frames_per_drawing == n;
+      p.frames_per_drawing = n;
+    }
+    if (same_as_default) {
+      timing_of_n[n] = 0;
+      continue;
+    }
+    timing_of_n[n] = static_cast<int>(result.timings.size());
+    result.timings.push_back(BuildTiming(keys, params, n));
+  }
+  std::vector<std::map<int, int>> histograms;
+  for (const DrawingTiming& timing : result.timings) histograms.push_back(HoldHistogram(timing));
+  result.curves.reserve(set.curves.size());
+  for (const Curve& curve : set.curves) {
+    const auto own = options.curve_frames_per_drawing.find(curve.id);
+    const int t = own == options.curve_frames_per_drawing.end() ? 0 : timing_of_n[own->second];
+    result.curves.push_back(
+        RetimeOne(curve, set.beziers_restricted, result.timings[t], t, histograms[t]));
+  }
+  return result;
+}
+
+}  // namespace koma

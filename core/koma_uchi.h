@@ -1,0 +1,85 @@
+// RetimeCurves (Miyamune et al. section 3.1): koma-uchi (drawings held for n frames) with
+// tame/tsume spacing between key poses. See ../shared/design/algorithms.md section 2.
+#ifndef KOMA_CORE_KOMA_UCHI_H_
+#define KOMA_CORE_KOMA_UCHI_H_
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "core/curves.h"
+
+namespace koma {
+
+// Overrides for the segment between key poses G_x and G_{x+1}.
+struct SegmentOverride {
+  int segment = 0;                          // x, 0-based
+  std::optional<int> frames_per_drawing;    // n for this segment (curves without their own n)
+  std::optional<double> tame;               // s_a for this segment
+  std::optional<double> tsume;              // s_b for this segment
+};
+
+struct KomaUchiOptions {
+  // Key poses in frames, strictly increasing, within [0, frame_count - 1]. Empty: every
+  // keyframe time of every keyframe curve, rounded to the nearest frame. The first and last
+  // frame are always key poses (added if missing).
+  std::vector<int> key_frames;
+  int frames_per_drawing = 3;  // n: 1 = on ones, 2 = on twos, 3 = on threes
+  double tame = 1.0;           // s_a >= 1: gaps grow by s_a per drawing away from G_x
+  double tsume = 1.0;          // s_b >= 1: gaps shrink by s_b per drawing toward G_{x+1}
+  // Curve id -> its own n (hair on twos, body on threes). Beats segment overrides of n.
+  std::map<std::string, int> curve_frames_per_drawing;
+  std::vector<SegmentOverride> segment_overrides;
+};
+
+// INVALID_ARGUMENT naming the option and value: keys unsorted, duplicate or outside the
+// range; n < 1; strengths < 1 or not finite; an override naming an unknown curve or a
+// segment out of range, or given twice.
+absl::Status ValidateKomaUchiOptions(const KomaUchiOptions& options, const CurveSet& set);
+
+// The key poses actually used: options.key_frames (or the default) plus 0 and
+// frame_count - 1, sorted, unique.
+std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set);
+
+// Hold lengths of one segment of `length` frames at n frames per drawing: ceil(length / n)
+// holds, as even as possible, longer ones first (10 at n = 3 -> 3, 3, 2, 2).
+std::vector<int> HoldLengths(int length, int frames_per_drawing);
+
+// E_0 .. E_{D-1} of algorithms.md section 2: E_0 = 0, strictly increasing, j / D when
+// tame = tsume = 1, geometric with ratio tame in the first half and 1 / tsume in the second.
+// Powers by repeated multiplication (and one sqrt for an odd D), so the bits are the same on
+// every machine.
+std::vector<double> Spacing(int drawings, double tame, double tsume);
+
+// One timing: how output frames map to drawings and source times.
+struct DrawingTiming {
+  int frames_per_drawing = 3;          // the n this timing was made with (default n)
+  std::vector<int> drawing_of_frame;   // per output frame: its drawing, 0-based, global
+  std::vector<double> source_frame;    // per output frame: tau of its drawing, in frames
+  std::vector<int> drawing_start;      // per drawing: its first output frame
+};
+
+struct RetimedCurve {
+  int timing = 0;                  // index into KomaUchiResult::timings
+  std::vector<double> values;      // per output frame: curve(tau)
+  // Stepped keyframes: one point per drawing at its first frame with its value (motion3:
+  // start point, then a stepped segment to each next point).
+  std::vector<CurvePoint> steps;
+  std::map<int, int> hold_histogram;  // hold length in frames -> number of drawings
+};
+
+struct KomaUchiResult {
+  std::vector<int> key_frames;          // the key poses used
+  std::vector<DrawingTiming> timings;   // [0] is the default timing; others per distinct n
+  std::vector<RetimedCurve> curves;     // in the order of set.curves
+};
+
+// Requires ValidateCurveSet and ValidateKomaUchiOptions OK.
+KomaUchiResult RetimeCurves(const CurveSet& set, const KomaUchiOptions& options);
+
+}  // namespace koma
+
+#endif  // KOMA_CORE_KOMA_UCHI_H_

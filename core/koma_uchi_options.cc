@@ -1,0 +1,96 @@
+// ValidateKomaUchiOptions: every message names the option's path and its value.
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+
+#include "absl/strings/str_cat.h"
+#include "core/koma_uchi.h"
+#include "core/status_macros.h"
+
+namespace koma {
+namespace {
+
+absl::Status CheckFramesPerDrawing(int n, const std::string& path) {
+  if (n >= 1) return absl::OkStatus();
+  return absl::InvalidArgumentError(
+      absl::StrCat(path, ": ", n, " must be >= 1 (frames each drawing is held)"));
+}
+
+absl::Status CheckStrength(double strength, const std::string& path) {
+  if (std::isfinite(strength) && strength >= 1.0) return absl::OkStatus();
+  return absl::InvalidArgumentError(
+      absl::StrCat(path, ": ", strength, " must be finite and >= 1 (1 = even spacing)"));
+}
+
+absl::Status CheckKeyFrames(const std::vector<int>& keys, int frame_count) {
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (keys[i] < 0 || keys[i] > frame_count - 1) {
+      return absl::InvalidArgumentError(absl::StrCat("key_frames[", i, "]: ", keys[i],
+                                                     " is outside [0, ", frame_count - 1,
+                                                     "] (frame_count ", frame_count, ")"));
+    }
+    if (i > 0 && keys[i] <= keys[i - 1]) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("key_frames[", i, "]: ", keys[i], " must be greater than key_frames[", i - 1,
+                       "] = ", keys[i - 1], " (strictly increasing)"));
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::Status CheckCurveOverrides(const std::map<std::string, int>& overrides, const CurveSet& set) {
+  std::set<std::string> ids;
+  for (const Curve& curve : set.curves) ids.insert(curve.id);
+  for (const auto& [id, n] : overrides) {
+    const std::string path = absl::StrCat("curve_frames_per_drawing[\"", id, "\"]");
+    if (ids.count(id) == 0) {
+      return absl::InvalidArgumentError(absl::StrCat(path, ": no curve has this id"));
+    }
+    KOMA_RETURN_IF_ERROR(CheckFramesPerDrawing(n, path));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status CheckSegmentOverrides(const std::vector<SegmentOverride>& overrides,
+                                   int segment_count) {
+  std::map<int, size_t> first_override;  // segment -> index of its override
+  for (size_t i = 0; i < overrides.size(); ++i) {
+    const SegmentOverride& o = overrides[i];
+    const std::string path = absl::StrCat("segment_overrides[", i, "]");
+    if (o.segment < 0 || o.segment >= segment_count) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(path, ".segment: ", o.segment, " is outside [0, ", segment_count, ") (",
+                       segment_count, " segments between ", segment_count + 1, " key poses)"));
+    }
+    const auto [it, inserted] = first_override.emplace(o.segment, i);
+    if (!inserted) {
+      return absl::InvalidArgumentError(absl::StrCat(path, ".segment: ", o.segment,
+                                                     " is already overridden by "
+                                                     "segment_overrides[",
+                                                     it->second, "]"));
+    }
+    if (o.frames_per_drawing.has_value()) {
+      KOMA_RETURN_IF_ERROR(
+          CheckFramesPerDrawing(*o.frames_per_drawing, absl::StrCat(path, ".frames_per_drawing")));
+    }
+    if (o.tame.has_value()) KOMA_RETURN_IF_ERROR(CheckStrength(*o.tame, path + ".tame"));
+    if (o.tsume.has_value()) KOMA_RETURN_IF_ERROR(CheckStrength(*o.tsume, path + ".tsume"));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::Status ValidateKomaUchiOptions(const KomaUchiOptions& options, const CurveSet& set) {
+  KOMA_RETURN_IF_ERROR(CheckFramesPerDrawing(options.frames_per_drawing, "frames_per_drawing"));
+  KOMA_RETURN_IF_ERROR(CheckStrength(options.tame, "tame"));
+  KOMA_RETURN_IF_ERROR(CheckStrength(options.tsume, "tsume"));
+  KOMA_RETURN_IF_ERROR(CheckKeyFrames(options.key_frames, set.frame_count));
+  KOMA_RETURN_IF_ERROR(CheckCurveOverrides(options.curve_frames_per_drawing, set));
+  // Segments exist only once the key poses are known (they are valid by now).
+  const int segment_count = static_cast<int>(KeyPoses(options, set).size()) - 1;
+  return CheckSegmentOverrides(options.segment_overrides, segment_count);
+}
+
+}  // namespace koma
