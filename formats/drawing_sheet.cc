@@ -1,0 +1,22 @@
+#include "formats/drawing_sheet.h"
+
+#include <cassert>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "formats/number_format.h"
+
+namespace koma::formats {
+
+std::string WriteDrawingSheetCsv(const DrawingTiming& timing, double fps) {
+  assert(timing.drawing_of_frame.size() == timing.source_frame.size());
+  std::string out = "output_frame,drawing,source_frame,time_s\n";
+  for (size_t t = 0; t < timing.drawing_of_frame.size(); ++t) {
+    absl::StrAppend(&out, t, ",", timing.drawing_of_frame[t], ",",
+                    FormatDouble(timing.source_frame[t]), ",",
+                    absl::StrFormat("%.10g", static_cast<double>(t) / fps), "\n");
+  }
+  return out;
+}
+
+}  // namespace koma::formats
