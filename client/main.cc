@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "client/channel.h"
+#include "client/curves_command.h"
 #include "client/health_command.h"
 #include "client/skeletal_command.h"
 
@@ -35,6 +36,33 @@ void AddSkeletal(CLI::App& app, koma::client::SkeletalArgs& args) {
       ->check(CLI::PositiveNumber);
 }
 
+void AddCurves(CLI::App& app, koma::client::CurvesArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "curves", "Draw animation curves on twos/threes with tame/tsume (RetimeCurves)");
+  cmd->add_option("input", args.input, "motion3.json, or CSV (frame,<id>,... per frame)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", args.output, "motion3.json or .csv to write")->required();
+  cmd->add_option("--on", args.frames_per_drawing, "frames per drawing: 2 twos, 3 threes "
+                                                   "(default 3)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--keys", args.keys, "key poses in frames, e.g. 0,10,25 (default: the "
+                                       "keyframe times)")
+      ->delimiter(',');
+  cmd->add_option("--tame", args.tame, "tame strength >= 1: bunch drawings near the first key "
+                                       "(default 1)");
+  cmd->add_option("--tsume", args.tsume, "tsume strength >= 1: bunch drawings near the next "
+                                         "key (default 1)");
+  cmd->add_option("--curve-on", args.curve_on, "ID=N: this curve on N (repeatable)");
+  cmd->add_option("--fps", args.csv_fps, "frames per second of a CSV input (default 30)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--timing", args.timing, "drawing sheet CSV to write");
+  cmd->add_option("--server", args.server, "server host:port (default $KOMA_SERVER or "
+                                           "127.0.0.1:50051)");
+  cmd->add_option("--deadline", args.deadline_seconds, "RPC deadline in seconds (default 60)")
+      ->check(CLI::PositiveNumber);
+}
+
 void AddHealth(CLI::App& app, koma::client::HealthArgs& args) {
   CLI::App* cmd = app.add_subcommand("health", "Ask the server's grpc.health.v1 service");
   cmd->add_option("--server", args.server, "server host:port");
@@ -49,9 +77,11 @@ int main(int argc, char** argv) {
   CLI::App app{"koma: retime animation into Japanese limited-animation timing"};
   app.require_subcommand(1);
   koma::client::SkeletalArgs skeletal;
+  koma::client::CurvesArgs curves;
   koma::client::HealthArgs health;
-  skeletal.server = health.server = koma::client::DefaultServer();
+  skeletal.server = curves.server = health.server = koma::client::DefaultServer();
   AddSkeletal(app, skeletal);
+  AddCurves(app, curves);
   AddHealth(app, health);
   try {
     app.parse(argc, argv);
@@ -64,5 +94,6 @@ int main(int argc, char** argv) {
     return kUsageError;
   }
   if (app.got_subcommand("skeletal")) return koma::client::RunSkeletal(skeletal);
+  if (app.got_subcommand("curves")) return koma::client::RunCurves(curves);
   return koma::client::RunHealth(health);
 }

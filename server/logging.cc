@@ -69,12 +69,13 @@ void LogRpc(const RpcRecord& r) {
   const std::string code = GrpcCodeName(r.code);
   nlohmann::json fields = {{"msg", "rpc"},         {"method", r.method},
                            {"peer", r.peer},       {"frames", r.frames},
-                           {"joints", r.joints},   {"bytes_in", r.bytes_in},
+                           {"joints", r.joints},   {"curves", r.curves},
+                           {"bytes_in", r.bytes_in},
                            {"bytes_out", r.bytes_out}, {"code", code},
                            {"latency_ms", r.latency_ms}};
-  std::string text = absl::StrFormat("rpc %s peer=%s frames=%d joints=%d in=%dB out=%dB code=%s "
-                                     "latency_ms=%.3f",
-                                     r.method, r.peer, r.frames, r.joints, r.bytes_in,
+  std::string text = absl::StrFormat("rpc %s peer=%s frames=%d joints=%d curves=%d in=%dB "
+                                     "out=%dB code=%s latency_ms=%.3f",
+                                     r.method, r.peer, r.frames, r.joints, r.curves, r.bytes_in,
                                      r.bytes_out, code, r.latency_ms);
   if (r.code != grpc::StatusCode::OK) {
     fields["error"] = r.error;

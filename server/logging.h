@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include <grpcpp/support/status.h>
 
 namespace koma::server {
@@ -24,7 +25,8 @@ struct RpcRecord {
   absl::string_view method;  // "RetimeSkeletal"
   std::string peer;         // "ipv4:127.0.0.1:53422"
   int64_t frames = 0;       // input frames, 0 if the request was rejected before parsing
-  int64_t joints = 0;
+  int64_t joints = 0;       // RetimeSkeletal
+  int64_t curves = 0;       // RetimeCurves, LipBlink
   int64_t bytes_in = 0;     // serialized request size
   int64_t bytes_out = 0;    // serialized response size, 0 on error
   grpc::StatusCode code = grpc::StatusCode::OK;

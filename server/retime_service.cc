@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "server/logging.h"
+#include "server/curves_request.h"
 #include "server/skeletal_request.h"
 #include "server/status_mapping.h"
 
@@ -57,24 +58,21 @@ grpc::ServerUnaryReactor* Unimplemented(grpc::CallbackServerContext* context, Re
 
 }  // namespace
 
-grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(
-    grpc::CallbackServerContext* context, const v1::RetimeSkeletalRequest* request,
-    v1::RetimeSkeletalResponse* response) {
+template <typename Request, typename Response, typename Handler>
+grpc::ServerUnaryReactor* RetimeService::RunOnPool(grpc::CallbackServerContext* context,
+                                                   const Request* request, Response* response,
+                                                   RpcRecord record, Handler handler) {
   const Clock::time_point start = Clock::now();
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  RpcRecord record;
-  record.method = "RetimeSkeletal";
   record.peer = context->peer();
-  record.frames = request->motion().frame_count();
-  record.joints = request->motion().skeleton().joints_size();
   record.bytes_in = static_cast<int64_t>(request->ByteSizeLong());
-  const bool accepted = pool_->TrySubmit([this, context, request, response, reactor, record,
-                                          start]() {
+  const bool accepted = pool_->TrySubmit([context, request, response, reactor, record, start,
+                                          handler]() {
     grpc::Status status;
     if (context->IsCancelled()) {
       status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it started");
     } else {
-      status = ToGrpcStatus(HandleRetimeSkeletal(*request, limits_, response));
+      status = ToGrpcStatus(handler(*request, response));
     }
     FinishAndLog(reactor, std::move(status), response, record, start);
   });
@@ -82,10 +80,30 @@ grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(
   return reactor;
 }
 
+grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(
+    grpc::CallbackServerContext* context, const v1::RetimeSkeletalRequest* request,
+    v1::RetimeSkeletalResponse* response) {
+  RpcRecord record;
+  record.method = "RetimeSkeletal";
+  record.frames = request->motion().frame_count();
+  record.joints = request->motion().skeleton().joints_size();
+  return RunOnPool(context, request, response, std::move(record),
+                   [this](const auto& in, auto* out) {
+                     return HandleRetimeSkeletal(in, limits_, out);
+                   });
+}
+
 grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContext* context,
-                                                      const v1::RetimeCurvesRequest*,
+                                                      const v1::RetimeCurvesRequest* request,
                                                       v1::RetimeCurvesResponse* response) {
-  return Unimplemented(context, response, "RetimeCurves", "issue 3");
+  RpcRecord record;
+  record.method = "RetimeCurves";
+  record.frames = request->curves().frame_count();
+  record.curves = request->curves().curves_size();
+  return RunOnPool(context, request, response, std::move(record),
+                   [this](const auto& in, auto* out) {
+                     return HandleRetimeCurves(in, limits_, out);
+                   });
 }
 
 grpc::ServerUnaryReactor* RetimeService::LipBlink(grpc::CallbackServerContext* context,

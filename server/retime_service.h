@@ -7,6 +7,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "koma/v1/retime.grpc.pb.h"
+#include "server/logging.h"
 #include "server/request_limits.h"
 #include "server/worker_pool.h"
 
@@ -28,6 +29,13 @@ class RetimeService final : public v1::Retime::CallbackService {
                                      v1::LipBlinkResponse* response) override;
 
  private:
+  // Hands `handler(*request, response)` (returning absl::Status) to the worker pool, or
+  // answers RESOURCE_EXHAUSTED when its queue is full; logs one line when finished.
+  template <typename Request, typename Response, typename Handler>
+  grpc::ServerUnaryReactor* RunOnPool(grpc::CallbackServerContext* context,
+                                      const Request* request, Response* response,
+                                      RpcRecord record, Handler handler);
+
   const RequestLimits limits_;
   WorkerPool* const pool_;
 };

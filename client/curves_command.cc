@@ -1,0 +1,165 @@
+#include "client/curves_command.h"
+
+#include <cstdio>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/strings/match.h"
+#include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "client/channel.h"
+#include "client/curves_convert.h"
+#include "client/files.h"
+#include "formats/curve_csv.h"
+#include "formats/drawing_sheet.h"
+#include "formats/motion3.h"
+#include "koma/v1/retime.grpc.pb.h"
+
+namespace koma::client {
+namespace {
+
+constexpr int kUsageError = 2;
+
+int Fail(absl::string_view message) {
+  std::fprintf(stderr, "koma: %s\n", std::string(message).c_str());
+  return 1;
+}
+
+bool IsCsv(const std::string& path) { return absl::EndsWithIgnoreCase(path, ".csv"); }
+
+// The input as a motion3 file (document kept for writing back) or a CSV curve set.
+struct Input {
+  std::optional<formats::Motion3File> motion3;
+  CurveSet curves;
+};
+
+absl::StatusOr<Input> ReadInput(const CurvesArgs& args) {
+  absl::StatusOr<std::string> text = ReadFile(args.input);
+  if (!text.ok()) return text.status();
+  Input input;
+  if (IsCsv(args.input)) {
+    absl::StatusOr<CurveSet> set = formats::ParseCurveCsv(*text, args.csv_fps);
+    if (!set.ok()) return absl::InvalidArgumentError(absl::StrCat(args.input, ": ", set.status().message()));
+    input.curves = *std::move(set);
+    return input;
+  }
+  absl::StatusOr<formats::Motion3File> file = formats::ParseMotion3(*text);
+  if (!file.ok()) return absl::InvalidArgumentError(absl::StrCat(args.input, ": ", file.status().message()));
+  input.curves = file->curves;
+  input.motion3 = *std::move(file);
+  return input;
+}
+
+// "ParamHair=2" -> request.curve_overrides; false on a malformed entry.
+bool AddCurveOverrides(const std::vector<std::string>& entries, v1::RetimeCurvesRequest& request) {
+  for (const std::string& entry : entries) {
+    const size_t equals = entry.rfind('=');
+    int n = 0;
+    if (equals == std::string::npos || equals == 0 ||
+        !absl::SimpleAtoi(entry.substr(equals + 1), &n)) {
+      std::fprintf(stderr, "koma: --curve-on %s: expected ID=N, e.g. ParamHair=2\n",
+                   entry.c_str());
+      return false;
+    }
+    v1::CurveOverride* o = request.add_curve_overrides();
+    o->set_curve_id(entry.substr(0, equals));
+    o->set_frames_per_drawing(n);
+  }
+  return true;
+}
+
+v1::RetimeCurvesRequest MakeRequest(const CurvesArgs& args, const CurveSet& curves) {
+  v1::RetimeCurvesRequest request;
+  *request.mutable_curves() = CurveSetToProto(curves);
+  request.mutable_key_frames()->Add(args.keys.begin(), args.keys.end());
+  if (args.frames_per_drawing) request.set_frames_per_drawing(*args.frames_per_drawing);
+  if (args.tame) request.set_tame(*args.tame);
+  if (args.tsume) request.set_tsume(*args.tsume);
+  return request;
+}
+
+absl::Status WriteOutput(const CurvesArgs& args, const Input& input,
+                         const v1::RetimeCurvesResponse& response) {
+  if (IsCsv(args.output)) {
+    std::vector<std::string> ids;
+    std::vector<std::vector<double>> values;
+    for (const v1::RetimedCurve& curve : response.curves()) {
+      ids.push_back(curve.id());
+      values.emplace_back(curve.values().begin(), curve.values().end());
+    }
+    return WriteFile(args.output, formats::WriteCurveCsv(ids, values));
+  }
+  std::vector<std::optional<std::vector<CurvePoint>>> stepped;
+  for (const v1::RetimedCurve& curve : response.curves()) {
+    stepped.emplace_back(StepsFromProto(curve.stepped()));
+  }
+  absl::StatusOr<std::string> text = formats::WriteMotion3(*input.motion3, stepped);
+  if (!text.ok()) return text.status();
+  return WriteFile(args.output, *text);
+}
+
+std::string Histogram(const v1::RetimedCurve& curve) {
+  std::vector<std::string> parts;
+  for (const v1::HoldCount& c : curve.hold_histogram()) {
+    parts.push_back(absl::StrCat(c.drawings(), " x ", c.length(), "f"));
+  }
+  return absl::StrJoin(parts, ", ");
+}
+
+void PrintSummary(const CurvesArgs& args, const CurveSet& curves,
+                  const v1::RetimeCurvesResponse& response) {
+  std::printf("%s: %zu curves, %d frames at %.4g fps -> %s\n", args.input.c_str(),
+              curves.curves.size(), curves.frame_count, curves.fps, args.output.c_str());
+  std::printf("  key poses (%d): %s\n", response.key_frames_size(),
+              absl::StrJoin(response.key_frames(), ", ").c_str());
+  std::map<int, std::vector<std::string>> curves_by_timing;
+  for (const v1::RetimedCurve& curve : response.curves()) {
+    curves_by_timing[curve.timing()].push_back(curve.id());
+  }
+  for (const auto& [index, ids] : curves_by_timing) {
+    const v1::DrawingTiming& timing = response.timings(index);
+    const v1::RetimedCurve* first = nullptr;
+    for (const v1::RetimedCurve& curve : response.curves()) {
+      if (curve.timing() == index) { first = &curve; break; }
+    }
+    std::printf("  on %ds: %d drawings (holds %s) for %s\n", timing.frames_per_drawing(),
+                timing.drawing_start_size(), Histogram(*first).c_str(),
+                absl::StrJoin(ids, ", ").c_str());
+  }
+  if (!args.timing.empty()) std::printf("  drawing sheet: %s\n", args.timing.c_str());
+}
+
+}  // namespace
+
+int RunCurves(const CurvesArgs& args) {
+  if (!IsCsv(args.output) && IsCsv(args.input)) {
+    std::fprintf(stderr, "koma: -o %s: a CSV input can only be written as CSV (-o OUT.csv)\n",
+                 args.output.c_str());
+    return kUsageError;
+  }
+  absl::StatusOr<Input> input = ReadInput(args);
+  if (!input.ok()) return Fail(input.status().message());
+  v1::RetimeCurvesRequest request = MakeRequest(args, input->curves);
+  if (!AddCurveOverrides(args.curve_on, request)) return kUsageError;
+
+  auto stub = v1::Retime::NewStub(MakeChannel(args.server));
+  grpc::ClientContext context;
+  SetDeadline(&context, args.deadline_seconds);
+  v1::RetimeCurvesResponse response;
+  const grpc::Status status = stub->RetimeCurves(&context, request, &response);
+  if (!status.ok()) return ReportRpcError(status);
+
+  if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return Fail(s.message());
+  if (!args.timing.empty()) {
+    const std::string sheet = formats::WriteDrawingSheetCsv(
+        TimingFromProto(response.timings(0)), input->curves.fps);
+    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return Fail(s.message());
+  }
+  PrintSummary(args, input->curves, response);
+  return 0;
+}
+
+}  // namespace koma::client

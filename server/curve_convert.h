@@ -1,0 +1,26 @@
+// koma.v1 curve messages <-> core curve types, shared by RetimeCurves and LipBlink.
+#ifndef KOMA_SERVER_CURVE_CONVERT_H_
+#define KOMA_SERVER_CURVE_CONVERT_H_
+
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+#include "core/curves.h"
+#include "koma/v1/motion.pb.h"
+#include "server/request_limits.h"
+
+namespace koma::server {
+
+// Converts and validates (core ValidateCurveSet) a request's curve set. Errors name the
+// field under `path` ("curves"): INVALID_ARGUMENT for malformed curves, RESOURCE_EXHAUSTED
+// when curves x frames or the number of points is over --max_values.
+absl::StatusOr<CurveSet> CurveSetFromProto(const v1::CurveSet& proto, absl::string_view path,
+                                           const RequestLimits& limits);
+
+// Stepped keyframes: `steps[0]` as the start, then a SEGMENT_STEPPED segment to each next.
+void SteppedKeyframesToProto(const std::vector<CurvePoint>& steps, v1::Curve* out);
+
+}  // namespace koma::server
+
+#endif  // KOMA_SERVER_CURVE_CONVERT_H_

@@ -1,0 +1,102 @@
+#include "server/curves_request.h"
+
+#include <set>
+#include <string>
+
+#include "absl/strings/str_cat.h"
+#include "core/status_macros.h"
+#include "server/curve_convert.h"
+
+namespace koma::server {
+namespace {
+
+// CurveOverride entries -> curve id -> n, each id known and given once, n >= 1.
+absl::Status ConvertCurveOverrides(const v1::RetimeCurvesRequest& request, const CurveSet& set,
+                                   KomaUchiOptions& options) {
+  std::set<std::string> ids;
+  for (const Curve& curve : set.curves) ids.insert(curve.id);
+  for (int i = 0; i < request.curve_overrides_size(); ++i) {
+    const v1::CurveOverride& o = request.curve_overrides(i);
+    const std::string path = absl::StrCat("curve_overrides[", i, "]");
+    if (ids.count(o.curve_id()) == 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(path, ".curve_id: \"", o.curve_id(), "\" is not a curve of the request"));
+    }
+    if (o.frames_per_drawing() < 1) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          path, ".frames_per_drawing: ", o.frames_per_drawing(), " must be >= 1"));
+    }
+    if (!options.curve_frames_per_drawing.emplace(o.curve_id(), o.frames_per_drawing()).second) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(path, ".curve_id: \"", o.curve_id(), "\" is given twice"));
+    }
+  }
+  return absl::OkStatus();
+}
+
+KomaUchiOptions ConvertOptions(const v1::RetimeCurvesRequest& request) {
+  KomaUchiOptions options;
+  options.key_frames.assign(request.key_frames().begin(), request.key_frames().end());
+  if (request.has_frames_per_drawing()) options.frames_per_drawing = request.frames_per_drawing();
+  if (request.has_tame()) options.tame = request.tame();
+  if (request.has_tsume()) options.tsume = request.tsume();
+  for (const v1::SegmentOverride& in : request.segment_overrides()) {
+    SegmentOverride out;
+    out.segment = in.segment();
+    if (in.has_frames_per_drawing()) out.frames_per_drawing = in.frames_per_drawing();
+    if (in.has_tame()) out.tame = in.tame();
+    if (in.has_tsume()) out.tsume = in.tsume();
+    options.segment_overrides.push_back(out);
+  }
+  return options;
+}
+
+void FillTiming(const DrawingTiming& timing, v1::DrawingTiming* out) {
+  out->set_frames_per_drawing(timing.frames_per_drawing);
+  out->mutable_drawing_of_frame()->Add(timing.drawing_of_frame.begin(),
+                                       timing.drawing_of_frame.end());
+  out->mutable_source_frame()->Add(timing.source_frame.begin(), timing.source_frame.end());
+  out->mutable_drawing_start()->Add(timing.drawing_start.begin(), timing.drawing_start.end());
+}
+
+void FillResponse(const CurveSet& set, const KomaUchiResult& result,
+                  v1::RetimeCurvesResponse* response) {
+  response->mutable_key_frames()->Add(result.key_frames.begin(), result.key_frames.end());
+  for (const DrawingTiming& timing : result.timings) FillTiming(timing, response->add_timings());
+  for (size_t c = 0; c < result.curves.size(); ++c) {
+    const RetimedCurve& in = result.curves[c];
+    v1::RetimedCurve* out = response->add_curves();
+    out->set_id(set.curves[c].id);
+    out->set_timing(in.timing);
+    out->mutable_values()->Add(in.values.begin(), in.values.end());
+    out->mutable_stepped()->set_id(set.curves[c].id);
+    SteppedKeyframesToProto(in.steps, out->mutable_stepped());
+    for (const auto& [length, drawings] : in.hold_histogram) {  // std::map: ascending
+      v1::HoldCount* count = out->add_hold_histogram();
+      count->set_length(length);
+      count->set_drawings(drawings);
+    }
+  }
+}
+
+}  // namespace
+
+absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& request,
+                                                const RequestLimits& limits) {
+  if (!request.has_curves()) return absl::InvalidArgumentError("curves: required, not set");
+  CurvesJob job;
+  KOMA_ASSIGN_OR_RETURN(job.set, CurveSetFromProto(request.curves(), "curves", limits));
+  job.options = ConvertOptions(request);
+  KOMA_RETURN_IF_ERROR(ConvertCurveOverrides(request, job.set, job.options));
+  KOMA_RETURN_IF_ERROR(ValidateKomaUchiOptions(job.options, job.set));
+  return job;
+}
+
+absl::Status HandleRetimeCurves(const v1::RetimeCurvesRequest& request,
+                                const RequestLimits& limits, v1::RetimeCurvesResponse* response) {
+  KOMA_ASSIGN_OR_RETURN(const CurvesJob job, ValidateCurvesRequest(request, limits));
+  FillResponse(job.set, RetimeCurves(job.set, job.options), response);
+  return absl::OkStatus();
+}
+
+}  // namespace koma::server

@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# End to end: the real koma_server on a free loopback port, the real `koma curves` on the
+# bundled motion3.json sample, then on CSV. Usage: curves_e2e_test.sh KOMA_SERVER KOMA SAMPLE
+set -euo pipefail
+server_bin=$1 client_bin=$2 sample=$3
+
+work=$(mktemp -d)
+server_pid=""
+cleanup() {
+  if [ -n "$server_pid" ] && kill -0 "$server_pid" 2>/dev/null; then kill -KILL "$server_pid"; fi
+  rm -rf "$work"
+}
+trap cleanup EXIT
+fail() { echo "FAIL: $*" >&2; echo "--- server log" >&2; cat "$work/server.log" >&2 || true; exit 1; }
+
+"$server_bin" --address=127.0.0.1:0 --port_file="$work/port" 2>"$work/server.log" &
+server_pid=$!
+for _ in $(seq 100); do [ -s "$work/port" ] && break; sleep 0.1; done
+[ -s "$work/port" ] || fail "server did not write its port within 10 s"
+target="127.0.0.1:$(cat "$work/port")"
+
+# motion3.json in and out, on threes with the arm on twos, tame and tsume.
+"$client_bin" curves "$sample" -o "$work/out.motion3.json" --tame 1.5 --tsume 1.5 \
+  --curve-on ParamArmRA=2 --timing "$work/sheet.csv" --server "$target" >"$work/summary.txt" \
+  || fail "koma curves failed"
+cat "$work/summary.txt"
+grep -q "on 3s" "$work/summary.txt" || fail "summary has no 'on 3s' line"
+grep -q "on 2s" "$work/summary.txt" || fail "summary has no 'on 2s' line"
+head -1 "$work/sheet.csv" | grep -q "^output_frame,drawing,source_frame" || fail "sheet header"
+
+# The written file: valid JSON, every curve stepped, Meta counts equal a recount, and the
+# fields koma does not touch unchanged.
+python3 - "$sample" "$work/out.motion3.json" <<'PY' || fail "written motion3.json is wrong"
+import json, sys
+before, after = (json.load(open(p)) for p in sys.argv[1:3])
+points = segments = 0
+for curve in after["Curves"]:
+    s = curve["Segments"]
+    points += 1
+    i = 2
+    while i < len(s):
+        assert s[i] == 2, ("not stepped", curve["Id"], s[i])
+        segments += 1
+        points += 1
+        i += 3
+    assert i == len(s), curve["Id"]
+meta = after["Meta"]
+assert meta["CurveCount"] == len(after["Curves"]) == len(before["Curves"])
+assert meta["TotalSegmentCount"] == segments, (meta["TotalSegmentCount"], segments)
+assert meta["TotalPointCount"] == points, (meta["TotalPointCount"], points)
+for key in ("Duration", "Fps", "Loop", "FadeInTime", "FadeOutTime", "UserDataCount"):
+    assert meta[key] == before["Meta"][key], key
+assert after["UserData"] == before["UserData"]
+assert after["Version"] == before["Version"]
+for b, a in zip(before["Curves"], after["Curves"]):
+    assert (b["Id"], b["Target"]) == (a["Id"], a["Target"])
+    assert b.get("FadeInTime") == a.get("FadeInTime")
+print("motion3.json checks passed")
+PY
+
+# The retimed file reads back: retime it again.
+"$client_bin" curves "$work/out.motion3.json" -o "$work/again.motion3.json" \
+  --server "$target" >/dev/null || fail "the written motion3.json does not read back"
+
+# CSV in and out.
+printf 'frame,ParamA\n' >"$work/in.csv"
+for f in $(seq 0 30); do echo "$f,$((f * 2))" >>"$work/in.csv"; done
+"$client_bin" curves "$work/in.csv" -o "$work/out.csv" --on 2 --fps 24 --server "$target" \
+  >/dev/null || fail "CSV retime failed"
+[ "$(wc -l <"$work/out.csv")" = 32 ] || fail "CSV output has $(wc -l <"$work/out.csv") lines"
+sed -n 2,4p "$work/out.csv" | cut -d, -f2 | tr '\n' ' ' | grep -q "^0 0 " \
+  || fail "CSV output is not on twos: $(sed -n 2,4p "$work/out.csv")"
+
+# A bad parameter: the server's code and message, exit 1, no output written.
+set +e
+"$client_bin" curves "$sample" -o "$work/bad.motion3.json" --tame 0.5 --server "$target" \
+  2>"$work/err.txt"
+code=$?
+set -e
+[ "$code" = 1 ] || fail "--tame 0.5 exited $code, want 1"
+grep -q "INVALID_ARGUMENT: tame: 0.5" "$work/err.txt" || fail "error text: $(cat "$work/err.txt")"
+[ ! -e "$work/bad.motion3.json" ] || fail "a failed call wrote an output file"
+
+# A malformed --curve-on: usage error, exit 2.
+set +e
+"$client_bin" curves "$sample" -o "$work/x.motion3.json" --curve-on ParamArmRA --server "$target" \
+  2>/dev/null
+code=$?
+set -e
+[ "$code" = 2 ] || fail "--curve-on without =N exited $code, want 2"
+
+kill -TERM "$server_pid"
+set +e
+wait "$server_pid"
+code=$?
+set -e
+server_pid=""
+[ "$code" = 0 ] || fail "server exited $code after SIGTERM"
+echo "PASS: curves end to end"
