@@ -50,7 +50,7 @@ struct CurveSet {
   int frame_count = 0;    // frames 0 .. frame_count - 1; >= 2
   // motion3.json Meta.AreBeziersRestricted: true = a Bezier's parameter is linear in time
   // (handle times ignored); false = solve x(u) = time for u on the handles' times.
-  bool beziers_restricted = true;
+  bool beziers_restricted = false;
   std::vector<Curve> curves;
 };
 

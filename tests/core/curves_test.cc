@@ -201,9 +201,11 @@ TEST(EvaluateCurveTest, UnrestrictedBezierStaysWithinItsControlValues) {
   EXPECT_GT(beziers, 20);
 }
 
+// Restricted Beziers (Cubism Editor's default), where handle order is checked too.
 CurveSet ValidSet() {
   CurveSet set;
   set.frame_count = 3;
+  set.beziers_restricted = true;
   set.curves.push_back(Keyframes({0, 0}, {Linear(1, 1), Bezier({1.5, 0}, {2, 1}, {3, 2})}, "A"));
   Curve dense;
   dense.id = "B";
