@@ -101,6 +101,16 @@ absl::Status WriteOutput(const CurvesArgs& args, const Input& input,
   return WriteFile(args.output, *text);
 }
 
+// "on ones", "on twos", "on threes", then "on 4s".
+std::string OnName(int n) {
+  switch (n) {
+    case 1: return "on ones";
+    case 2: return "on twos";
+    case 3: return "on threes";
+    default: return absl::StrCat("on ", n, "s");
+  }
+}
+
 std::string Histogram(const v1::RetimedCurve& curve) {
   std::vector<std::string> parts;
   for (const v1::HoldCount& c : curve.hold_histogram()) {
@@ -125,8 +135,9 @@ void PrintSummary(const CurvesArgs& args, const CurveSet& curves,
     for (const v1::RetimedCurve& curve : response.curves()) {
       if (curve.timing() == index) { first = &curve; break; }
     }
-    std::printf("  on %ds: %d drawings (holds %s) for %s\n", timing.frames_per_drawing(),
-                timing.drawing_start_size(), Histogram(*first).c_str(),
+    std::printf("  %s: %d drawings (holds %s) for %s\n",
+                OnName(timing.frames_per_drawing()).c_str(), timing.drawing_start_size(),
+                Histogram(*first).c_str(),
                 absl::StrJoin(ids, ", ").c_str());
   }
   if (!args.timing.empty()) std::printf("  drawing sheet: %s\n", args.timing.c_str());

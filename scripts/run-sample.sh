@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The main job on the bundled sample: install, build, start koma_server on a loopback port,
-# retime samples/pitch.bvh through the koma client, write out/pitch_anime.bvh and
-# out/pitch_timing.csv, print the summary, stop the server.
+# The main job on the bundled samples: install, build, start koma_server on a loopback port,
+# retime samples/pitch.bvh (RetimeSkeletal) and samples/arm_head.motion3.json (RetimeCurves)
+# through the koma client, write the results and their timing sheets to out/, print the
+# summaries, stop the server.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${KOMA_BUILD_DIR:-$root/build}
@@ -24,6 +25,10 @@ echo "koma_server is $("$build/client/koma" health --server "$server") on $serve
 echo
 echo "First output frames of the timing sheet ($out/pitch_timing.csv):"
 head -n 13 "$out/pitch_timing.csv"
+echo
+"$build/client/koma" curves "$root/samples/arm_head.motion3.json" \
+  -o "$out/arm_head_anime.motion3.json" --timing "$out/arm_head_drawings.csv" --on 3 \
+  --tame 1.5 --tsume 1.5 --server "$server"
 
 kill -TERM "$server_pid"
 wait "$server_pid"

@@ -24,8 +24,8 @@ target="127.0.0.1:$(cat "$work/port")"
   --curve-on ParamArmRA=2 --timing "$work/sheet.csv" --server "$target" >"$work/summary.txt" \
   || fail "koma curves failed"
 cat "$work/summary.txt"
-grep -q "on 3s" "$work/summary.txt" || fail "summary has no 'on 3s' line"
-grep -q "on 2s" "$work/summary.txt" || fail "summary has no 'on 2s' line"
+grep -q "on threes: .* for ParamAngleX" "$work/summary.txt" || fail "summary: no 'on threes'"
+grep -q "on twos: .* for ParamArmRA" "$work/summary.txt" || fail "summary: no 'on twos'"
 head -1 "$work/sheet.csv" | grep -q "^output_frame,drawing,source_frame" || fail "sheet header"
 
 # The written file: valid JSON, every curve stepped, Meta counts equal a recount, and the
