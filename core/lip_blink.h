@@ -1,0 +1,114 @@
+// LipBlink (Miyamune et al. section 3.2): three-drawing mouth flaps and anime blinks.
+// See ../shared/design/algorithms.md section 3. Frames are integer indices; an interval is
+// half-open [begin, end).
+#ifndef KOMA_CORE_LIP_BLINK_H_
+#define KOMA_CORE_LIP_BLINK_H_
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/types/span.h"
+
+namespace koma {
+
+struct FrameInterval {
+  int begin = 0;  // first frame
+  int end = 0;    // one past the last frame
+  friend bool operator==(const FrameInterval& a, const FrameInterval& b) {
+    return a.begin == b.begin && a.end == b.end;
+  }
+};
+
+// The three mouth drawings, ordered by how open they are.
+enum class MouthShape : uint8_t { kClosed = 0, kMid = 1, kOpen = 2 };
+
+enum class MouthMode : uint8_t {
+  kRandom,  // the paper: each hold picks uniformly between the two shapes allowed
+  kFollow,  // beyond the paper: the allowed shape nearest the mean of the input over the hold
+};
+
+struct MouthOptions {
+  int frames_per_shape = 3;   // n: every hold lasts n frames (the last of an interval may be shorter)
+  MouthMode mode = MouthMode::kRandom;
+  double mid_ratio = 0.5;     // r in (0, 1): M_mid = M_min + r (M_max - M_min)
+  std::optional<double> min;  // M_min (closed); default: the curve's minimum
+  std::optional<double> max;  // M_max (open); default: the curve's maximum
+  // Speech intervals, sorted, disjoint, within the clip. Empty: detected (the frames where the
+  // curve changes by more than 1e-6 of its range, gaps shorter than n merged).
+  std::vector<FrameInterval> speech;
+};
+
+struct MouthHold {
+  int begin = 0;   // first frame
+  int length = 0;  // frames
+  MouthShape shape = MouthShape::kClosed;
+};
+
+struct MouthResult {
+  std::vector<double> values;          // per frame: the shape's level inside speech, else input
+  std::vector<FrameInterval> speech;   // the intervals used (given or detected)
+  std::vector<MouthHold> holds;        // in time order
+  double closed = 0.0, mid = 0.0, open = 0.0;  // the three levels used
+};
+
+// INVALID_ARGUMENT naming the option ("frames_per_shape: 0 must be >= 1",
+// "speech[2]: [40, 38) is empty or reversed", ...). `frame_count` is the curve length.
+absl::Status ValidateMouthOptions(const MouthOptions& options, int frame_count);
+
+// The mouth curve `input` (one value per frame) as three drawings. Holds start at each
+// interval's first frame; the shape before an interval's first hold counts as closed, so the
+// first hold is mid or open, and no hold repeats the previous one. RANDOM draws one bit per
+// hold from SplitMix64(seed); FOLLOW uses no randomness (ties go to the more closed shape).
+MouthResult ConvertMouth(absl::Span<const double> input, const MouthOptions& options,
+                         uint64_t seed);
+
+struct AutoBlinkOptions {
+  bool enabled = false;
+  double mean_interval_s = 4.0;  // seconds between blinks on average (CubismEyeBlink: 4 s)
+  double spread_s = 1.0;         // intervals are uniform in [mean - spread, mean + spread]
+  int hold = 2;                  // frames closed, then frames half-open (1..3)
+  // Frames auto-blinks must not touch (beyond the detected blinks, which they never touch).
+  std::vector<FrameInterval> keep;
+};
+
+struct EyeOptions {
+  double mid_ratio = 0.5;      // E_mid = E_min + r (E_max - E_min), r in (0, 1)
+  double threshold = 0.1;      // delta: closed <= E_min + delta*range, open >= E_max - delta*range
+  std::optional<double> min;   // E_min; default the clip's minimum (0 if the curves are flat)
+  std::optional<double> max;   // E_max; default the clip's maximum
+  bool linked = true;          // one blink timing for all eye curves
+  AutoBlinkOptions auto_blink;
+  double fps = 30.0;           // frames per second, for the auto-blink intervals
+};
+
+struct Blink {
+  int closing_begin = 0;  // first frame of the closing phase (== closed_begin when none)
+  int closed_begin = 0;   // C_start
+  int closed_end = 0;     // C_end (inclusive)
+  int open_span = 0;      // O_span, frames
+  int hold = 1;           // k from O_total (paper Eq. 7): 1, 2 or 3
+  bool automatic = false; // inserted by auto-blink
+};
+
+struct EyeResult {
+  std::vector<std::vector<double>> values;  // per eye curve, per frame
+  // Per eye curve (linked: the same list for every curve, computed once on their average).
+  std::vector<std::vector<Blink>> blinks;
+  std::vector<double> closed, mid, open;    // per eye curve: the levels used
+};
+
+absl::Status ValidateEyeOptions(const EyeOptions& options, int frame_count);
+
+// Eye curves (each one value per frame, same length) with anime blinks: the closing phase
+// snaps to open, closed from C_start through max(C_end, C_start + k - 1), then half-open for k
+// frames, then open; never past the clip or into the next blink. Auto-blinks, when enabled,
+// are drawn from SplitMix64(seed ^ kAutoBlinkStream) so turning them on does not change the
+// mouth's draws.
+EyeResult ConvertEyes(const std::vector<absl::Span<const double>>& eyes,
+                      const EyeOptions& options, uint64_t seed);
+
+}  // namespace koma
+
+#endif  // KOMA_CORE_LIP_BLINK_H_
