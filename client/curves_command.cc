@@ -6,16 +6,14 @@
 #include <string>
 #include <vector>
 
-#include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "client/channel.h"
+#include "client/curve_files.h"
 #include "client/curves_convert.h"
 #include "client/files.h"
-#include "formats/curve_csv.h"
 #include "formats/drawing_sheet.h"
-#include "formats/motion3.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
@@ -26,31 +24,6 @@ constexpr int kUsageError = 2;
 int Fail(absl::string_view message) {
   std::fprintf(stderr, "koma: %s\n", std::string(message).c_str());
   return 1;
-}
-
-bool IsCsv(const std::string& path) { return absl::EndsWithIgnoreCase(path, ".csv"); }
-
-// The input as a motion3 file (document kept for writing back) or a CSV curve set.
-struct Input {
-  std::optional<formats::Motion3File> motion3;
-  CurveSet curves;
-};
-
-absl::StatusOr<Input> ReadInput(const CurvesArgs& args) {
-  absl::StatusOr<std::string> text = ReadFile(args.input);
-  if (!text.ok()) return text.status();
-  Input input;
-  if (IsCsv(args.input)) {
-    absl::StatusOr<CurveSet> set = formats::ParseCurveCsv(*text, args.csv_fps);
-    if (!set.ok()) return absl::InvalidArgumentError(absl::StrCat(args.input, ": ", set.status().message()));
-    input.curves = *std::move(set);
-    return input;
-  }
-  absl::StatusOr<formats::Motion3File> file = formats::ParseMotion3(*text);
-  if (!file.ok()) return absl::InvalidArgumentError(absl::StrCat(args.input, ": ", file.status().message()));
-  input.curves = file->curves;
-  input.motion3 = *std::move(file);
-  return input;
 }
 
 // "ParamHair=2" -> request.curve_overrides; false on a malformed entry.
@@ -81,24 +54,15 @@ v1::RetimeCurvesRequest MakeRequest(const CurvesArgs& args, const CurveSet& curv
   return request;
 }
 
-absl::Status WriteOutput(const CurvesArgs& args, const Input& input,
+absl::Status WriteOutput(const CurvesArgs& args, const CurveInput& input,
                          const v1::RetimeCurvesResponse& response) {
-  if (IsCsv(args.output)) {
-    std::vector<std::string> ids;
-    std::vector<std::vector<double>> values;
-    for (const v1::RetimedCurve& curve : response.curves()) {
-      ids.push_back(curve.id());
-      values.emplace_back(curve.values().begin(), curve.values().end());
-    }
-    return WriteFile(args.output, formats::WriteCurveCsv(ids, values));
-  }
-  std::vector<std::optional<std::vector<CurvePoint>>> stepped;
+  std::vector<std::optional<CurveReplacement>> replacements;
   for (const v1::RetimedCurve& curve : response.curves()) {
-    stepped.emplace_back(StepsFromProto(curve.stepped()));
+    replacements.push_back(CurveReplacement{
+        std::vector<double>(curve.values().begin(), curve.values().end()),
+        StepsFromProto(curve.stepped())});
   }
-  absl::StatusOr<std::string> text = formats::WriteMotion3(*input.motion3, stepped);
-  if (!text.ok()) return text.status();
-  return WriteFile(args.output, *text);
+  return WriteCurveOutput(args.output, input, replacements);
 }
 
 // "on ones", "on twos", "on threes", then "on 4s".
@@ -146,12 +110,12 @@ void PrintSummary(const CurvesArgs& args, const CurveSet& curves,
 }  // namespace
 
 int RunCurves(const CurvesArgs& args) {
-  if (!IsCsv(args.output) && IsCsv(args.input)) {
+  if (!IsCsvPath(args.output) && IsCsvPath(args.input)) {
     std::fprintf(stderr, "koma: -o %s: a CSV input can only be written as CSV (-o OUT.csv)\n",
                  args.output.c_str());
     return kUsageError;
   }
-  absl::StatusOr<Input> input = ReadInput(args);
+  absl::StatusOr<CurveInput> input = ReadCurveInput(args.input, args.csv_fps);
   if (!input.ok()) return Fail(input.status().message());
   v1::RetimeCurvesRequest request = MakeRequest(args, input->curves);
   if (!AddCurveOverrides(args.curve_on, request)) return kUsageError;

@@ -7,6 +7,7 @@
 #include "client/channel.h"
 #include "client/curves_command.h"
 #include "client/health_command.h"
+#include "client/lip_blink_command.h"
 #include "client/skeletal_command.h"
 
 namespace {
@@ -63,6 +64,35 @@ void AddCurves(CLI::App& app, koma::client::CurvesArgs& args) {
       ->check(CLI::PositiveNumber);
 }
 
+void AddLipBlink(CLI::App& app, koma::client::LipBlinkArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "lipblink", "Three-drawing mouth flaps and anime blinks (LipBlink)");
+  cmd->add_option("input", args.input, "motion3.json, or CSV (frame,<id>,... per frame)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", args.output, "motion3.json or .csv to write")->required();
+  cmd->add_option("--mouth", args.mouth_ids, "mouth-open curve ids (default ParamMouthOpenY)")
+      ->delimiter(',');
+  cmd->add_option("--eyes", args.eye_ids, "eye-open curve ids (default ParamEyeLOpen,"
+                                          "ParamEyeROpen)")
+      ->delimiter(',');
+  cmd->add_option("--mode", args.mode, "random (the paper) or follow the input (default random)")
+      ->check(CLI::IsMember({"random", "follow"}));
+  cmd->add_option("--seed", args.seed, "seed of the random mouth shapes and auto-blinks");
+  cmd->add_option("--auto-blink", args.auto_blink_mean_s,
+                  "insert blinks about every MEAN_S seconds where the eyes do not blink")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--on", args.frames_per_shape, "frames each mouth drawing is held (default 3)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--unlinked-eyes", args.unlinked_eyes, "time each eye's blinks on its own");
+  cmd->add_option("--fps", args.csv_fps, "frames per second of a CSV input (default 30)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--server", args.server, "server host:port (default $KOMA_SERVER or "
+                                           "127.0.0.1:50051)");
+  cmd->add_option("--deadline", args.deadline_seconds, "RPC deadline in seconds (default 60)")
+      ->check(CLI::PositiveNumber);
+}
+
 void AddHealth(CLI::App& app, koma::client::HealthArgs& args) {
   CLI::App* cmd = app.add_subcommand("health", "Ask the server's grpc.health.v1 service");
   cmd->add_option("--server", args.server, "server host:port");
@@ -78,10 +108,13 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   koma::client::SkeletalArgs skeletal;
   koma::client::CurvesArgs curves;
+  koma::client::LipBlinkArgs lip_blink;
   koma::client::HealthArgs health;
-  skeletal.server = curves.server = health.server = koma::client::DefaultServer();
+  skeletal.server = curves.server = lip_blink.server = health.server =
+      koma::client::DefaultServer();
   AddSkeletal(app, skeletal);
   AddCurves(app, curves);
+  AddLipBlink(app, lip_blink);
   AddHealth(app, health);
   try {
     app.parse(argc, argv);
@@ -95,5 +128,6 @@ int main(int argc, char** argv) {
   }
   if (app.got_subcommand("skeletal")) return koma::client::RunSkeletal(skeletal);
   if (app.got_subcommand("curves")) return koma::client::RunCurves(curves);
+  if (app.got_subcommand("lipblink")) return koma::client::RunLipBlink(lip_blink);
   return koma::client::RunHealth(health);
 }

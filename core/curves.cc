@@ -222,4 +222,24 @@ double CurveCursor::Evaluate(double frame) {
   return EvaluateKeyframesAt(curve_, segment_, frame, beziers_restricted_);
 }
 
+std::vector<CurvePoint> SteppedFromValues(const std::vector<double>& values) {
+  std::vector<CurvePoint> steps;
+  for (size_t f = 0; f < values.size(); ++f) {
+    const bool last = f + 1 == values.size();
+    if (f == 0 || values[f] != values[f - 1] || (last && f > 0)) {
+      steps.push_back({static_cast<double>(f), values[f]});
+    }
+  }
+  return steps;
+}
+
+std::vector<double> SampleEveryFrame(const Curve& curve, int frame_count,
+                                     bool beziers_restricted) {
+  if (curve.dense()) return curve.samples;
+  std::vector<double> values(frame_count);
+  CurveCursor cursor(curve, beziers_restricted);  // times only increase: O(frames + segments)
+  for (int f = 0; f < frame_count; ++f) values[f] = cursor.Evaluate(f);
+  return values;
+}
+
 }  // namespace koma

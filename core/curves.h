@@ -72,6 +72,16 @@ absl::Status ValidateCurveSet(const CurveSet& set);
 // bisection, not Cardano's formula, whose cbrt/acos differ between libm versions).
 double EvaluateCurve(const Curve& curve, double frame, bool beziers_restricted);
 
+// Per-frame values (frame f = values[f]) as stepped keyframes: a point at frame 0, one at
+// every frame whose value differs from the previous frame's, and one at the last frame, so
+// the curve spans the whole clip (at least 2 points when there are at least 2 frames).
+// Evaluated with stepped segments, they give back values[f] at every frame f.
+std::vector<CurvePoint> SteppedFromValues(const std::vector<double>& values);
+
+// The curve's value at every frame 0 .. frame_count - 1 (dense samples as they are).
+std::vector<double> SampleEveryFrame(const Curve& curve, int frame_count,
+                                     bool beziers_restricted);
+
 }  // namespace koma
 
 #endif  // KOMA_CORE_CURVES_H_

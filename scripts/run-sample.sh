@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job on the bundled samples: install, build, start koma_server on a loopback port,
-# retime samples/pitch.bvh (RetimeSkeletal) and samples/arm_head.motion3.json (RetimeCurves)
-# through the koma client, write the results and their timing sheets to out/, print the
+# retime samples/pitch.bvh (RetimeSkeletal), samples/arm_head.motion3.json (RetimeCurves) and
+# samples/talk_blink.motion3.json (LipBlink) through the koma client, write the results and their timing sheets to out/, print the
 # summaries, stop the server.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -29,6 +29,9 @@ echo
 "$build/client/koma" curves "$root/samples/arm_head.motion3.json" \
   -o "$out/arm_head_anime.motion3.json" --timing "$out/arm_head_drawings.csv" --on 3 \
   --tame 1.5 --tsume 1.5 --server "$server"
+echo
+"$build/client/koma" lipblink "$root/samples/talk_blink.motion3.json" \
+  -o "$out/talk_blink_anime.motion3.json" --server "$server"
 
 kill -TERM "$server_pid"
 wait "$server_pid"

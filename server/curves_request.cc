@@ -1,5 +1,6 @@
 #include "server/curves_request.h"
 
+#include <cmath>
 #include <set>
 #include <string>
 
@@ -79,6 +80,22 @@ void FillResponse(const CurveSet& set, const KomaUchiResult& result,
   }
 }
 
+// Finite keys can still evaluate to inf or NaN (a linear segment from -1e308 to 1e308
+// overflows); such a curve gets OUT_OF_RANGE, never a silent NaN in the answer.
+absl::Status CheckFinite(const KomaUchiResult& result) {
+  for (size_t c = 0; c < result.curves.size(); ++c) {
+    const std::vector<double>& values = result.curves[c].values;
+    for (size_t f = 0; f < values.size(); ++f) {
+      if (!std::isfinite(values[f])) {
+        return absl::OutOfRangeError(absl::StrCat("curves.curves[", c, "]: evaluates to ",
+                                                  values[f], " at frame ", f,
+                                                  " (values too large to interpolate)"));
+      }
+    }
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& request,
@@ -95,7 +112,9 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
 absl::Status HandleRetimeCurves(const v1::RetimeCurvesRequest& request,
                                 const RequestLimits& limits, v1::RetimeCurvesResponse* response) {
   KOMA_ASSIGN_OR_RETURN(const CurvesJob job, ValidateCurvesRequest(request, limits));
-  FillResponse(job.set, RetimeCurves(job.set, job.options), response);
+  const KomaUchiResult result = RetimeCurves(job.set, job.options);
+  KOMA_RETURN_IF_ERROR(CheckFinite(result));
+  FillResponse(job.set, result, response);
   return absl::OkStatus();
 }
 

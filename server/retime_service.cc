@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "server/logging.h"
 #include "server/curves_request.h"
+#include "server/lip_blink_request.h"
 #include "server/skeletal_request.h"
 #include "server/status_mapping.h"
 
@@ -39,21 +40,6 @@ grpc::Status Busy(absl::string_view method) {
   return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
                       absl::StrCat(method, ": server busy, the request queue is full "
                                            "(--max_queued); retry with backoff"));
-}
-
-// Answers UNIMPLEMENTED for an RPC that is declared in koma.v1 but not built yet.
-template <typename Response>
-grpc::ServerUnaryReactor* Unimplemented(grpc::CallbackServerContext* context, Response* response,
-                                        absl::string_view method, absl::string_view issue) {
-  RpcRecord record;
-  record.method = method;
-  record.peer = context->peer();
-  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  FinishAndLog(reactor,
-               grpc::Status(grpc::StatusCode::UNIMPLEMENTED,
-                            absl::StrCat(method, " is not implemented yet (koma.v1, ", issue, ")")),
-               response, record, Clock::now());
-  return reactor;
 }
 
 }  // namespace
@@ -107,9 +93,14 @@ grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContex
 }
 
 grpc::ServerUnaryReactor* RetimeService::LipBlink(grpc::CallbackServerContext* context,
-                                                  const v1::LipBlinkRequest*,
+                                                  const v1::LipBlinkRequest* request,
                                                   v1::LipBlinkResponse* response) {
-  return Unimplemented(context, response, "LipBlink", "issue 4");
+  RpcRecord record;
+  record.method = "LipBlink";
+  record.frames = request->curves().frame_count();
+  record.curves = request->curves().curves_size();
+  return RunOnPool(context, request, response, std::move(record),
+                   [this](const auto& in, auto* out) { return HandleLipBlink(in, limits_, out); });
 }
 
 }  // namespace koma::server

@@ -130,6 +130,12 @@ std::vector<BadCurves> BadRequests() {
          o->set_tame(0.9);
        },
        kInvalid, "segment_overrides[0].tame: 0.9"},
+      {"KeysTooLargeToInterpolate",
+       [](auto& r) {
+         CurveOf(r, 0).mutable_start()->set_value(-1.5e308);
+         SegmentOf(r, 0).mutable_end()->set_value(1.5e308);
+       },
+       C::OUT_OF_RANGE, "curves.curves[0]: evaluates to"},
       {"OverValueLimit",
        [](auto& r) {
          r.mutable_curves()->set_frame_count(40'000);

@@ -121,16 +121,6 @@ TEST(RetimeServiceTest, SameRequestSameBytesWhateverTheThreadCount) {
   for (const std::string& answer : answers) EXPECT_EQ(answer, answers.front());
 }
 
-TEST(RetimeServiceTest, LipBlinkAnswersUnimplementedForNow) {
-  auto server = StartInProcess(1);
-  auto stub = v1::Retime::NewStub(server->InProcessChannel());
-  grpc::ClientContext context;
-  v1::LipBlinkResponse response;
-  const grpc::Status status = stub->LipBlink(&context, {}, &response);
-  EXPECT_EQ(status.error_code(), grpc::StatusCode::UNIMPLEMENTED);
-  EXPECT_THAT(status.error_message(), HasSubstr("LipBlink"));
-}
-
 TEST(RetimeServiceTest, RequestOverMaxMessageBytesIsResourceExhausted) {
   auto server = StartInProcess(1, /*max_message_bytes=*/64 * 1024);
   auto stub = v1::Retime::NewStub(server->InProcessChannel());

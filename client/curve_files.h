@@ -1,0 +1,43 @@
+// Curve files for `koma curves` and `koma lipblink`: motion3.json or per-frame CSV in, the
+// same (or CSV) out with some curves replaced.
+#ifndef KOMA_CLIENT_CURVE_FILES_H_
+#define KOMA_CLIENT_CURVE_FILES_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "core/curves.h"
+#include "formats/motion3.h"
+
+namespace koma::client {
+
+// True for "*.csv" (any case).
+bool IsCsvPath(const std::string& path);
+
+struct CurveInput {
+  std::optional<formats::Motion3File> motion3;  // kept to write every other field back
+  CurveSet curves;
+};
+
+// A motion3.json, or a CSV (`frame,<id>,...`) at `csv_fps` frames per second. Errors name
+// the file.
+absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps);
+
+// A retimed curve: per-frame values and the same as stepped keyframes.
+struct CurveReplacement {
+  std::vector<double> values;
+  std::vector<CurvePoint> steps;
+};
+
+// Writes `input` with replacements[i] (when set) in place of curve i: as CSV (every curve,
+// the others sampled at every frame) when `path` ends in .csv, else as motion3.json (needs a
+// motion3 input; the others untouched, Meta counts recomputed).
+absl::Status WriteCurveOutput(const std::string& path, const CurveInput& input,
+                              const std::vector<std::optional<CurveReplacement>>& replacements);
+
+}  // namespace koma::client
+
+#endif  // KOMA_CLIENT_CURVE_FILES_H_

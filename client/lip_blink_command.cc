@@ -1,0 +1,116 @@
+#include "client/lip_blink_command.h"
+
+#include <cstdio>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "client/channel.h"
+#include "client/curve_files.h"
+#include "client/curves_convert.h"
+#include "koma/v1/retime.grpc.pb.h"
+
+namespace koma::client {
+namespace {
+
+constexpr int kUsageError = 2;
+
+int Fail(absl::string_view message) {
+  std::fprintf(stderr, "koma: %s\n", std::string(message).c_str());
+  return 1;
+}
+
+v1::LipBlinkRequest MakeRequest(const LipBlinkArgs& args, const CurveSet& curves) {
+  v1::LipBlinkRequest request;
+  *request.mutable_curves() = CurveSetToProto(curves);
+  v1::MouthSettings* mouth = request.mutable_mouth();
+  for (const std::string& id : args.mouth_ids) mouth->add_ids(id);
+  mouth->set_mode(args.mode == "follow" ? v1::MOUTH_FOLLOW : v1::MOUTH_RANDOM);
+  if (args.frames_per_shape) mouth->set_frames_per_shape(*args.frames_per_shape);
+  v1::EyeSettings* eyes = request.mutable_eyes();
+  for (const std::string& id : args.eye_ids) eyes->add_ids(id);
+  if (args.unlinked_eyes) eyes->set_linked(false);
+  if (args.auto_blink_mean_s) {
+    eyes->mutable_auto_blink()->set_enabled(true);
+    eyes->mutable_auto_blink()->set_mean_interval_s(*args.auto_blink_mean_s);
+  }
+  if (args.seed) request.set_seed(*args.seed);
+  return request;
+}
+
+const char* ShapeName(int shape) {
+  switch (shape) {
+    case v1::MOUTH_CLOSED: return "closed";
+    case v1::MOUTH_MID: return "mid";
+    case v1::MOUTH_OPEN: return "open";
+    default: return "?";
+  }
+}
+
+void PrintMouth(const v1::MouthTrack& mouth) {
+  std::vector<std::string> speech;
+  for (const v1::FrameInterval& i : mouth.speech()) {
+    speech.push_back(absl::StrCat(i.begin(), "-", i.end() - 1));
+  }
+  std::vector<std::string> shapes;
+  for (const v1::MouthHold& hold : mouth.holds()) shapes.push_back(ShapeName(hold.shape()));
+  std::printf("  mouth %s: speech at frames %s; %d holds: %s\n", mouth.id().c_str(),
+              speech.empty() ? "none" : absl::StrJoin(speech, ", ").c_str(), mouth.holds_size(),
+              absl::StrJoin(shapes, " ").c_str());
+}
+
+void PrintEye(const v1::EyeTrack& eye) {
+  std::vector<std::string> blinks;
+  for (const v1::Blink& b : eye.blinks()) {
+    blinks.push_back(absl::StrCat("frame ", b.closed_begin(), " (hold ", b.hold(),
+                                  b.automatic() ? ", auto)" : ")"));
+  }
+  std::printf("  eye %s: %d blinks%s%s\n", eye.id().c_str(), eye.blinks_size(),
+              blinks.empty() ? "" : ": ", absl::StrJoin(blinks, ", ").c_str());
+}
+
+absl::Status WriteOutput(const LipBlinkArgs& args, const CurveInput& input,
+                         const v1::LipBlinkResponse& response) {
+  std::map<std::string, size_t> index_of;
+  for (size_t i = 0; i < input.curves.curves.size(); ++i) index_of[input.curves.curves[i].id] = i;
+  std::vector<std::optional<CurveReplacement>> replacements(input.curves.curves.size());
+  for (const v1::ConvertedCurve& curve : response.curves()) {
+    replacements[index_of.at(curve.id())] = CurveReplacement{
+        std::vector<double>(curve.values().begin(), curve.values().end()),
+        StepsFromProto(curve.stepped())};
+  }
+  return WriteCurveOutput(args.output, input, replacements);
+}
+
+}  // namespace
+
+int RunLipBlink(const LipBlinkArgs& args) {
+  if (!IsCsvPath(args.output) && IsCsvPath(args.input)) {
+    std::fprintf(stderr, "koma: -o %s: a CSV input can only be written as CSV (-o OUT.csv)\n",
+                 args.output.c_str());
+    return kUsageError;
+  }
+  absl::StatusOr<CurveInput> input = ReadCurveInput(args.input, args.csv_fps);
+  if (!input.ok()) return Fail(input.status().message());
+
+  auto stub = v1::Retime::NewStub(MakeChannel(args.server));
+  grpc::ClientContext context;
+  SetDeadline(&context, args.deadline_seconds);
+  v1::LipBlinkResponse response;
+  const grpc::Status status =
+      stub->LipBlink(&context, MakeRequest(args, input->curves), &response);
+  if (!status.ok()) return ReportRpcError(status);
+  if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return Fail(s.message());
+
+  std::printf("%s: %d frames at %.4g fps -> %s (seed %llu, %s mouth)\n", args.input.c_str(),
+              input->curves.frame_count, input->curves.fps, args.output.c_str(),
+              static_cast<unsigned long long>(response.seed()), args.mode.c_str());
+  for (const v1::MouthTrack& mouth : response.mouths()) PrintMouth(mouth);
+  for (const v1::EyeTrack& eye : response.eyes()) PrintEye(eye);
+  return 0;
+}
+
+}  // namespace koma::client

@@ -1,0 +1,127 @@
+// Validation half of server/lip_blink_request.h.
+#include <algorithm>
+#include <set>
+#include <string>
+
+#include "absl/strings/str_cat.h"
+#include "core/status_macros.h"
+#include "server/curve_convert.h"
+#include "server/lip_blink_request.h"
+
+namespace koma::server {
+namespace {
+
+constexpr const char* kDefaultMouthIds[] = {"ParamMouthOpenY"};
+constexpr const char* kDefaultEyeIds[] = {"ParamEyeLOpen", "ParamEyeROpen"};
+
+absl::Status Prefixed(const absl::Status& status, absl::string_view prefix) {
+  if (status.ok()) return status;
+  return absl::Status(status.code(), absl::StrCat(prefix, status.message()));
+}
+
+int IndexOf(const CurveSet& set, const std::string& id) {
+  for (size_t i = 0; i < set.curves.size(); ++i) {
+    if (set.curves[i].id == id) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+// Given ids must name curves, once each, and no curve may be both mouth and eye (`taken`).
+template <size_t N>
+absl::StatusOr<std::vector<int>> ResolveIds(
+    const google::protobuf::RepeatedPtrField<std::string>& ids, const char* const (&defaults)[N],
+    absl::string_view path, const CurveSet& set, std::set<int>& taken) {
+  std::vector<int> indices;
+  if (ids.empty()) {
+    for (const char* id : defaults) {
+      const int index = IndexOf(set, id);
+      if (index >= 0 && taken.insert(index).second) indices.push_back(index);
+    }
+    return indices;
+  }
+  for (int i = 0; i < ids.size(); ++i) {
+    const int index = IndexOf(set, ids[i]);
+    if (index < 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(path, "[", i, "]: \"", ids[i], "\" is not a curve of the request"));
+    }
+    if (!taken.insert(index).second) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          path, "[", i, "]: \"", ids[i], "\" is already a mouth or eye curve"));
+    }
+    indices.push_back(index);
+  }
+  return indices;
+}
+
+std::vector<FrameInterval> Intervals(
+    const google::protobuf::RepeatedPtrField<v1::FrameInterval>& in) {
+  std::vector<FrameInterval> out;
+  for (const v1::FrameInterval& i : in) out.push_back({i.begin(), i.end()});
+  return out;
+}
+
+absl::StatusOr<MouthOptions> ConvertMouth(const v1::MouthSettings& in, int frame_count) {
+  MouthOptions out;
+  switch (in.mode()) {
+    case v1::MOUTH_MODE_UNSPECIFIED:
+    case v1::MOUTH_RANDOM: out.mode = MouthMode::kRandom; break;
+    case v1::MOUTH_FOLLOW: out.mode = MouthMode::kFollow; break;
+    default:
+      return absl::InvalidArgumentError(absl::StrCat(
+          "mouth.mode: ", static_cast<int>(in.mode()), " is not a MouthMode (1 RANDOM, 2 FOLLOW)"));
+  }
+  if (in.has_frames_per_shape()) out.frames_per_shape = in.frames_per_shape();
+  if (in.has_mid_ratio()) out.mid_ratio = in.mid_ratio();
+  if (in.has_min()) out.min = in.min();
+  if (in.has_max()) out.max = in.max();
+  out.speech = Intervals(in.speech());
+  KOMA_RETURN_IF_ERROR(Prefixed(ValidateMouthOptions(out, frame_count), "mouth."));
+  return out;
+}
+
+absl::StatusOr<EyeOptions> ConvertEyes(const v1::EyeSettings& in, const CurveSet& set) {
+  EyeOptions out;
+  out.fps = set.fps;
+  if (in.has_mid_ratio()) out.mid_ratio = in.mid_ratio();
+  if (in.has_threshold()) out.threshold = in.threshold();
+  if (in.has_min()) out.min = in.min();
+  if (in.has_max()) out.max = in.max();
+  if (in.has_linked()) out.linked = in.linked();
+  const v1::AutoBlink& auto_blink = in.auto_blink();
+  out.auto_blink.enabled = auto_blink.enabled();
+  if (auto_blink.has_mean_interval_s()) out.auto_blink.mean_interval_s = auto_blink.mean_interval_s();
+  // Unset spread: 1 s, or a quarter of a short mean, so `--auto-blink 0.8` alone is valid.
+  out.auto_blink.spread_s = auto_blink.has_spread_s()
+                                ? auto_blink.spread_s()
+                                : std::min(1.0, out.auto_blink.mean_interval_s / 4.0);
+  if (auto_blink.has_hold()) out.auto_blink.hold = auto_blink.hold();
+  out.auto_blink.keep = Intervals(auto_blink.keep());
+  KOMA_RETURN_IF_ERROR(Prefixed(ValidateEyeOptions(out, set.frame_count), "eyes."));
+  return out;
+}
+
+}  // namespace
+
+absl::StatusOr<LipBlinkJob> ValidateLipBlinkRequest(const v1::LipBlinkRequest& request,
+                                                    const RequestLimits& limits) {
+  if (!request.has_curves()) return absl::InvalidArgumentError("curves: required, not set");
+  LipBlinkJob job;
+  KOMA_ASSIGN_OR_RETURN(job.set, CurveSetFromProto(request.curves(), "curves", limits));
+  std::set<int> taken;
+  KOMA_ASSIGN_OR_RETURN(job.mouth_curves, ResolveIds(request.mouth().ids(), kDefaultMouthIds,
+                                                     "mouth.ids", job.set, taken));
+  KOMA_ASSIGN_OR_RETURN(job.eye_curves, ResolveIds(request.eyes().ids(), kDefaultEyeIds,
+                                                   "eyes.ids", job.set, taken));
+  if (job.mouth_curves.empty() && job.eye_curves.empty()) {
+    return absl::InvalidArgumentError(
+        "mouth.ids, eyes.ids: no mouth or eye curve to convert (none named, and the set has "
+        "none of ParamMouthOpenY, ParamEyeLOpen, ParamEyeROpen)");
+  }
+  KOMA_ASSIGN_OR_RETURN(job.mouth, ConvertMouth(request.mouth(), job.set.frame_count));
+  KOMA_ASSIGN_OR_RETURN(job.eyes, ConvertEyes(request.eyes(), job.set));
+  if (request.has_seed()) job.seed = request.seed();
+  return job;
+}
+
+}  // namespace koma::server

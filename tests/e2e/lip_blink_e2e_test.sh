@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# End to end: the real koma_server on a free loopback port, the real `koma lipblink` on the
+# bundled talking-and-blinking sample, then CSV. Usage: lip_blink_e2e_test.sh KOMA_SERVER KOMA SAMPLE
+set -euo pipefail
+server_bin=$1 client_bin=$2 sample=$3
+
+work=$(mktemp -d)
+server_pid=""
+cleanup() {
+  if [ -n "$server_pid" ] && kill -0 "$server_pid" 2>/dev/null; then kill -KILL "$server_pid"; fi
+  rm -rf "$work"
+}
+trap cleanup EXIT
+fail() { echo "FAIL: $*" >&2; echo "--- server log" >&2; cat "$work/server.log" >&2 || true; exit 1; }
+
+"$server_bin" --address=127.0.0.1:0 --port_file="$work/port" 2>"$work/server.log" &
+server_pid=$!
+for _ in $(seq 100); do [ -s "$work/port" ] && break; sleep 0.1; done
+[ -s "$work/port" ] || fail "server did not write its port within 10 s"
+target="127.0.0.1:$(cat "$work/port")"
+
+"$client_bin" lipblink "$sample" -o "$work/out.motion3.json" --seed 7 --server "$target" \
+  >"$work/summary.txt" || fail "koma lipblink failed"
+cat "$work/summary.txt"
+grep -q "mouth ParamMouthOpenY: speech at frames 12-50, 68-104" "$work/summary.txt" \
+  || fail "summary: speech intervals"
+grep -q "eye ParamEyeLOpen: 2 blinks: frame 31 (hold 2), frame 92 (hold 3)" "$work/summary.txt" \
+  || fail "summary: left eye blinks"
+grep -q "eye ParamEyeROpen: 2 blinks: frame 31 (hold 2), frame 92 (hold 3)" "$work/summary.txt" \
+  || fail "summary: right eye blinks (linked)"
+
+# Same seed, same file; valid motion3 with recounted Meta; ParamAngleX untouched.
+"$client_bin" lipblink "$sample" -o "$work/again.motion3.json" --seed 7 --server "$target" \
+  >/dev/null || fail "second run failed"
+cmp -s "$work/out.motion3.json" "$work/again.motion3.json" || fail "same seed, different files"
+python3 - "$sample" "$work/out.motion3.json" <<'PY' || fail "written motion3.json is wrong"
+import json, sys
+before, after = (json.load(open(p)) for p in sys.argv[1:3])
+curves = {c["Id"]: c for c in after["Curves"]}
+assert curves["ParamAngleX"] == before["Curves"][3], "ParamAngleX changed"
+points = segments = 0
+for c in after["Curves"]:
+    s = c["Segments"]
+    points += 1
+    i = 2
+    while i < len(s):
+        kind = s[i]
+        step = 7 if kind == 1 else 3
+        segments += 1
+        points += 3 if kind == 1 else 1
+        i += step
+    assert i == len(s), c["Id"]
+meta = after["Meta"]
+assert meta["TotalSegmentCount"] == segments and meta["TotalPointCount"] == points, meta
+mouth = curves["ParamMouthOpenY"]["Segments"]
+values = set(mouth[1::3])  # first value, then every segment's end value (all stepped)
+assert len(values) <= 3, values
+print("motion3.json checks passed")
+PY
+
+# CSV in and out, FOLLOW mode.
+printf 'frame,ParamMouthOpenY,Other\n' >"$work/in.csv"
+for f in $(seq 0 29); do
+  if [ "$f" -ge 5 ] && [ "$f" -lt 25 ]; then v=$(( (f * 3) % 5 )); else v=0; fi
+  echo "$f,0.$((v * 2)),$f" >>"$work/in.csv"
+done
+"$client_bin" lipblink "$work/in.csv" -o "$work/out.csv" --mode follow --on 2 --server "$target" \
+  >/dev/null || fail "CSV lipblink failed"
+[ "$(wc -l <"$work/out.csv")" = 31 ] || fail "CSV output has $(wc -l <"$work/out.csv") lines"
+cut -d, -f3 "$work/out.csv" | tail -n +2 | tr '\n' ' ' | grep -q "^0 1 2 3 4 5 " \
+  || fail "the other CSV curve changed"
+
+# A bad parameter: the server's code and message, exit 1.
+set +e
+"$client_bin" lipblink "$sample" -o "$work/bad.motion3.json" --mouth ParamMouth \
+  --server "$target" 2>"$work/err.txt"
+code=$?
+set -e
+[ "$code" = 1 ] || fail "--mouth ParamMouth exited $code, want 1"
+grep -q 'INVALID_ARGUMENT: mouth.ids\[0\]: "ParamMouth" is not a curve' "$work/err.txt" \
+  || fail "error text: $(cat "$work/err.txt")"
+
+kill -TERM "$server_pid"
+set +e
+wait "$server_pid"
+code=$?
+set -e
+server_pid=""
+[ "$code" = 0 ] || fail "server exited $code after SIGTERM"
+echo "PASS: lipblink end to end"

@@ -1,0 +1,124 @@
+// LipBlink through an in-process channel: the answer's shape, linked eyes, and the same bytes
+// for the same seed across runs, thread counts and machines (a golden hash).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "koma/v1/retime.grpc.pb.h"
+#include "server/server.h"
+#include "tests/server/lip_blink_request_builder.h"
+
+namespace koma::server {
+namespace {
+
+// FNV-1a, 64 bits: a fixed, portable digest of the response bytes.
+uint64_t Fnv1a64(const std::string& bytes) {
+  uint64_t hash = 0xcbf29ce484222325ULL;
+  for (unsigned char c : bytes) {
+    hash ^= c;
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+std::unique_ptr<KomaServer> StartInProcess(int worker_threads) {
+  ServerConfig config;
+  config.address = "";
+  config.worker_threads = worker_threads;
+  return KomaServer::Start(config).value();
+}
+
+grpc::Status Call(v1::Retime::Stub& stub, const v1::LipBlinkRequest& request,
+                  v1::LipBlinkResponse* response) {
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
+  return stub.LipBlink(&context, request, response);
+}
+
+TEST(LipBlinkServiceTest, ConvertsMouthAndLinkedEyesAndLeavesOtherCurvesOut) {
+  auto server = StartInProcess(1);
+  auto stub = v1::Retime::NewStub(server->InProcessChannel());
+  v1::LipBlinkResponse response;
+  ASSERT_TRUE(Call(*stub, koma::testing::MakeLipBlinkRequest(), &response).ok());
+
+  ASSERT_EQ(response.mouths_size(), 1);
+  ASSERT_EQ(response.eyes_size(), 2);
+  ASSERT_EQ(response.curves_size(), 3);  // ParamAngleX is not returned
+  EXPECT_EQ(response.curves(0).id(), "ParamMouthOpenY");
+  EXPECT_EQ(response.seed(), 0x6b6f6d61u);
+
+  const v1::MouthTrack& mouth = response.mouths(0);
+  ASSERT_GE(mouth.speech_size(), 1);
+  std::set<double> levels;
+  for (const v1::FrameInterval& speech : mouth.speech()) {
+    for (int f = speech.begin(); f < speech.end(); ++f) levels.insert(response.curves(0).values(f));
+  }
+  EXPECT_LE(levels.size(), 3u);
+  for (int h = 1; h < mouth.holds_size(); ++h) {
+    if (mouth.holds(h).begin() == mouth.holds(h - 1).begin() + mouth.holds(h - 1).length()) {
+      EXPECT_NE(mouth.holds(h).shape(), mouth.holds(h - 1).shape()) << "hold " << h;
+    }
+  }
+
+  // Linked eyes: the same blinks, closed on the same frames.
+  ASSERT_EQ(response.eyes(0).blinks_size(), 1);
+  ASSERT_EQ(response.eyes(1).blinks_size(), 1);
+  EXPECT_EQ(response.eyes(0).blinks(0).SerializeAsString(),
+            response.eyes(1).blinks(0).SerializeAsString());
+  for (int f = 0; f < 60; ++f) {
+    const bool left_closed = response.curves(1).values(f) == response.eyes(0).closed_level();
+    const bool right_closed = response.curves(2).values(f) == response.eyes(1).closed_level();
+    EXPECT_EQ(left_closed, right_closed) << "frame " << f;
+  }
+}
+
+TEST(LipBlinkServiceTest, SameSeedSameBytesAcrossRunsAndThreadCounts) {
+  v1::LipBlinkRequest request = koma::testing::MakeLipBlinkRequest();
+  request.set_seed(2024);
+  request.mutable_eyes()->mutable_auto_blink()->set_enabled(true);
+  request.mutable_eyes()->mutable_auto_blink()->set_mean_interval_s(0.5);
+  std::vector<std::string> answers;
+  for (int threads : {1, 2, 4}) {
+    auto server = StartInProcess(threads);
+    auto stub = v1::Retime::NewStub(server->InProcessChannel());
+    std::vector<std::string> bytes(6);
+    std::vector<std::thread> clients;
+    for (size_t i = 0; i < bytes.size(); ++i) {
+      clients.emplace_back([&, i] {
+        v1::LipBlinkResponse response;
+        if (Call(*stub, request, &response).ok()) bytes[i] = response.SerializeAsString();
+      });
+    }
+    for (std::thread& client : clients) client.join();
+    answers.insert(answers.end(), bytes.begin(), bytes.end());
+  }
+  ASSERT_FALSE(answers.front().empty());
+  for (const std::string& answer : answers) EXPECT_EQ(answer, answers.front());
+  // Golden: computed once here and checked in. A machine, compiler or standard library that
+  // answers differently fails this line, which is the point.
+  EXPECT_EQ(Fnv1a64(answers.front()), 0x4c543fd8830607b5ULL) << std::hex << Fnv1a64(answers.front());
+}
+
+TEST(LipBlinkServiceTest, AnotherSeedGivesAnotherMouth) {
+  auto server = StartInProcess(1);
+  auto stub = v1::Retime::NewStub(server->InProcessChannel());
+  std::set<std::string> shapes;
+  for (uint64_t seed : {1, 2, 3, 4}) {
+    v1::LipBlinkRequest request = koma::testing::MakeLipBlinkRequest();
+    request.set_seed(seed);
+    v1::LipBlinkResponse response;
+    ASSERT_TRUE(Call(*stub, request, &response).ok());
+    std::string sequence;
+    for (const v1::MouthHold& hold : response.mouths(0).holds()) sequence += char('0' + hold.shape());
+    shapes.insert(sequence);
+  }
+  EXPECT_GT(shapes.size(), 1u);
+}
+
+}  // namespace
+}  // namespace koma::server
