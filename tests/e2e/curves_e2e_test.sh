@@ -4,20 +4,9 @@
 set -euo pipefail
 server_bin=$1 client_bin=$2 sample=$3
 
-work=$(mktemp -d)
-server_pid=""
-cleanup() {
-  if [ -n "$server_pid" ] && kill -0 "$server_pid" 2>/dev/null; then kill -KILL "$server_pid"; fi
-  rm -rf "$work"
-}
-trap cleanup EXIT
-fail() { echo "FAIL: $*" >&2; echo "--- server log" >&2; cat "$work/server.log" >&2 || true; exit 1; }
+source "$(dirname "$0")/lib.sh"
 
-"$server_bin" --address=127.0.0.1:0 --port_file="$work/port" 2>"$work/server.log" &
-server_pid=$!
-for _ in $(seq 100); do [ -s "$work/port" ] && break; sleep 0.1; done
-[ -s "$work/port" ] || fail "server did not write its port within 10 s"
-target="127.0.0.1:$(cat "$work/port")"
+start_server "$server_bin"
 
 # motion3.json in and out, on threes with the arm on twos, tame and tsume.
 "$client_bin" curves "$sample" -o "$work/out.motion3.json" --tame 1.5 --tsume 1.5 \
@@ -89,11 +78,5 @@ code=$?
 set -e
 [ "$code" = 2 ] || fail "--curve-on without =N exited $code, want 2"
 
-kill -TERM "$server_pid"
-set +e
-wait "$server_pid"
-code=$?
-set -e
-server_pid=""
-[ "$code" = 0 ] || fail "server exited $code after SIGTERM"
+stop_server
 echo "PASS: curves end to end"

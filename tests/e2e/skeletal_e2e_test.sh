@@ -4,21 +4,9 @@
 set -euo pipefail
 server_bin=$1 client_bin=$2 sample=$3
 
-work=$(mktemp -d)
-server_pid=""
-cleanup() {
-  if [ -n "$server_pid" ] && kill -0 "$server_pid" 2>/dev/null; then kill -KILL "$server_pid"; fi
-  rm -rf "$work"
-}
-trap cleanup EXIT
-fail() { echo "FAIL: $*" >&2; echo "--- server log" >&2; cat "$work/server.log" >&2 || true; exit 1; }
+source "$(dirname "$0")/lib.sh"
 
-"$server_bin" --address=127.0.0.1:0 --port_file="$work/port" --log_format=json \
-  --worker_threads=2 2>"$work/server.log" &
-server_pid=$!
-for _ in $(seq 100); do [ -s "$work/port" ] && break; sleep 0.1; done
-[ -s "$work/port" ] || fail "server did not write its port within 10 s"
-target="127.0.0.1:$(cat "$work/port")"
+start_server "$server_bin" --log_format=json --worker_threads=2
 
 # Health.
 [ "$("$client_bin" health --server "$target")" = SERVING ] || fail "health is not SERVING"
@@ -68,13 +56,7 @@ set -e
 grep -q "line" "$work/err.txt" || fail "broken BVH error names no line: $(cat "$work/err.txt")"
 
 # Graceful stop: SIGTERM, exit 0.
-kill -TERM "$server_pid"
-set +e
-wait "$server_pid"
-code=$?
-set -e
-server_pid=""
-[ "$code" = 0 ] || fail "server exited $code after SIGTERM"
+stop_server
 
 # Every log line is one JSON object; one per RPC with method and code.
 python3 - "$work/server.log" <<'PY' || fail "server log is not JSON lines"

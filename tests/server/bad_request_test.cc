@@ -9,11 +9,14 @@
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
+#include "tests/server/in_process_server.h"
 #include "tests/server/request_builder.h"
 
 namespace koma::server {
 namespace {
 
+using ::koma::testing::InProcessServer;
+using ::koma::testing::SetTestDeadline;
 using ::testing::HasSubstr;
 using Mutation = std::function<void(v1::RetimeSkeletalRequest&)>;
 
@@ -128,32 +131,24 @@ std::vector<BadRequest> BadRequests() {
 class BadRequestTest : public ::testing::TestWithParam<BadRequest> {
  protected:
   static void SetUpTestSuite() {
-    ServerConfig config;
-    config.address = "";  // in-process only
-    config.limits.max_values = 50'000;
+    server::ServerConfig config = InProcessServer::Config(2, 50'000);
     config.limits.max_joints = 32;
-    config.worker_threads = 2;
-    server_ = KomaServer::Start(config).value().release();
-    stub_ = v1::Retime::NewStub(server_->InProcessChannel()).release();
+    shared_ = new InProcessServer(config);
   }
-  static void TearDownTestSuite() {
-    delete stub_;
-    delete server_;
-  }
-  static KomaServer* server_;
-  static v1::Retime::Stub* stub_;
+  static void TearDownTestSuite() { delete shared_; }
+  static v1::Retime::Stub& stub() { return shared_->stub(); }
+  static InProcessServer* shared_;
 };
-KomaServer* BadRequestTest::server_ = nullptr;
-v1::Retime::Stub* BadRequestTest::stub_ = nullptr;
+InProcessServer* BadRequestTest::shared_ = nullptr;
 
 TEST_P(BadRequestTest, AnswersCodeAndNamesTheField) {
   const BadRequest& bad = GetParam();
   v1::RetimeSkeletalRequest request = koma::testing::MakeSkeletalRequest(10);
   bad.mutate(request);
   grpc::ClientContext context;
-  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+  SetTestDeadline(context);
   v1::RetimeSkeletalResponse response;
-  const grpc::Status status = stub_->RetimeSkeletal(&context, request, &response);
+  const grpc::Status status = stub().RetimeSkeletal(&context, request, &response);
   EXPECT_EQ(status.error_code(), bad.code) << status.error_message();
   EXPECT_THAT(status.error_message(), HasSubstr(bad.message));
   EXPECT_EQ(response.source_frames_size(), 0) << "a failed call carries no partial answer";

@@ -10,11 +10,14 @@
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
+#include "tests/server/in_process_server.h"
 #include "tests/server/curves_request_builder.h"
 
 namespace koma::server {
 namespace {
 
+using ::koma::testing::InProcessServer;
+using ::koma::testing::SetTestDeadline;
 using ::testing::HasSubstr;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -148,45 +151,35 @@ std::vector<BadCurves> BadRequests() {
 class CurvesBadRequestTest : public ::testing::TestWithParam<BadCurves> {
  protected:
   static void SetUpTestSuite() {
-    ServerConfig config;
-    config.address = "";
-    config.limits.max_values = 50'000;
-    config.worker_threads = 1;
-    server_ = KomaServer::Start(config).value().release();
-    stub_ = v1::Retime::NewStub(server_->InProcessChannel()).release();
+    server::ServerConfig config = InProcessServer::Config(1, 50'000);
+    shared_ = new InProcessServer(config);
   }
-  static void TearDownTestSuite() {
-    delete stub_;
-    delete server_;
-  }
-  static KomaServer* server_;
-  static v1::Retime::Stub* stub_;
+  static void TearDownTestSuite() { delete shared_; }
+  static v1::Retime::Stub& stub() { return shared_->stub(); }
+  static InProcessServer* shared_;
 };
-KomaServer* CurvesBadRequestTest::server_ = nullptr;
-v1::Retime::Stub* CurvesBadRequestTest::stub_ = nullptr;
+InProcessServer* CurvesBadRequestTest::shared_ = nullptr;
 
 TEST_P(CurvesBadRequestTest, AnswersCodeAndNamesTheField) {
   const BadCurves& bad = GetParam();
   v1::RetimeCurvesRequest request = koma::testing::MakeCurvesRequest();
   bad.mutate(request);
   grpc::ClientContext context;
-  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+  SetTestDeadline(context);
   v1::RetimeCurvesResponse response;
-  const grpc::Status status = stub_->RetimeCurves(&context, request, &response);
+  const grpc::Status status = stub().RetimeCurves(&context, request, &response);
   EXPECT_EQ(status.error_code(), bad.code) << status.error_message();
   EXPECT_THAT(status.error_message(), HasSubstr(bad.message));
   EXPECT_EQ(response.curves_size(), 0) << "a failed call carries no partial answer";
 }
 
 TEST(CurvesBadRequestTableTest, TheValidRequestIsAccepted) {
-  ServerConfig config;
-  config.address = "";
-  auto server = KomaServer::Start(config).value();
-  auto stub = v1::Retime::NewStub(server->InProcessChannel());
+  InProcessServer server;
   grpc::ClientContext context;
+  SetTestDeadline(context);
   v1::RetimeCurvesResponse response;
   const grpc::Status status =
-      stub->RetimeCurves(&context, koma::testing::MakeCurvesRequest(), &response);
+      server.stub().RetimeCurves(&context, koma::testing::MakeCurvesRequest(), &response);
   EXPECT_TRUE(status.ok()) << status.error_message();
   EXPECT_GE(BadRequests().size(), 20u);
 }

@@ -10,11 +10,14 @@
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
+#include "tests/server/in_process_server.h"
 #include "tests/server/lip_blink_request_builder.h"
 
 namespace koma::server {
 namespace {
 
+using ::koma::testing::InProcessServer;
+using ::koma::testing::SetTestDeadline;
 using ::testing::HasSubstr;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -145,31 +148,23 @@ std::vector<BadLipBlink> BadRequests() {
 class LipBlinkBadRequestTest : public ::testing::TestWithParam<BadLipBlink> {
  protected:
   static void SetUpTestSuite() {
-    ServerConfig config;
-    config.address = "";
-    config.limits.max_values = 50'000;
-    config.worker_threads = 1;
-    server_ = KomaServer::Start(config).value().release();
-    stub_ = v1::Retime::NewStub(server_->InProcessChannel()).release();
+    server::ServerConfig config = InProcessServer::Config(1, 50'000);
+    shared_ = new InProcessServer(config);
   }
-  static void TearDownTestSuite() {
-    delete stub_;
-    delete server_;
-  }
-  static KomaServer* server_;
-  static v1::Retime::Stub* stub_;
+  static void TearDownTestSuite() { delete shared_; }
+  static v1::Retime::Stub& stub() { return shared_->stub(); }
+  static InProcessServer* shared_;
 };
-KomaServer* LipBlinkBadRequestTest::server_ = nullptr;
-v1::Retime::Stub* LipBlinkBadRequestTest::stub_ = nullptr;
+InProcessServer* LipBlinkBadRequestTest::shared_ = nullptr;
 
 TEST_P(LipBlinkBadRequestTest, AnswersCodeAndNamesTheField) {
   const BadLipBlink& bad = GetParam();
   v1::LipBlinkRequest request = koma::testing::MakeLipBlinkRequest();
   bad.mutate(request);
   grpc::ClientContext context;
-  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+  SetTestDeadline(context);
   v1::LipBlinkResponse response;
-  const grpc::Status status = stub_->LipBlink(&context, request, &response);
+  const grpc::Status status = stub().LipBlink(&context, request, &response);
   EXPECT_EQ(status.error_code(), bad.code) << status.error_message();
   EXPECT_THAT(status.error_message(), HasSubstr(bad.message));
   EXPECT_EQ(response.curves_size(), 0) << "a failed call carries no partial answer";

@@ -11,6 +11,7 @@
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
+#include "tests/server/in_process_server.h"
 #include "tests/server/lip_blink_request_builder.h"
 
 namespace koma::server {
@@ -26,25 +27,18 @@ uint64_t Fnv1a64(const std::string& bytes) {
   return hash;
 }
 
-std::unique_ptr<KomaServer> StartInProcess(int worker_threads) {
-  ServerConfig config;
-  config.address = "";
-  config.worker_threads = worker_threads;
-  return KomaServer::Start(config).value();
-}
-
 grpc::Status Call(v1::Retime::Stub& stub, const v1::LipBlinkRequest& request,
                   v1::LipBlinkResponse* response) {
   grpc::ClientContext context;
-  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
+  koma::testing::SetTestDeadline(context);
   return stub.LipBlink(&context, request, response);
 }
 
 TEST(LipBlinkServiceTest, ConvertsMouthAndLinkedEyesAndLeavesOtherCurvesOut) {
-  auto server = StartInProcess(1);
-  auto stub = v1::Retime::NewStub(server->InProcessChannel());
+  koma::testing::InProcessServer server;
+  v1::Retime::Stub& stub = server.stub();
   v1::LipBlinkResponse response;
-  ASSERT_TRUE(Call(*stub, koma::testing::MakeLipBlinkRequest(), &response).ok());
+  ASSERT_TRUE(Call(stub, koma::testing::MakeLipBlinkRequest(), &response).ok());
 
   ASSERT_EQ(response.mouths_size(), 1);
   ASSERT_EQ(response.eyes_size(), 2);
@@ -84,14 +78,15 @@ TEST(LipBlinkServiceTest, SameSeedSameBytesAcrossRunsAndThreadCounts) {
   request.mutable_eyes()->mutable_auto_blink()->set_mean_interval_s(0.5);
   std::vector<std::string> answers;
   for (int threads : {1, 2, 4}) {
-    auto server = StartInProcess(threads);
-    auto stub = v1::Retime::NewStub(server->InProcessChannel());
+    koma::testing::InProcessServer server(
+        koma::testing::InProcessServer::Config(threads, RequestLimits{}.max_values));
+    v1::Retime::Stub& stub = server.stub();
     std::vector<std::string> bytes(6);
     std::vector<std::thread> clients;
     for (size_t i = 0; i < bytes.size(); ++i) {
       clients.emplace_back([&, i] {
         v1::LipBlinkResponse response;
-        if (Call(*stub, request, &response).ok()) bytes[i] = response.SerializeAsString();
+        if (Call(stub, request, &response).ok()) bytes[i] = response.SerializeAsString();
       });
     }
     for (std::thread& client : clients) client.join();
@@ -105,14 +100,14 @@ TEST(LipBlinkServiceTest, SameSeedSameBytesAcrossRunsAndThreadCounts) {
 }
 
 TEST(LipBlinkServiceTest, AnotherSeedGivesAnotherMouth) {
-  auto server = StartInProcess(1);
-  auto stub = v1::Retime::NewStub(server->InProcessChannel());
+  koma::testing::InProcessServer server;
+  v1::Retime::Stub& stub = server.stub();
   std::set<std::string> shapes;
   for (uint64_t seed : {1, 2, 3, 4}) {
     v1::LipBlinkRequest request = koma::testing::MakeLipBlinkRequest();
     request.set_seed(seed);
     v1::LipBlinkResponse response;
-    ASSERT_TRUE(Call(*stub, request, &response).ok());
+    ASSERT_TRUE(Call(stub, request, &response).ok());
     std::string sequence;
     for (const v1::MouthHold& hold : response.mouths(0).holds()) sequence += char('0' + hold.shape());
     shapes.insert(sequence);

@@ -1,0 +1,37 @@
+# Shared by the end-to-end scripts (sourced, not run). Gives each test a scratch directory
+# `$work`, a `fail` that prints the server log, and a koma_server on a free loopback port.
+#   start_server KOMA_SERVER [FLAGS...]   sets $server_pid and $target (127.0.0.1:PORT)
+#   stop_server                           SIGTERM, and fails unless the server exits 0
+
+work=$(mktemp -d)
+server_pid=""
+cleanup() {
+  if [ -n "$server_pid" ] && kill -0 "$server_pid" 2>/dev/null; then kill -KILL "$server_pid"; fi
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+fail() {
+  echo "FAIL: $*" >&2
+  echo "--- server log" >&2
+  cat "$work/server.log" >&2 || true
+  exit 1
+}
+
+start_server() {
+  local server_bin=$1
+  shift
+  "$server_bin" --address=127.0.0.1:0 --port_file="$work/port" "$@" 2>"$work/server.log" &
+  server_pid=$!
+  for _ in $(seq 100); do [ -s "$work/port" ] && break; sleep 0.1; done
+  [ -s "$work/port" ] || fail "server did not write its port within 10 s"
+  target="127.0.0.1:$(cat "$work/port")"
+}
+
+stop_server() {
+  kill -TERM "$server_pid"
+  local code=0
+  wait "$server_pid" || code=$?
+  server_pid=""
+  [ "$code" = 0 ] || fail "server exited $code after SIGTERM"
+}
