@@ -88,36 +88,41 @@ Transform Compose(const Transform& parent, const Transform& local) {
 
 }  // namespace
 
-absl::StatusOr<std::vector<double>> ComputeWorldPositions(const SkeletalClip& clip) {
-  KOMA_RETURN_IF_ERROR(ValidateSkeleton(clip.skeleton));
-  const std::vector<Joint>& joints = clip.skeleton.joints;
-  const int channel_count = ChannelCount(clip.skeleton);
-  if (clip.frame_count < 0) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("frame_count: ", clip.frame_count, " is negative"));
+absl::StatusOr<std::vector<double>> ComputeWorldPositions(const Skeleton& skeleton,
+                                                          absl::Span<const double> values,
+                                                          int frame_count) {
+  KOMA_RETURN_IF_ERROR(ValidateSkeleton(skeleton));
+  const std::vector<Joint>& joints = skeleton.joints;
+  const int channel_count = ChannelCount(skeleton);
+  if (frame_count < 0) {
+    return absl::InvalidArgumentError(absl::StrCat("frame_count: ", frame_count, " is negative"));
   }
-  const int64_t expected = int64_t{clip.frame_count} * channel_count;
-  if (static_cast<int64_t>(clip.values.size()) != expected) {
+  const int64_t expected = int64_t{frame_count} * channel_count;
+  if (static_cast<int64_t>(values.size()) != expected) {
     return absl::InvalidArgumentError(absl::StrCat("values: expected ", expected, " values (",
-                                                   clip.frame_count, " frames x ", channel_count,
-                                                   " channels), got ", clip.values.size()));
+                                                   frame_count, " frames x ", channel_count,
+                                                   " channels), got ", values.size()));
   }
   const size_t joint_count = joints.size();
-  std::vector<double> positions(static_cast<size_t>(clip.frame_count) * joint_count * 3);
+  std::vector<double> positions(static_cast<size_t>(frame_count) * joint_count * 3);
   std::vector<Transform> world(joint_count);  // this frame's world transforms
-  for (int f = 0; f < clip.frame_count; ++f) {
-    const double* values = clip.values.data() + static_cast<size_t>(f) * channel_count;
+  for (int f = 0; f < frame_count; ++f) {
+    const double* frame = values.data() + static_cast<size_t>(f) * channel_count;
     double* out = positions.data() + static_cast<size_t>(f) * joint_count * 3;
     for (size_t j = 0; j < joint_count; ++j) {
       const Joint& joint = joints[j];
-      const Transform local = LocalTransform(joint, values);
-      values += joint.channels.size();
+      const Transform local = LocalTransform(joint, frame);
+      frame += joint.channels.size();
       // Parents precede children (ValidateSkeleton rule 2), so world[parent] is ready.
       world[j] = joint.parent < 0 ? local : Compose(world[joint.parent], local);
       for (int c = 0; c < 3; ++c) out[3 * j + c] = world[j].translation[c];
     }
   }
   return positions;
+}
+
+absl::StatusOr<std::vector<double>> ComputeWorldPositions(const SkeletalClip& clip) {
+  return ComputeWorldPositions(clip.skeleton, clip.values, clip.frame_count);
 }
 
 }  // namespace koma

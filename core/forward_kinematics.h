@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "absl/types/span.h"
 #include "core/skeleton.h"
 
 namespace koma {
@@ -19,6 +20,12 @@ namespace koma {
 // Requires ValidateSkeleton OK and values.size() == frame_count * ChannelCount.
 // INVALID_ARGUMENT if the sizes disagree.
 absl::StatusOr<std::vector<double>> ComputeWorldPositions(const SkeletalClip& clip);
+
+// The same over channel values held elsewhere (the server passes a view of the request's
+// packed field, so 77 MB of a 100k-frame clip are not copied first).
+absl::StatusOr<std::vector<double>> ComputeWorldPositions(const Skeleton& skeleton,
+                                                          absl::Span<const double> values,
+                                                          int frame_count);
 
 }  // namespace koma
 

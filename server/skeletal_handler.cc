@@ -19,18 +19,21 @@ v1::FrameKind ToProto(FrameKind kind) {
   return v1::FRAME_KIND_UNSPECIFIED;
 }
 
-absl::StatusOr<std::vector<double>> WorldPositions(const v1::SkeletalMotion& motion,
-                                                   const SkeletalJob& job) {
-  if (!job.channel_form) {
-    const auto& values = motion.positions().values();
-    return std::vector<double>(values.begin(), values.end());
-  }
-  SkeletalClip clip;
-  clip.skeleton = job.skeleton;
-  clip.frame_time = motion.frame_time();
-  clip.frame_count = job.frame_count;
-  clip.values.assign(motion.channels().values().begin(), motion.channels().values().end());
-  return ComputeWorldPositions(clip);
+absl::Span<const double> SpanOf(const google::protobuf::RepeatedField<double>& field) {
+  return absl::MakeConstSpan(field.data(), field.size());
+}
+
+// World positions computed by FK (channel form) into `storage`, or a view of the request's
+// own positions (no copy).
+absl::StatusOr<absl::Span<const double>> WorldPositions(const v1::SkeletalMotion& motion,
+                                                        const SkeletalJob& job,
+                                                        std::vector<double>& storage) {
+  if (!job.channel_form) return SpanOf(motion.positions().values());
+  absl::StatusOr<std::vector<double>> positions =
+      ComputeWorldPositions(job.skeleton, SpanOf(motion.channels().values()), job.frame_count);
+  if (!positions.ok()) return positions.status();
+  storage = *std::move(positions);
+  return absl::MakeConstSpan(storage);
 }
 
 // Output frame t is a verbatim copy of source frame map.source_frames[t].
@@ -87,8 +90,9 @@ absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
                                   const RequestLimits& limits,
                                   v1::RetimeSkeletalResponse* response) {
   KOMA_ASSIGN_OR_RETURN(const SkeletalJob job, ValidateSkeletalRequest(request, limits));
-  KOMA_ASSIGN_OR_RETURN(const std::vector<double> positions,
-                        WorldPositions(request.motion(), job));
+  std::vector<double> computed_positions;
+  KOMA_ASSIGN_OR_RETURN(const absl::Span<const double> positions,
+                        WorldPositions(request.motion(), job, computed_positions));
   absl::StatusOr<FrameDistance> distance =
       FrameDistance::Create(positions, job.frame_count,
                             static_cast<int>(job.skeleton.joints.size()), job.distance_options);
