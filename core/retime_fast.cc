@@ -13,7 +13,7 @@
 // appends kHeld at the back of the previous run; a delete or a hold pops the front, whose
 // successor (the first D, else the first H) becomes the front. So three numbers store it.
 //
-// Candidates per run, each kept in a max-heap with lazy invalidation (see CandidateHeap):
+// Candidates per run, each kept in a heap with lazy invalidation (see CandidateHeap):
 //  - delete (step A.1): an interior head (not the first run; not the last output frame),
 //    key (head_ssd, largest first; position). Frames at rank >= 1 have SSD 0, so when the
 //    best head has SSD 0, every candidate has: stop step A.
@@ -22,6 +22,19 @@
 //    the next run's head (next's head_ssd, position 2 * next + 0).
 //  - hold (B): an interior head whose previous run is shorter than max_hold, key
 //    (head_ssd, smallest first; position).
+// Each run has at most one current candidate per heap, and the heaps order ties by the run v
+// instead of the position: for delete and hold candidates position = 2v; a duplicate
+// candidate of run v sits in (2v, 2 * next(v)], so between current candidates of different
+// runs the two orders agree.
+//
+// Lazy invalidation without versions: an entry {ssd, v} is current when run v is alive and
+// its candidate, recomputed from the run now, exists with that same ssd (equal keys mean an
+// equal place in the order, so an old entry that happens to match is as good as a fresh
+// one). Every edit pushes a fresh entry for each run whose candidate may have changed or
+// reappeared, and nothing else; a candidate that only disappears needs no push.
+//
+// Cost: the N - 1 distances of the input SSD, one distance per unlinked run, and the heap
+// work. Each step's heaps are built once from all live runs with one O(N) heapify.
 #include <cstdint>
 #include <vector>
 
@@ -42,12 +55,9 @@ struct Run {
   int32_t prev = kNoRun;  // neighbouring runs (their source frames), kNoRun at the ends
   int32_t next = kNoRun;
   double head_ssd = 0.0;  // dist(prev, this): the SSD at this run's first frame
-  FrameKind front = FrameKind::kOriginal;
   int32_t duplicates = 0;  // kDuplicate frames right after the front
   int32_t helds = 0;       // kHeld frames after those
-  // Bumped by every Refresh (at most twice per step); heap entries with an older version
-  // are stale. 64 bits, so it cannot wrap.
-  uint64_t version = 0;
+  FrameKind front = FrameKind::kOriginal;
   bool alive = true;
 
   int32_t Length() const { return 1 + duplicates + helds; }
@@ -63,26 +73,59 @@ class FastRetimer {
   void Finish(TimingMap& map) const;
 
  private:
-  bool IsInteriorHead(int32_t v) const {
-    const Run& run = runs_[v];
+  bool IsInteriorHead(const Run& run) const {
     return run.prev != kNoRun && !(run.next == kNoRun && run.Length() == 1);
   }
-  bool DeleteEntry(int32_t v, CandidateEntry& entry) const;
-  bool DuplicateEntry(int32_t v, CandidateEntry& entry) const;
-  bool HoldEntry(int32_t v, CandidateEntry& entry) const;
-  // Pushes the current entries of run v into the heaps of the step now running.
-  void PushEntries(int32_t v);
-  // Invalidates run v's entries and pushes fresh ones.
-  void Refresh(int32_t v);
+  // The current candidates of run v (false: none); `ssd` gets the key.
+  bool DeleteKey(const Run& run, double& ssd) const {
+    if (!IsInteriorHead(run)) return false;
+    ssd = run.head_ssd;
+    return true;
+  }
+  bool DuplicateKey(const Run& run, double& ssd) const {
+    const int32_t length = run.Length();
+    if (length >= options_.max_hold) return false;
+    if (length >= 2) {
+      ssd = 0.0;
+      return true;
+    }
+    if (run.next == kNoRun) return false;  // the gap after the last frame is not a gap
+    ssd = runs_[run.next].head_ssd;
+    return true;
+  }
+  bool HoldKey(const Run& run, double& ssd) const {
+    if (!IsInteriorHead(run)) return false;
+    if (runs_[run.prev].Length() + 1 > options_.max_hold) return false;
+    ssd = run.head_ssd;
+    return true;
+  }
+
+  // Pushes run v's current candidates into the heaps of the running step.
+  void PushOmitEntries(int32_t v);
+  void PushHoldEntry(int32_t v);
   void StartStep(Step step);
   // Removes run v's first frame; unlinks the run (recording `step`) if it empties.
   void PopFront(int32_t v, Step step);
-  void RefreshAround(int32_t prev, int32_t v, int32_t next);
-  // The best current entry of `heap`, or nullptr.
-  const CandidateEntry* Best(CandidateHeap& heap) const {
-    return heap.Top([this](const CandidateEntry& entry) {
+
+  const CandidateEntry* BestDelete() {
+    return delete_heap_.Top([this](const CandidateEntry& entry) {
       const Run& run = runs_[entry.run];
-      return run.alive && run.version == entry.version;
+      double ssd;
+      return run.alive && DeleteKey(run, ssd) && ssd == entry.ssd;
+    });
+  }
+  const CandidateEntry* BestDuplicate() {
+    return duplicate_heap_.Top([this](const CandidateEntry& entry) {
+      const Run& run = runs_[entry.run];
+      double ssd;
+      return run.alive && DuplicateKey(run, ssd) && ssd == entry.ssd;
+    });
+  }
+  const CandidateEntry* BestHold() {
+    return hold_heap_.Top([this](const CandidateEntry& entry) {
+      const Run& run = runs_[entry.run];
+      double ssd;
+      return run.alive && HoldKey(run, ssd) && ssd == entry.ssd;
     });
   }
 
@@ -90,7 +133,6 @@ class FastRetimer {
   const RetimeOptions& options_;
   std::vector<Run> runs_;            // indexed by source frame; run 0 is always first
   std::vector<Step> gone_in_;        // per source frame: the step that removed it
-  Step active_ = Step::kNone;        // the step whose heaps are maintained
   CandidateHeap delete_heap_{true};  // largest SSD first
   CandidateHeap duplicate_heap_{false};
   CandidateHeap hold_heap_{false};
@@ -109,60 +151,43 @@ FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& opt
   }
 }
 
-bool FastRetimer::DeleteEntry(int32_t v, CandidateEntry& entry) const {
-  if (!IsInteriorHead(v)) return false;
-  entry = {runs_[v].head_ssd, 2 * static_cast<uint32_t>(v), v, runs_[v].version};
-  return true;
-}
-
-bool FastRetimer::DuplicateEntry(int32_t v, CandidateEntry& entry) const {
+void FastRetimer::PushOmitEntries(int32_t v) {
+  if (v == kNoRun) return;
   const Run& run = runs_[v];
-  if (run.Length() >= options_.max_hold) return false;
-  if (run.Length() >= 2) {
-    entry = {0.0, 2 * static_cast<uint32_t>(v) + 1, v, run.version};
-    return true;
-  }
-  if (run.next == kNoRun) return false;  // the gap after the last frame is not a gap
-  entry = {runs_[run.next].head_ssd, 2 * static_cast<uint32_t>(run.next), v, run.version};
-  return true;
-}
-
-bool FastRetimer::HoldEntry(int32_t v, CandidateEntry& entry) const {
-  if (!IsInteriorHead(v)) return false;
-  if (runs_[runs_[v].prev].Length() + 1 > options_.max_hold) return false;
-  entry = {runs_[v].head_ssd, 2 * static_cast<uint32_t>(v), v, runs_[v].version};
-  return true;
-}
-
-void FastRetimer::PushEntries(int32_t v) {
-  CandidateEntry entry;
-  if (active_ == Step::kOmit) {
-    if (DeleteEntry(v, entry)) delete_heap_.Push(entry);
-    if (options_.keep_length && DuplicateEntry(v, entry)) duplicate_heap_.Push(entry);
-  } else if (active_ == Step::kHold) {
-    if (HoldEntry(v, entry)) hold_heap_.Push(entry);
+  if (!run.alive) return;
+  double ssd;
+  if (DeleteKey(run, ssd)) delete_heap_.Push({ssd, static_cast<uint32_t>(v)});
+  if (options_.keep_length && DuplicateKey(run, ssd)) {
+    duplicate_heap_.Push({ssd, static_cast<uint32_t>(v)});
   }
 }
 
-void FastRetimer::Refresh(int32_t v) {
-  if (v == kNoRun || !runs_[v].alive) return;
-  ++runs_[v].version;
-  PushEntries(v);
+void FastRetimer::PushHoldEntry(int32_t v) {
+  if (v == kNoRun) return;
+  const Run& run = runs_[v];
+  double ssd;
+  if (run.alive && HoldKey(run, ssd)) hold_heap_.Push({ssd, static_cast<uint32_t>(v)});
 }
 
 // Only the running step's heaps are maintained: each step starts by rebuilding them from
 // every live run in O(N), so the other step's edits need no bookkeeping.
 void FastRetimer::StartStep(Step step) {
-  active_ = step;
-  // At most one entry per run and heap, plus room for the pushes of a few hundred steps.
-  const size_t expected = runs_.size() + 1024;
-  delete_heap_.StartBulkLoad(step == Step::kOmit ? expected : 0);
-  duplicate_heap_.StartBulkLoad(step == Step::kOmit && options_.keep_length ? expected : 0);
-  hold_heap_.StartBulkLoad(step == Step::kHold ? expected : 0);
-  for (int32_t v = 0; v != kNoRun; v = runs_[v].next) PushEntries(v);
-  delete_heap_.Heapify();
-  duplicate_heap_.Heapify();
-  hold_heap_.Heapify();
+  // At most one entry per run and heap, plus room for the pushes of a few thousand steps.
+  const size_t expected = runs_.size() + 4096;
+  delete_heap_.Clear();
+  duplicate_heap_.Clear();
+  hold_heap_.Clear();
+  if (step == Step::kOmit) {
+    delete_heap_.StartBulkLoad(expected);
+    if (options_.keep_length) duplicate_heap_.StartBulkLoad(expected);
+    for (int32_t v = 0; v != kNoRun; v = runs_[v].next) PushOmitEntries(v);
+    delete_heap_.Heapify();
+    duplicate_heap_.Heapify();
+  } else {
+    hold_heap_.StartBulkLoad(expected);
+    for (int32_t v = 0; v != kNoRun; v = runs_[v].next) PushHoldEntry(v);
+    hold_heap_.Heapify();
+  }
 }
 
 void FastRetimer::PopFront(int32_t v, Step step) {
@@ -188,57 +213,62 @@ void FastRetimer::PopFront(int32_t v, Step step) {
   }
 }
 
-// After an edit of run v (prev and next are its neighbours BEFORE the edit), the entries
+// After an edit of run v (prev and next are its neighbours BEFORE the edit), the candidates
 // that can change are those of prev, v and next, and no others:
-//  - a run's delete/hold entry reads its own length, head_ssd and neighbours, and (hold)
-//    its previous run's length; a run's duplicate entry reads its own length and its next
+//  - a run's delete/hold candidate reads its own length, head_ssd and neighbours, and (hold)
+//    its previous run's length; a run's duplicate candidate reads its own length and its next
 //    run's v and head_ssd.
 //  - a delete or a hold changes the length of v (and, for a hold, of prev); if v empties,
 //    it relinks prev <-> next and changes next's head_ssd; a duplicate changes v's length.
 //    v's head_ssd never changes while v lives (its new front still follows prev).
-//  So the readers of what changed are prev, v and next (next reads v's length and, after an
-//  unlink, its new prev); next's next reads next's length, which did not change.
-void FastRetimer::RefreshAround(int32_t prev, int32_t v, int32_t next) {
-  Refresh(prev);
-  Refresh(v);
-  Refresh(next);
-}
-
+// Step A has few steps, so it pushes for all three. Step B pushes only what can change or
+// reappear (see RunHolds).
 void FastRetimer::RunOmissions(TimingMap& map) {
   StartStep(Step::kOmit);
   for (int i = 0; i < options_.omissions; ++i) {
-    const CandidateEntry* best = Best(delete_heap_);
+    const CandidateEntry* best = BestDelete();
     if (best == nullptr || best->ssd == 0.0) return;  // nothing moves: stop step A
-    const int32_t v = best->run;
+    const int32_t v = static_cast<int32_t>(best->run);
     const int32_t prev = runs_[v].prev;
     const int32_t next = runs_[v].next;
     PopFront(v, Step::kOmit);
-    RefreshAround(prev, v, next);
+    PushOmitEntries(prev);
+    PushOmitEntries(v);
+    PushOmitEntries(next);
     ++map.omissions_applied;
     if (!options_.keep_length) continue;
-    const CandidateEntry* gap = Best(duplicate_heap_);
+    const CandidateEntry* gap = BestDuplicate();
     if (gap == nullptr) {
       ++map.duplicates_skipped;
       continue;
     }
-    const int32_t into = gap->run;  // the run that gets the copy, right after its front
+    const int32_t into = static_cast<int32_t>(gap->run);  // gets the copy after its front
     ++runs_[into].duplicates;
-    RefreshAround(runs_[into].prev, into, runs_[into].next);
+    PushOmitEntries(runs_[into].prev);
+    PushOmitEntries(into);
+    PushOmitEntries(runs_[into].next);
     ++map.duplicates_applied;
   }
 }
 
+// A hold at v (previous run prev, next run next) lengthens prev and shortens v:
+//  - prev's own candidate reads prev's head_ssd, its interior-ness (unchanged: prev keeps a
+//    successor and grows) and prev's previous run's length: unchanged, no push.
+//  - v, if it survives, keeps its head_ssd; only prev's growth can have made it ineligible,
+//    which the lazy check sees: no push. If it empties, it is dead.
+//  - next's candidate reads its previous run's length (v shrank, or prev grew and became
+//    next's previous run) and, after an unlink, its new head_ssd: push it.
 void FastRetimer::RunHolds(TimingMap& map) {
   StartStep(Step::kHold);
   for (int i = 0; i < options_.holds; ++i) {
-    const CandidateEntry* best = Best(hold_heap_);
+    const CandidateEntry* best = BestHold();
     if (best == nullptr) return;  // no candidate remains: stop early
-    const int32_t v = best->run;
+    const int32_t v = static_cast<int32_t>(best->run);
     const int32_t prev = runs_[v].prev;
     const int32_t next = runs_[v].next;
     ++runs_[prev].helds;  // v's first frame now shows prev, at the end of prev's run
     PopFront(v, Step::kHold);
-    RefreshAround(prev, v, next);
+    PushHoldEntry(next);
     ++map.holds_applied;
   }
 }
@@ -246,6 +276,8 @@ void FastRetimer::RunHolds(TimingMap& map) {
 void FastRetimer::Finish(TimingMap& map) const {
   map.source_frames.clear();
   map.kinds.clear();
+  map.source_frames.reserve(runs_.size() + options_.omissions);
+  map.kinds.reserve(runs_.size() + options_.omissions);
   for (int32_t v = 0; v != kNoRun; v = runs_[v].next) {
     const Run& run = runs_[v];
     map.source_frames.insert(map.source_frames.end(), run.Length(), v);
