@@ -94,7 +94,7 @@ absl::Status Project(const std::array<double, 16>& m, const double* p, int frame
 // Every dist(a, b) is at most sum(w) * dims * (2 * max|coordinate|)^2. Requiring that bound
 // to stay well below DBL_MAX (a factor 8 covers rounding in the summation order) keeps every
 // distance finite, so the candidate orderings never meet inf or NaN.
-absl::Status CheckDistanceBound(const std::vector<double>& points,
+absl::Status CheckDistanceBound(absl::Span<const double> points,
                                 const std::vector<double>& weights, int dims) {
   double largest = 0.0;
   for (double c : points) largest = std::max(largest, std::fabs(c));
@@ -122,7 +122,7 @@ absl::StatusOr<FrameDistance> FrameDistance::Create(absl::Span<const double> wor
   distance.joint_count_ = joint_count;
   distance.dims_ = options.camera.has_value() ? 2 : 3;
   const int dims = distance.dims_;
-  distance.points_.assign(static_cast<size_t>(frame_count) * joint_count * dims, 0.0);
+  distance.owned_.assign(static_cast<size_t>(frame_count) * joint_count * dims, 0.0);
   for (int f = 0; f < frame_count; ++f) {
     const double* frame = world_positions.data() + static_cast<size_t>(f) * joint_count * 3;
     for (int j = 0; j < joint_count; ++j) {
@@ -132,7 +132,7 @@ absl::StatusOr<FrameDistance> FrameDistance::Create(absl::Span<const double> wor
       if (options.root_relative) {
         for (int c = 0; c < 3; ++c) p[c] -= frame[c];
       }
-      double* out = distance.points_.data() + (static_cast<size_t>(f) * joint_count + j) * dims;
+      double* out = distance.owned_.data() + (static_cast<size_t>(f) * joint_count + j) * dims;
       if (options.camera.has_value()) {
         KOMA_RETURN_IF_ERROR(Project(*options.camera, p, f, j, out));
       } else {
@@ -140,7 +140,26 @@ absl::StatusOr<FrameDistance> FrameDistance::Create(absl::Span<const double> wor
       }
     }
   }
+  distance.points_ = absl::MakeConstSpan(distance.owned_);
   KOMA_RETURN_IF_ERROR(CheckDistanceBound(distance.points_, distance.weights_, dims));
+  return distance;
+}
+
+absl::StatusOr<FrameDistance> FrameDistance::CreateView(absl::Span<const double> world_positions,
+                                                        int frame_count, int joint_count,
+                                                        const DistanceOptions& options) {
+  KOMA_RETURN_IF_ERROR(ValidateSizes(world_positions, frame_count, joint_count));
+  FrameDistance distance;
+  KOMA_ASSIGN_OR_RETURN(distance.weights_, CheckedWeights(options.weights, joint_count));
+  const bool identity = !options.root_relative && !options.camera.has_value() &&
+                        std::all_of(distance.weights_.begin(), distance.weights_.end(),
+                                    [](double w) { return w > 0.0; });
+  if (!identity) return Create(world_positions, frame_count, joint_count, options);
+  distance.frame_count_ = frame_count;
+  distance.joint_count_ = joint_count;
+  distance.dims_ = 3;
+  distance.points_ = world_positions;
+  KOMA_RETURN_IF_ERROR(CheckDistanceBound(distance.points_, distance.weights_, 3));
   return distance;
 }
 

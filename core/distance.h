@@ -42,6 +42,20 @@ class FrameDistance {
                                               int frame_count, int joint_count,
                                               const DistanceOptions& options);
 
+  // The same, but when no transform applies (no root_relative, no camera, every weight > 0)
+  // it reads `world_positions` in place instead of copying them: they must outlive the
+  // result. The server uses it over the request's packed field (a 100k-frame, 31-joint clip
+  // is 74 MB that need not be copied). With a transform it copies, as Create does.
+  static absl::StatusOr<FrameDistance> CreateView(absl::Span<const double> world_positions,
+                                                  int frame_count, int joint_count,
+                                                  const DistanceOptions& options);
+
+  // Move-only: `points_` may point into `owned_`, which a move keeps and a copy would not.
+  FrameDistance(FrameDistance&&) = default;
+  FrameDistance& operator=(FrameDistance&&) = default;
+  FrameDistance(const FrameDistance&) = delete;
+  FrameDistance& operator=(const FrameDistance&) = delete;
+
   int frame_count() const { return frame_count_; }
   int joint_count() const { return joint_count_; }
 
@@ -58,7 +72,8 @@ class FrameDistance {
   int frame_count_ = 0;
   int joint_count_ = 0;
   int dims_ = 3;                 // 3, or 2 after camera projection
-  std::vector<double> points_;   // frame_count x joint_count x dims_, transformed
+  std::vector<double> owned_;         // the transformed points, unless read in place
+  absl::Span<const double> points_;   // frame_count x joint_count x dims_: owned_ or a view
   std::vector<double> weights_;  // joint_count
 };
 

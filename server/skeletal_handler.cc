@@ -94,8 +94,9 @@ absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
   KOMA_ASSIGN_OR_RETURN(const absl::Span<const double> positions,
                         WorldPositions(request.motion(), job, computed_positions));
   absl::StatusOr<FrameDistance> distance =
-      FrameDistance::Create(positions, job.frame_count,
-                            static_cast<int>(job.skeleton.joints.size()), job.distance_options);
+      FrameDistance::CreateView(positions, job.frame_count,
+                                static_cast<int>(job.skeleton.joints.size()),
+                                job.distance_options);
   if (!distance.ok()) {
     // Inputs are finite here; what fails is their size after FK or the transforms.
     return absl::Status(distance.status().code(),

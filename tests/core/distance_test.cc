@@ -168,6 +168,33 @@ TEST(DistanceTest, NonFiniteCameraEntryIsRejected) {
       StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("camera[7]: nan is not finite")));
 }
 
+// CreateView reads the positions in place when no transform applies, and copies (as Create)
+// when one does; either way every distance is bit-identical to Create's.
+TEST(DistanceTest, CreateViewGivesTheSameDistancesAsCreate) {
+  DistanceOptions root_relative;
+  root_relative.root_relative = true;
+  DistanceOptions zero_weight;
+  zero_weight.weights = {1.0, 0.0};
+  DistanceOptions camera;
+  camera.camera = std::array<double, 16>{2, 0, 0, 0, 0, 3, 0, 0, 0, 0, 1, 0, 1, 0, 0, 1};  // w = 1
+  for (const DistanceOptions& options : {DistanceOptions{}, root_relative, zero_weight, camera}) {
+    ASSERT_OK_AND_ASSIGN(const FrameDistance copied,
+                         FrameDistance::Create(kPositions, 3, 2, options));
+    ASSERT_OK_AND_ASSIGN(const FrameDistance viewed,
+                         FrameDistance::CreateView(kPositions, 3, 2, options));
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) EXPECT_EQ(viewed(a, b), copied(a, b)) << a << " " << b;
+    }
+  }
+}
+
+TEST(DistanceTest, CreateViewStillRefusesOverflowingPositions) {
+  std::vector<double> positions = kPositions;
+  positions[3] = 1e200;
+  EXPECT_THAT(FrameDistance::CreateView(positions, 3, 2, {}),
+              StatusIs(absl::StatusCode::kOutOfRange, HasSubstr("largest |coordinate| 1e+200")));
+}
+
 // Finite positions whose squared differences would overflow are refused up front, so no
 // distance is ever inf (or NaN from inf - inf) inside the retiming orderings.
 TEST(DistanceTest, PositionsThatWouldOverflowTheDistanceAreOutOfRange) {
