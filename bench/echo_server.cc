@@ -1,0 +1,152 @@
+// koma_echo_server: the transport-only baseline for koma_load. It serves koma.v1.Retime
+// with the same flags and message limits as koma_server but computes nothing: each RPC
+// answers a response of the shape and size koma's would have for that request, so
+// koma RPS / echo RPS shows what the retiming itself costs over the wire.
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "absl/flags/flag.h"
+#include "absl/flags/parse.h"
+#include "absl/flags/usage.h"
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
+#include "koma/v1/retime.grpc.pb.h"
+
+ABSL_FLAG(std::string, address, "127.0.0.1:50052",
+          "host:port to listen on; port 0 picks a free port (see --port_file)");
+ABSL_FLAG(std::string, port_file, "",
+          "if set, write the bound port number to this file once the server is serving");
+ABSL_FLAG(int, max_message_bytes, 256 * 1024 * 1024, "largest request or response in bytes");
+
+namespace {
+
+using koma::v1::CurveSet;
+
+// Answers like koma without computing: source_frames 0..N-1 all ORIGINAL, N zero SSDs and
+// the request's motion copied back (koma's retimed clip has the same size).
+class EchoService final : public koma::v1::Retime::CallbackService {
+  grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
+                                           const koma::v1::RetimeSkeletalRequest* request,
+                                           koma::v1::RetimeSkeletalResponse* response) override {
+    const int frames = std::max(0, request->motion().frame_count());
+    for (int f = 0; f < frames; ++f) {
+      response->add_source_frames(f);
+      response->add_kinds(koma::v1::ORIGINAL);
+    }
+    response->mutable_input_ssd()->Resize(frames, 0.0);
+    *response->mutable_motion() = request->motion();
+    return Finish(context);
+  }
+
+  // Per curve frame_count zero values and an empty stepped curve; one on-ones timing.
+  grpc::ServerUnaryReactor* RetimeCurves(grpc::CallbackServerContext* context,
+                                         const koma::v1::RetimeCurvesRequest* request,
+                                         koma::v1::RetimeCurvesResponse* response) override {
+    const int frames = std::max(0, request->curves().frame_count());
+    koma::v1::DrawingTiming* timing = response->add_timings();
+    timing->set_frames_per_drawing(1);
+    for (int f = 0; f < frames; ++f) {
+      timing->add_drawing_of_frame(f);
+      timing->add_source_frame(f);
+      timing->add_drawing_start(f);
+    }
+    for (const koma::v1::Curve& curve : request->curves().curves()) {
+      koma::v1::RetimedCurve* out = response->add_curves();
+      out->set_id(curve.id());
+      out->mutable_values()->Resize(frames, 0.0);
+      out->mutable_stepped()->set_id(curve.id());
+    }
+    return Finish(context);
+  }
+
+  // Per mouth- or eye-like curve (id containing "Mouth" or "Eye") frame_count zero values.
+  grpc::ServerUnaryReactor* LipBlink(grpc::CallbackServerContext* context,
+                                     const koma::v1::LipBlinkRequest* request,
+                                     koma::v1::LipBlinkResponse* response) override {
+    const int frames = std::max(0, request->curves().frame_count());
+    for (const koma::v1::Curve& curve : request->curves().curves()) {
+      if (!absl::StrContains(curve.id(), "Mouth") && !absl::StrContains(curve.id(), "Eye")) {
+        continue;
+      }
+      koma::v1::ConvertedCurve* out = response->add_curves();
+      out->set_id(curve.id());
+      out->mutable_values()->Resize(frames, 0.0);
+      out->mutable_stepped()->set_id(curve.id());
+    }
+    response->set_seed(request->has_seed() ? request->seed() : 0x6b6f6d61);
+    return Finish(context);
+  }
+
+  static grpc::ServerUnaryReactor* Finish(grpc::CallbackServerContext* context) {
+    grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+    reactor->Finish(grpc::Status::OK);
+    return reactor;
+  }
+};
+
+bool WritePortFile(const std::string& path, int port) {
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    if (!(out << port << '\n')) return false;
+  }
+  return std::rename(temporary.c_str(), path.c_str()) == 0;
+}
+
+int Fail(const std::string& message) {
+  std::fprintf(stderr, "koma_echo_server: %s\n", message.c_str());
+  return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  absl::SetProgramUsageMessage(
+      "koma_echo_server [--address=HOST:PORT] [--port_file=F] [--max_message_bytes=N]: "
+      "koma.v1.Retime answering koma-sized responses without computing (load baseline)");
+  absl::ParseCommandLine(argc, argv);
+  // As koma_server: block the stop signals in every thread and take them with sigwait.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGTERM);
+  sigaddset(&stop_signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  const std::string address = absl::GetFlag(FLAGS_address);
+  const int max_bytes = absl::GetFlag(FLAGS_max_message_bytes);
+  if (max_bytes < 1024) return Fail("--max_message_bytes: below 1024");
+  EchoService service;
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::ServerBuilder builder;
+  int port = 0;
+  builder.AddListeningPort(address, grpc::InsecureServerCredentials(), &port);
+  builder.SetMaxReceiveMessageSize(max_bytes);
+  builder.SetMaxSendMessageSize(max_bytes);
+  builder.RegisterService(&service);
+  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  if (server == nullptr || port == 0) {
+    return Fail(absl::StrCat("--address: could not listen on ", address));
+  }
+  server->GetHealthCheckService()->SetServingStatus(true);
+  const std::string port_file = absl::GetFlag(FLAGS_port_file);
+  if (!port_file.empty() && !WritePortFile(port_file, port)) {
+    return Fail(absl::StrCat("--port_file: cannot write ", port_file));
+  }
+  std::fprintf(stderr, "koma_echo_server listening on port %d\n", port);
+
+  int signal_number = 0;
+  sigwait(&stop_signals, &signal_number);
+  server->GetHealthCheckService()->SetServingStatus(false);
+  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(10));
+  server->Wait();
+  std::fprintf(stderr, "koma_echo_server stopped\n");
+  return 0;
+}

@@ -1,0 +1,49 @@
+// Sends one serialised request over and over to koma: closed loop (a fixed number of calls
+// outstanding) or open loop (a fixed schedule of sends), over several channels.
+#ifndef KOMA_BENCH_LOAD_LOAD_RUNNER_H_
+#define KOMA_BENCH_LOAD_LOAD_RUNNER_H_
+
+#include <grpcpp/grpcpp.h>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "bench/load/load_options.h"
+#include "bench/load/load_request.h"
+
+namespace koma::load {
+
+// The gRPC target for --target: "a:p" as is, "a:p,b:p" as "ipv4:a:p,b:p" (or "ipv6:" when
+// every address is bracketed), a URI ("dns:///name:p") as is. `balanced` says whether the
+// channel should use round_robin (more than one address, or a resolver that may return
+// several). INVALID_ARGUMENT for an empty or mixed list.
+struct ChannelTarget {
+  std::string uri;
+  bool balanced = false;
+};
+absl::StatusOr<ChannelTarget> ResolveTarget(const std::string& target);
+
+// `count` distinct channels (separate connections) with 256 MiB message limits, and
+// round_robin through the service config when `target.balanced`.
+std::vector<std::shared_ptr<grpc::Channel>> MakeChannels(const ChannelTarget& target, int count);
+
+struct RunResult {
+  std::vector<double> latencies_ms;       // successful measured calls, milliseconds
+  std::map<std::string, int64_t> errors;  // failed measured calls by status code name
+  int64_t warmup_calls = 0;               // calls sent during the warmup (not in the statistics)
+  double measured_s = 0.0;                // seconds from the end of the warmup to the last reply
+  bool hit_time_cap = false;              // stopped by --max-duration before --count
+};
+
+// Runs the load described by `options` with `request` on `channels` and waits for every
+// call to finish (each has a deadline, so this is bounded too).
+RunResult RunLoad(const LoadOptions& options, const LoadRequest& request,
+                  const std::vector<std::shared_ptr<grpc::Channel>>& channels);
+
+}  // namespace koma::load
+
+#endif  // KOMA_BENCH_LOAD_LOAD_RUNNER_H_
