@@ -10,10 +10,12 @@ packages=(
   libabsl-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev
 )
-# What the tests and benchmarks add (python3-grpcio: the interop test's second client).
+# What the tests and benchmarks add (python3-grpcio: the interop test's second client;
+# buildah, podman, runc, debootstrap: deploy/test-image.sh builds and runs the image).
 # `install-deps.sh --build-only` skips them (the Dockerfile's build stage).
 if [ "${1:-}" != "--build-only" ]; then
-  packages+=(libgtest-dev libgmock-dev libbenchmark-dev python3 python3-grpcio python3-protobuf)
+  packages+=(libgtest-dev libgmock-dev libbenchmark-dev python3 python3-grpcio python3-protobuf
+             buildah podman runc debootstrap)
 fi
 
 missing=()
