@@ -27,32 +27,35 @@ void Multiply3(const double* a, const double* b, double* out) {
   }
 }
 
-// The right-handed rotation by `degrees` about the axis of a rotation channel.
-void AxisRotation(ChannelKind kind, double degrees, double* out) {
+// rotation := rotation * R_axis(degrees), the right-handed rotation about the channel's axis
+// (intrinsic: later channels multiply on the right). R_axis has only a 2x2 block, so each
+// row mixes two entries: 12 multiplications instead of a full 3x3 product's 27.
+void RotateAbout(ChannelKind kind, double degrees, double* rotation) {
   const double c = std::cos(degrees * kRadiansPerDegree);
   const double s = std::sin(degrees * kRadiansPerDegree);
-  switch (kind) {
-    case ChannelKind::kXRotation: {
-      const double m[9] = {1, 0, 0, 0, c, -s, 0, s, c};
-      for (int k = 0; k < 9; ++k) out[k] = m[k];
-      return;
-    }
-    case ChannelKind::kYRotation: {
-      const double m[9] = {c, 0, s, 0, 1, 0, -s, 0, c};
-      for (int k = 0; k < 9; ++k) out[k] = m[k];
-      return;
-    }
-    default: {  // kZRotation
-      const double m[9] = {c, -s, 0, s, c, 0, 0, 0, 1};
-      for (int k = 0; k < 9; ++k) out[k] = m[k];
-      return;
-    }
+  // Columns (i, k) of the block: X mixes y,z; Y mixes z,x; Z mixes x,y. In each case
+  // new_i = c * old_i + s * old_k and new_k = c * old_k - s * old_i.
+  int i = 0;
+  int k = 1;
+  if (kind == ChannelKind::kXRotation) {
+    i = 1;
+    k = 2;
+  } else if (kind == ChannelKind::kYRotation) {
+    i = 2;
+    k = 0;
+  }
+  for (int r = 0; r < 3; ++r) {
+    const double a = rotation[3 * r + i];
+    const double b = rotation[3 * r + k];
+    rotation[3 * r + i] = c * a + s * b;
+    rotation[3 * r + k] = c * b - s * a;
   }
 }
 
 // T(offset) * T(position channels) * R(c1) * R(c2) * ... for one joint in one frame;
-// `values` are that joint's channel values in channel order.
-Transform LocalTransform(const Joint& joint, const double* values) {
+// `values` are that joint's channel values in channel order. The rotation is only computed
+// when `with_rotation` (a joint's own rotation moves its children, never itself).
+Transform LocalTransform(const Joint& joint, const double* values, bool with_rotation) {
   Transform local;
   local.translation[0] = joint.offset.x;
   local.translation[1] = joint.offset.y;
@@ -63,21 +66,17 @@ Transform LocalTransform(const Joint& joint, const double* values) {
         kind == ChannelKind::kZPosition) {
       local.translation[static_cast<int>(kind) - static_cast<int>(ChannelKind::kXPosition)] +=
           values[c];
-      continue;
+    } else if (with_rotation) {
+      RotateAbout(kind, values[c], local.rotation);
     }
-    double axis[9];
-    double product[9];
-    AxisRotation(kind, values[c], axis);
-    Multiply3(local.rotation, axis, product);  // intrinsic: later channels on the right
-    for (int k = 0; k < 9; ++k) local.rotation[k] = product[k];
   }
   return local;
 }
 
-// parent * local.
-Transform Compose(const Transform& parent, const Transform& local) {
+// parent * local; the rotation only `with_rotation` (a leaf's world rotation is never used).
+Transform Compose(const Transform& parent, const Transform& local, bool with_rotation) {
   Transform world;
-  Multiply3(parent.rotation, local.rotation, world.rotation);
+  if (with_rotation) Multiply3(parent.rotation, local.rotation, world.rotation);
   for (int r = 0; r < 3; ++r) {
     world.translation[r] = parent.translation[r] + parent.rotation[3 * r] * local.translation[0] +
                            parent.rotation[3 * r + 1] * local.translation[1] +
@@ -104,6 +103,10 @@ absl::StatusOr<std::vector<double>> ComputeWorldPositions(const Skeleton& skelet
                                                    " channels), got ", values.size()));
   }
   const size_t joint_count = joints.size();
+  std::vector<bool> has_children(joint_count, false);
+  for (const Joint& joint : joints) {
+    if (joint.parent >= 0) has_children[joint.parent] = true;
+  }
   std::vector<double> positions(static_cast<size_t>(frame_count) * joint_count * 3);
   std::vector<Transform> world(joint_count);  // this frame's world transforms
   for (int f = 0; f < frame_count; ++f) {
@@ -111,10 +114,10 @@ absl::StatusOr<std::vector<double>> ComputeWorldPositions(const Skeleton& skelet
     double* out = positions.data() + static_cast<size_t>(f) * joint_count * 3;
     for (size_t j = 0; j < joint_count; ++j) {
       const Joint& joint = joints[j];
-      const Transform local = LocalTransform(joint, frame);
+      const Transform local = LocalTransform(joint, frame, has_children[j]);
       frame += joint.channels.size();
       // Parents precede children (ValidateSkeleton rule 2), so world[parent] is ready.
-      world[j] = joint.parent < 0 ? local : Compose(world[joint.parent], local);
+      world[j] = joint.parent < 0 ? local : Compose(world[joint.parent], local, has_children[j]);
       for (int c = 0; c < 3; ++c) out[3 * j + c] = world[j].translation[c];
     }
   }
