@@ -5,12 +5,10 @@
 
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
+#include "core/trig_degrees.h"
 
 namespace koma {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadiansPerDegree = kPi / 180.0;
 
 // A rigid transform: x' = rotation * x + translation. rotation is row-major 3x3.
 struct Transform {
@@ -31,8 +29,11 @@ void Multiply3(const double* a, const double* b, double* out) {
 // (intrinsic: later channels multiply on the right). R_axis has only a 2x2 block, so each
 // row mixes two entries: 12 multiplications instead of a full 3x3 product's 27.
 void RotateAbout(ChannelKind kind, double degrees, double* rotation) {
-  const double c = std::cos(degrees * kRadiansPerDegree);
-  const double s = std::sin(degrees * kRadiansPerDegree);
+  // Not std::sin/cos: their last bits differ between libms, and these bits reach the
+  // distances, the tie rules and the response.
+  const SinCos angle = SinCosDegrees(degrees);
+  const double c = angle.cos;
+  const double s = angle.sin;
   // Columns (i, k) of the block: X mixes y,z; Y mixes z,x; Z mixes x,y. In each case
   // new_i = c * old_i + s * old_k and new_k = c * old_k - s * old_i.
   int i = 0;
