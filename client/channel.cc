@@ -1,15 +1,28 @@
 #include "client/channel.h"
 
+#include <algorithm>
 #include <chrono>
+#include <vector>
 #include <cstdio>
 #include <cstdlib>
 
 #include "absl/status/status.h"
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "absl/strings/str_split.h"
 
 namespace koma::client {
 namespace {
 
 constexpr int kMaxMessageBytes = 256 * 1024 * 1024;
+
+bool IsIpv4HostPort(const std::string& address) {
+  const size_t colon = address.rfind(':');
+  if (colon == std::string::npos || colon == 0) return false;
+  return std::all_of(address.begin(), address.begin() + colon,
+                     [](char c) { return (c >= '0' && c <= '9') || c == '.'; });
+}
 
 }  // namespace
 
@@ -18,11 +31,45 @@ std::string DefaultServer() {
   return (from_env != nullptr && *from_env != '\0') ? from_env : "127.0.0.1:50051";
 }
 
-std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target) {
+absl::StatusOr<ChannelTarget> ResolveTarget(const std::string& servers) {
+  if (servers.empty()) return absl::InvalidArgumentError("server list: empty");
+  if (absl::StrContains(servers, ":///") || absl::StartsWith(servers, "ipv4:") ||
+      absl::StartsWith(servers, "ipv6:") || absl::StartsWith(servers, "unix:")) {
+    return ChannelTarget{servers,
+                         absl::StrContains(servers, ",") || absl::StartsWith(servers, "dns:")};
+  }
+  const std::vector<std::string> addresses = absl::StrSplit(servers, ',', absl::SkipEmpty());
+  if (addresses.size() == 1) return ChannelTarget{addresses[0], false};
+  const bool all_v6 = std::all_of(addresses.begin(), addresses.end(),
+                                  [](const std::string& a) { return absl::StartsWith(a, "["); });
+  const bool all_v4 = std::all_of(addresses.begin(), addresses.end(), IsIpv4HostPort);
+  if (!all_v6 && !all_v4) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "server list: must be all IPv4 (127.0.0.1:p,127.0.0.1:q) or all bracketed IPv6 "
+        "([::1]:p,[::1]:q); for names use dns:///name:port, got \"",
+        servers, "\""));
+  }
+  return ChannelTarget{absl::StrCat(all_v6 ? "ipv6:" : "ipv4:", absl::StrJoin(addresses, ",")),
+                       true};
+}
+
+std::string ClientServiceConfig(bool balanced) {
+  const std::string retry =
+      R"("methodConfig":[{"name":[{"service":"koma.v1.Retime"}],)"
+      R"("retryPolicy":{"maxAttempts":3,"initialBackoff":"0.1s","maxBackoff":"1s",)"
+      R"("backoffMultiplier":2,"retryableStatusCodes":["UNAVAILABLE"]}}])";
+  return balanced ? absl::StrCat(R"({"loadBalancingConfig":[{"round_robin":{}}],)", retry, "}")
+                  : absl::StrCat("{", retry, "}");
+}
+
+absl::StatusOr<std::shared_ptr<grpc::Channel>> MakeChannel(const std::string& servers) {
+  absl::StatusOr<ChannelTarget> target = ResolveTarget(servers);
+  if (!target.ok()) return target.status();
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(kMaxMessageBytes);
   args.SetMaxSendMessageSize(kMaxMessageBytes);
-  return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
+  args.SetServiceConfigJSON(ClientServiceConfig(target->balanced));
+  return grpc::CreateCustomChannel(target->uri, grpc::InsecureChannelCredentials(), args);
 }
 
 void SetDeadline(grpc::ClientContext* context, double seconds) {

@@ -7,14 +7,32 @@
 #include <memory>
 #include <string>
 
+#include "absl/status/statusor.h"
+
 namespace koma::client {
 
 // Default server when --server is not given: $KOMA_SERVER, else 127.0.0.1:50051.
 std::string DefaultServer();
 
-// An insecure channel to `target` ("host:port", "dns:///name:port") whose message limits
-// match the server's default (256 MiB), so large clips and their answers fit.
-std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target);
+// The gRPC target for a --server value: "a:p" as is; "a:p,b:p" as "ipv4:a:p,b:p" (or
+// "ipv6:" when every address is bracketed); a URI ("dns:///name:p", "ipv4:...") as is.
+// `balanced`: more than one address, or a resolver that may return several, so the channel
+// should use round_robin. INVALID_ARGUMENT for an empty or mixed list.
+struct ChannelTarget {
+  std::string uri;
+  bool balanced = false;
+};
+absl::StatusOr<ChannelTarget> ResolveTarget(const std::string& servers);
+
+// The service config of koma's own clients: round_robin over the addresses when
+// `balanced`, and up to 3 attempts of a call that fails with UNAVAILABLE (a server that is
+// draining or gone), 0.1 s backoff doubling to 1 s.
+std::string ClientServiceConfig(bool balanced);
+
+// An insecure channel to `servers` (see ResolveTarget) whose message limits match the
+// server's default (256 MiB), so large clips and their answers fit, with
+// ClientServiceConfig. INVALID_ARGUMENT for a malformed list.
+absl::StatusOr<std::shared_ptr<grpc::Channel>> MakeChannel(const std::string& servers);
 
 // Every RPC carries a deadline: now + `seconds`.
 void SetDeadline(grpc::ClientContext* context, double seconds);

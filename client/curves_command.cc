@@ -120,7 +120,12 @@ int RunCurves(const CurvesArgs& args) {
   v1::RetimeCurvesRequest request = MakeRequest(args, input->curves);
   if (!AddCurveOverrides(args.curve_on, request)) return kUsageError;
 
-  auto stub = v1::Retime::NewStub(MakeChannel(args.server));
+  absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = MakeChannel(args.server);
+  if (!channel.ok()) {
+    std::fprintf(stderr, "koma: %s\n", std::string(channel.status().message()).c_str());
+    return 1;
+  }
+  auto stub = v1::Retime::NewStub(*channel);
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeCurvesResponse response;

@@ -8,7 +8,12 @@
 namespace koma::client {
 
 int RunHealth(const HealthArgs& args) {
-  auto stub = grpc::health::v1::Health::NewStub(MakeChannel(args.server));
+  absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = MakeChannel(args.server);
+  if (!channel.ok()) {
+    std::fprintf(stderr, "koma: %s\n", std::string(channel.status().message()).c_str());
+    return 1;
+  }
+  auto stub = grpc::health::v1::Health::NewStub(*channel);
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   grpc::health::v1::HealthCheckRequest request;

@@ -96,7 +96,12 @@ int RunLipBlink(const LipBlinkArgs& args) {
   absl::StatusOr<CurveInput> input = ReadCurveInput(args.input, args.csv_fps);
   if (!input.ok()) return Fail(input.status().message());
 
-  auto stub = v1::Retime::NewStub(MakeChannel(args.server));
+  absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = MakeChannel(args.server);
+  if (!channel.ok()) {
+    std::fprintf(stderr, "koma: %s\n", std::string(channel.status().message()).c_str());
+    return 1;
+  }
+  auto stub = v1::Retime::NewStub(*channel);
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::LipBlinkResponse response;

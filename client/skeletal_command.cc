@@ -103,7 +103,12 @@ int RunSkeletal(const SkeletalArgs& args) {
     return ReportError(absl::InvalidArgumentError(
         absl::StrCat(args.input, ": ", clip.status().message())));
   }
-  auto stub = v1::Retime::NewStub(MakeChannel(args.server));
+  absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = MakeChannel(args.server);
+  if (!channel.ok()) {
+    std::fprintf(stderr, "koma: %s\n", std::string(channel.status().message()).c_str());
+    return 1;
+  }
+  auto stub = v1::Retime::NewStub(*channel);
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeSkeletalResponse response;

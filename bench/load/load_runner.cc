@@ -24,13 +24,6 @@ using Clock = std::chrono::steady_clock;
 constexpr int kMaxMessageBytes = 256 * 1024 * 1024;  // as the server's default
 constexpr char kRoundRobin[] = R"({"loadBalancingConfig":[{"round_robin":{}}]})";
 
-bool IsIpv4HostPort(const std::string& address) {
-  const size_t colon = address.rfind(':');
-  if (colon == std::string::npos || colon == 0) return false;
-  return std::all_of(address.begin(), address.begin() + colon,
-                     [](char c) { return (c >= '0' && c <= '9') || c == '.'; });
-}
-
 Clock::duration Seconds(double s) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
 }
@@ -174,28 +167,6 @@ void Runner::Done(Call* call, const grpc::Status& status) {
 }
 
 }  // namespace
-
-absl::StatusOr<ChannelTarget> ResolveTarget(const std::string& target) {
-  if (target.empty()) return absl::InvalidArgumentError("--target: empty");
-  if (absl::StrContains(target, ":///") || absl::StartsWith(target, "ipv4:") ||
-      absl::StartsWith(target, "ipv6:") || absl::StartsWith(target, "unix:")) {
-    return ChannelTarget{target,
-                         absl::StrContains(target, ",") || absl::StartsWith(target, "dns:")};
-  }
-  const std::vector<std::string> addresses = absl::StrSplit(target, ',', absl::SkipEmpty());
-  if (addresses.size() == 1) return ChannelTarget{addresses[0], false};
-  const bool all_v6 = std::all_of(addresses.begin(), addresses.end(),
-                                  [](const std::string& a) { return absl::StartsWith(a, "["); });
-  const bool all_v4 = std::all_of(addresses.begin(), addresses.end(), IsIpv4HostPort);
-  if (!all_v6 && !all_v4) {
-    return absl::InvalidArgumentError(
-        "--target: a list must be all IPv4 (127.0.0.1:p,127.0.0.1:q) or all bracketed IPv6 "
-        "([::1]:p,[::1]:q); for names use dns:///name:port, got \"" +
-        target + "\"");
-  }
-  return ChannelTarget{absl::StrCat(all_v6 ? "ipv6:" : "ipv4:", absl::StrJoin(addresses, ",")),
-                       true};
-}
 
 std::vector<std::shared_ptr<grpc::Channel>> MakeChannels(const ChannelTarget& target, int count) {
   std::vector<std::shared_ptr<grpc::Channel>> channels;

@@ -13,19 +13,14 @@
 
 #include "absl/status/statusor.h"
 #include "bench/load/load_options.h"
+#include "client/channel.h"
 #include "bench/load/load_request.h"
 
 namespace koma::load {
 
-// The gRPC target for --target: "a:p" as is, "a:p,b:p" as "ipv4:a:p,b:p" (or "ipv6:" when
-// every address is bracketed), a URI ("dns:///name:p") as is. `balanced` says whether the
-// channel should use round_robin (more than one address, or a resolver that may return
-// several). INVALID_ARGUMENT for an empty or mixed list.
-struct ChannelTarget {
-  std::string uri;
-  bool balanced = false;
-};
-absl::StatusOr<ChannelTarget> ResolveTarget(const std::string& target);
+// --target resolves like the koma client's --server (client/channel.h).
+using client::ChannelTarget;
+using client::ResolveTarget;
 
 // `count` distinct channels (separate connections) with 256 MiB message limits, and
 // round_robin through the service config when `target.balanced`.

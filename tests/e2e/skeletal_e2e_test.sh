@@ -29,6 +29,18 @@ grep -q ",DUPLICATE," "$work/timing.csv" || fail "no DUPLICATE frame in the timi
 "$client_bin" skeletal "$work/out.bvh" -o "$work/again.bvh" --server "$target" >/dev/null \
   || fail "the written BVH does not read back"
 
+# Several endpoints, round_robin: a dead one in the list is skipped.
+dead=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+"$client_bin" skeletal "$sample" -o "$work/rr.bvh" --server "127.0.0.1:$dead,$target" \
+  --deadline 20 >/dev/null || fail "a list with a dead endpoint failed"
+cmp -s "$work/out.bvh" "$work/rr.bvh" || fail "the round_robin answer differs"
+set +e
+"$client_bin" health --server "127.0.0.1:1,localhost:2" >/dev/null 2>"$work/err.txt"
+code=$?
+set -e
+[ "$code" = 1 ] && grep -q "server list: must be all IPv4" "$work/err.txt" \
+  || fail "a mixed --server list: exit $code, $(cat "$work/err.txt")"
+
 # A bad parameter: the server's code and message, exit 1.
 set +e
 "$client_bin" skeletal "$sample" -o "$work/bad.bvh" --omit 500 --server "$target" \
@@ -64,7 +76,7 @@ import json, sys
 lines = open(sys.argv[1]).read().splitlines()
 records = [json.loads(line) for line in lines]
 rpcs = [r for r in records if r.get("msg") == "rpc"]
-assert len(rpcs) == 3, rpcs  # two retimes and the bad one; usage errors never leave the client
+assert len(rpcs) == 4, rpcs  # three retimes and the bad one; usage errors never leave the client
 for r in rpcs:
     for key in ("method", "peer", "frames", "joints", "code", "latency_ms"):
         assert key in r, (key, r)
