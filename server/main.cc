@@ -2,11 +2,14 @@
 #include <signal.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
+#include "absl/flags/reflection.h"
+#include "absl/strings/ascii.h"
 #include "absl/flags/usage.h"
 #include "absl/strings/str_cat.h"
 #include "absl/time/time.h"
@@ -34,6 +37,29 @@ ABSL_FLAG(int, shutdown_grace_ms, 10000,
           "on SIGTERM/SIGINT, how long calls in flight may finish before they are cancelled");
 
 namespace {
+
+constexpr const char* kEnvironmentFlags[] = {
+    "address",    "port_file", "max_message_bytes", "max_values",        "max_joints",
+    "worker_threads", "max_queued", "log_level", "log_format", "shutdown_grace_ms"};
+
+// Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
+// KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
+// message) when a variable's value does not parse.
+bool ApplyEnvironment() {
+  for (const char* name : kEnvironmentFlags) {
+    const std::string variable = "KOMA_" + absl::AsciiStrToUpper(name);
+    const char* value = std::getenv(variable.c_str());
+    if (value == nullptr) continue;
+    absl::CommandLineFlag* flag = absl::FindCommandLineFlag(name);
+    std::string error;
+    if (flag == nullptr || !flag->ParseFrom(value, &error)) {
+      std::fprintf(stderr, "koma_server: %s=\"%s\": %s\n", variable.c_str(), value,
+                   error.c_str());
+      return false;
+    }
+  }
+  return true;
+}
 
 koma::server::ServerConfig ConfigFromFlags() {
   koma::server::ServerConfig config;
@@ -72,7 +98,10 @@ int Fail(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  absl::SetProgramUsageMessage("koma_server [--address=HOST:PORT] [flags]: the koma gRPC service");
+  absl::SetProgramUsageMessage(
+      "koma_server [--address=HOST:PORT] [flags]: the koma gRPC service. Every flag can also be "
+      "set as KOMA_<FLAG> in the environment (KOMA_ADDRESS=0.0.0.0:50051); flags win.");
+  if (!ApplyEnvironment()) return 2;
   absl::ParseCommandLine(argc, argv);
   if (absl::Status s = koma::server::ConfigureLogging(absl::GetFlag(FLAGS_log_level),
                                                       absl::GetFlag(FLAGS_log_format));

@@ -6,7 +6,7 @@ server_bin=$1 client_bin=$2 sample=$3
 
 source "$(dirname "$0")/lib.sh"
 
-start_server "$server_bin" --log_format=json --worker_threads=2
+KOMA_LOG_FORMAT=json start_server "$server_bin" --worker_threads=2  # format from the environment
 
 # Health.
 [ "$("$client_bin" health --server "$target")" = SERVING ] || fail "health is not SERVING"
