@@ -68,15 +68,16 @@ absl::Status ConfigureLogging(absl::string_view level, absl::string_view format)
 void LogRpc(const RpcRecord& r) {
   const std::string code = GrpcCodeName(r.code);
   nlohmann::json fields = {{"msg", "rpc"},         {"method", r.method},
+                           {"request_id", r.request_id},
                            {"peer", r.peer},       {"frames", r.frames},
                            {"joints", r.joints},   {"curves", r.curves},
                            {"bytes_in", r.bytes_in},
                            {"bytes_out", r.bytes_out}, {"code", code},
                            {"latency_ms", r.latency_ms}};
-  std::string text = absl::StrFormat("rpc %s peer=%s frames=%d joints=%d curves=%d in=%dB "
+  std::string text = absl::StrFormat("rpc %s id=%s peer=%s frames=%d joints=%d curves=%d in=%dB "
                                      "out=%dB code=%s latency_ms=%.3f",
-                                     r.method, r.peer, r.frames, r.joints, r.curves, r.bytes_in,
-                                     r.bytes_out, code, r.latency_ms);
+                                     r.method, r.request_id, r.peer, r.frames, r.joints,
+                                     r.curves, r.bytes_in, r.bytes_out, code, r.latency_ms);
   if (r.code != grpc::StatusCode::OK) {
     fields["error"] = r.error;
     absl::StrAppend(&text, " error=\"", r.error, "\"");

@@ -24,6 +24,7 @@ absl::Status ConfigureLogging(absl::string_view level, absl::string_view format)
 struct RpcRecord {
   absl::string_view method;  // "RetimeSkeletal"
   std::string peer;         // "ipv4:127.0.0.1:53422"
+  std::string request_id;   // x-request-id: the caller's, or generated
   int64_t frames = 0;       // input frames, 0 if the request was rejected before parsing
   int64_t joints = 0;       // RetimeSkeletal
   int64_t curves = 0;       // RetimeCurves, LipBlink

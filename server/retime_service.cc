@@ -1,9 +1,14 @@
 #include "server/retime_service.h"
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <string>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "core/split_mix64.h"
 #include "server/logging.h"
 #include "server/curves_request.h"
 #include "server/lip_blink_request.h"
@@ -42,6 +47,25 @@ grpc::Status Busy(absl::string_view method) {
                                            "(--max_queued); retry with backoff"));
 }
 
+constexpr absl::string_view kRequestIdKey = "x-request-id";
+constexpr size_t kMaxRequestIdBytes = 128;
+
+// The caller's x-request-id (cut to 128 bytes), or a new one: 16 hex digits from a
+// SplitMix64 stream seeded once from the clock. Returned to the caller in the initial
+// metadata and written in the call's log line, so a client log and a server log can be
+// joined.
+std::string RequestId(const grpc::CallbackServerContext& context) {
+  const auto& metadata = context.client_metadata();
+  const auto found = metadata.find(std::string(kRequestIdKey));
+  if (found != metadata.end() && found->second.size() > 0) {
+    return std::string(found->second.data(), std::min(found->second.size(), kMaxRequestIdBytes));
+  }
+  static std::atomic<uint64_t> counter{static_cast<uint64_t>(
+      std::chrono::system_clock::now().time_since_epoch().count())};
+  SplitMix64 rng(counter.fetch_add(1));
+  return absl::StrFormat("%016x", rng.Next());
+}
+
 }  // namespace
 
 template <typename Request, typename Response, typename Handler>
@@ -51,6 +75,8 @@ grpc::ServerUnaryReactor* RetimeService::RunOnPool(grpc::CallbackServerContext* 
   const Clock::time_point start = Clock::now();
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
   record.peer = context->peer();
+  record.request_id = RequestId(*context);
+  context->AddInitialMetadata(std::string(kRequestIdKey), record.request_id);
   record.bytes_in = static_cast<int64_t>(request->ByteSizeLong());
   const bool accepted = pool_->TrySubmit([context, request, response, reactor, record, start,
                                           handler]() {

@@ -78,7 +78,8 @@ records = [json.loads(line) for line in lines]
 rpcs = [r for r in records if r.get("msg") == "rpc"]
 assert len(rpcs) == 4, rpcs  # three retimes and the bad one; usage errors never leave the client
 for r in rpcs:
-    for key in ("method", "peer", "frames", "joints", "code", "latency_ms"):
+    for key in ("method", "request_id", "peer", "frames", "joints", "bytes_in", "bytes_out",
+                "code", "latency_ms"):
         assert key in r, (key, r)
 assert any(r["code"] == "OUT_OF_RANGE" for r in rpcs)
 assert records[-1]["msg"] == "koma_server stopped"

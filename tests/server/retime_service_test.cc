@@ -121,6 +121,38 @@ TEST(RetimeServiceTest, SameRequestSameBytesWhateverTheThreadCount) {
   for (const std::string& answer : answers) EXPECT_EQ(answer, answers.front());
 }
 
+std::string ServerRequestId(const grpc::ClientContext& context) {
+  const auto& metadata = context.GetServerInitialMetadata();
+  const auto found = metadata.find("x-request-id");
+  return found == metadata.end() ? "" : std::string(found->second.data(), found->second.size());
+}
+
+TEST(RetimeServiceTest, RequestIdIsEchoedOrGenerated) {
+  auto server = StartInProcess(1);
+  auto stub = v1::Retime::NewStub(server->InProcessChannel());
+  const v1::RetimeSkeletalRequest request = koma::testing::MakeSkeletalRequest(10);
+  v1::RetimeSkeletalResponse response;
+  {
+    grpc::ClientContext context;
+    context.AddMetadata("x-request-id", "render-farm-job-42");
+    ASSERT_TRUE(stub->RetimeSkeletal(&context, request, &response).ok());
+    EXPECT_EQ(ServerRequestId(context), "render-farm-job-42");
+  }
+  std::string first;
+  for (int i = 0; i < 2; ++i) {
+    grpc::ClientContext context;
+    ASSERT_TRUE(stub->RetimeSkeletal(&context, request, &response).ok());
+    const std::string generated = ServerRequestId(context);
+    EXPECT_EQ(generated.size(), 16u);
+    EXPECT_EQ(generated.find_first_not_of("0123456789abcdef"), std::string::npos) << generated;
+    if (i == 0) {
+      first = generated;
+    } else {
+      EXPECT_NE(generated, first);
+    }
+  }
+}
+
 TEST(RetimeServiceTest, RequestOverMaxMessageBytesIsResourceExhausted) {
   auto server = StartInProcess(1, /*max_message_bytes=*/64 * 1024);
   auto stub = v1::Retime::NewStub(server->InProcessChannel());
