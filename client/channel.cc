@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
+#include <sstream>
 #include <vector>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +18,24 @@ namespace koma::client {
 namespace {
 
 constexpr int kMaxMessageBytes = 256 * 1024 * 1024;
+
+// Set once by ConfigureTls before any channel is made.
+std::shared_ptr<grpc::ChannelCredentials>& Credentials() {
+  static std::shared_ptr<grpc::ChannelCredentials> credentials =
+      grpc::InsecureChannelCredentials();
+  return credentials;
+}
+
+absl::StatusOr<std::string> ReadPem(absl::string_view flag, const std::string& path) {
+  if (path.empty()) return std::string();
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in || text.str().empty()) {
+    return absl::NotFoundError(absl::StrCat(flag, ": cannot read ", path));
+  }
+  return text.str();
+}
 
 bool IsIpv4HostPort(const std::string& address) {
   const size_t colon = address.rfind(':');
@@ -53,6 +73,25 @@ absl::StatusOr<ChannelTarget> ResolveTarget(const std::string& servers) {
                        true};
 }
 
+absl::Status ConfigureTls(const TlsFiles& files) {
+  if (files.ca.empty() && files.cert.empty() && files.key.empty()) return absl::OkStatus();
+  if (files.cert.empty() != files.key.empty()) {
+    return absl::InvalidArgumentError("--tls-cert and --tls-key: give both or neither");
+  }
+  grpc::SslCredentialsOptions options;
+  absl::StatusOr<std::string> ca = ReadPem("--tls-ca", files.ca);
+  absl::StatusOr<std::string> cert = ReadPem("--tls-cert", files.cert);
+  absl::StatusOr<std::string> key = ReadPem("--tls-key", files.key);
+  for (const auto* pem : {&ca, &cert, &key}) {
+    if (!pem->ok()) return pem->status();
+  }
+  options.pem_root_certs = *ca;
+  options.pem_cert_chain = *cert;
+  options.pem_private_key = *key;
+  Credentials() = grpc::SslCredentials(options);
+  return absl::OkStatus();
+}
+
 std::string ClientServiceConfig(bool balanced) {
   const std::string retry =
       R"("methodConfig":[{"name":[{"service":"koma.v1.Retime"}],)"
@@ -69,7 +108,7 @@ absl::StatusOr<std::shared_ptr<grpc::Channel>> MakeChannel(const std::string& se
   args.SetMaxReceiveMessageSize(kMaxMessageBytes);
   args.SetMaxSendMessageSize(kMaxMessageBytes);
   args.SetServiceConfigJSON(ClientServiceConfig(target->balanced));
-  return grpc::CreateCustomChannel(target->uri, grpc::InsecureChannelCredentials(), args);
+  return grpc::CreateCustomChannel(target->uri, Credentials(), args);
 }
 
 void SetDeadline(grpc::ClientContext* context, double seconds) {

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "absl/status/status.h"
 #include "absl/status/statusor.h"
 
 namespace koma::client {
@@ -23,6 +24,16 @@ struct ChannelTarget {
   bool balanced = false;
 };
 absl::StatusOr<ChannelTarget> ResolveTarget(const std::string& servers);
+
+// TLS for every channel this process makes (--tls-ca, --tls-cert, --tls-key). Empty
+// paths: plaintext. `ca`: the CA that signed the server's certificate (empty with a client
+// certificate: the system's roots). NOT_FOUND / INVALID_ARGUMENT naming the file.
+struct TlsFiles {
+  std::string ca;
+  std::string cert;
+  std::string key;
+};
+absl::Status ConfigureTls(const TlsFiles& files);
 
 // The service config of koma's own clients: round_robin over the addresses when
 // `balanced`, and up to 3 attempts of a call that fails with UNAVAILABLE (a server that is

@@ -106,6 +106,14 @@ void AddHealth(CLI::App& app, koma::client::HealthArgs& args) {
 int main(int argc, char** argv) {
   CLI::App app{"koma: retime animation into Japanese limited-animation timing"};
   app.require_subcommand(1);
+  // TLS options may stand before or after the subcommand.
+  app.fallthrough();
+  koma::client::TlsFiles tls;
+  app.add_option("--tls-ca", tls.ca, "PEM CA of the server's certificate: use TLS")
+      ->envname("KOMA_TLS_CA");
+  app.add_option("--tls-cert", tls.cert, "PEM client certificate (mutual TLS)")
+      ->envname("KOMA_TLS_CERT");
+  app.add_option("--tls-key", tls.key, "PEM key of --tls-cert")->envname("KOMA_TLS_KEY");
   koma::client::SkeletalArgs skeletal;
   koma::client::CurvesArgs curves;
   koma::client::LipBlinkArgs lip_blink;
@@ -124,6 +132,10 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);  // prints the problem and the usage line to stderr
+    return kUsageError;
+  }
+  if (absl::Status s = koma::client::ConfigureTls(tls); !s.ok()) {
+    std::fprintf(stderr, "koma: %s\n", std::string(s.message()).c_str());
     return kUsageError;
   }
   if (app.got_subcommand("skeletal")) return koma::client::RunSkeletal(skeletal);

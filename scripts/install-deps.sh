@@ -15,7 +15,7 @@ packages=(
 # `install-deps.sh --build-only` skips them (the Dockerfile's build stage).
 if [ "${1:-}" != "--build-only" ]; then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev python3 python3-grpcio python3-protobuf
-             python3-yaml
+             python3-yaml openssl
              buildah podman runc debootstrap)
 fi
 

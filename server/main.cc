@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "absl/flags/flag.h"
@@ -35,6 +36,10 @@ ABSL_FLAG(int, max_queued, 64,
           "requests that may wait for a worker; beyond that, RESOURCE_EXHAUSTED");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn, error, critical or off");
 ABSL_FLAG(std::string, log_format, "text", "text, or json (one JSON object per line)");
+ABSL_FLAG(std::string, tls_cert, "", "PEM certificate chain file: serve TLS instead of plaintext");
+ABSL_FLAG(std::string, tls_key, "", "PEM private key file of --tls_cert");
+ABSL_FLAG(std::string, tls_client_ca, "",
+          "PEM CA file: require client certificates signed by it (mutual TLS)");
 ABSL_FLAG(int, shutdown_grace_ms, 10000,
           "on SIGTERM/SIGINT, how long calls in flight may finish before they are cancelled");
 
@@ -42,7 +47,8 @@ namespace {
 
 constexpr const char* kEnvironmentFlags[] = {
     "address",    "port_file", "max_message_bytes", "max_values",        "max_joints",
-    "worker_threads", "max_queued", "log_level", "log_format", "shutdown_grace_ms"};
+    "worker_threads", "max_queued", "log_level", "log_format", "shutdown_grace_ms",
+    "tls_cert", "tls_key", "tls_client_ca"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -61,6 +67,26 @@ bool ApplyEnvironment() {
     }
   }
   return true;
+}
+
+// The whole file, or false with a message naming the flag.
+bool ReadPem(const char* flag, const std::string& path, std::string* out) {
+  if (path.empty()) return true;
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in || text.str().empty()) {
+    std::fprintf(stderr, "koma_server: --%s: cannot read %s\n", flag, path.c_str());
+    return false;
+  }
+  *out = text.str();
+  return true;
+}
+
+bool ReadTls(koma::server::ServerConfig& config) {
+  return ReadPem("tls_cert", absl::GetFlag(FLAGS_tls_cert), &config.tls_cert_pem) &&
+         ReadPem("tls_key", absl::GetFlag(FLAGS_tls_key), &config.tls_key_pem) &&
+         ReadPem("tls_client_ca", absl::GetFlag(FLAGS_tls_client_ca), &config.tls_client_ca_pem);
 }
 
 koma::server::ServerConfig ConfigFromFlags() {
@@ -125,15 +151,20 @@ int main(int argc, char** argv) {
   sigaddset(&stop_signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
-  auto server = koma::server::KomaServer::Start(ConfigFromFlags());
+  koma::server::ServerConfig config = ConfigFromFlags();
+  if (!ReadTls(config)) return 1;
+  auto server = koma::server::KomaServer::Start(config);
   if (!server.ok()) return Fail(std::string(server.status().message()));
   const std::string port_file = absl::GetFlag(FLAGS_port_file);
   if (!port_file.empty() && !WritePortFile(port_file, (*server)->port())) {
     return Fail(absl::StrCat("--port_file: cannot write ", port_file));
   }
-  koma::server::LogEvent(absl::StrCat("koma_server listening on ",
-                                      ListeningAddress(absl::GetFlag(FLAGS_address),
-                                                       (*server)->port())));
+  const char* security = config.tls_cert_pem.empty()          ? "plaintext"
+                         : config.tls_client_ca_pem.empty() ? "TLS"
+                                                            : "mutual TLS";
+  koma::server::LogEvent(absl::StrCat(
+      "koma_server listening on ",
+      ListeningAddress(absl::GetFlag(FLAGS_address), (*server)->port()), " (", security, ")"));
 
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);

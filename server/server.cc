@@ -19,12 +19,29 @@ int DefaultWorkerThreads() {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
+std::shared_ptr<grpc::ServerCredentials> Credentials(const ServerConfig& config) {
+  if (config.tls_cert_pem.empty()) return grpc::InsecureServerCredentials();
+  grpc::SslServerCredentialsOptions options(
+      config.tls_client_ca_pem.empty()
+          ? GRPC_SSL_DONT_REQUEST_CLIENT_CERTIFICATE
+          : GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY);
+  options.pem_root_certs = config.tls_client_ca_pem;
+  options.pem_key_cert_pairs.push_back({config.tls_key_pem, config.tls_cert_pem});
+  return grpc::SslServerCredentials(options);
+}
+
 }  // namespace
 
 absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig& config) {
   if (config.max_message_bytes < 1024) {
     return absl::InvalidArgumentError(absl::StrCat(
         "--max_message_bytes: ", config.max_message_bytes, " is below 1024"));
+  }
+  if (config.tls_cert_pem.empty() != config.tls_key_pem.empty()) {
+    return absl::InvalidArgumentError("--tls_cert and --tls_key: give both or neither");
+  }
+  if (!config.tls_client_ca_pem.empty() && config.tls_cert_pem.empty()) {
+    return absl::InvalidArgumentError("--tls_client_ca needs --tls_cert and --tls_key");
   }
   if (config.max_queued < 0 || config.worker_threads < 0) {
     return absl::InvalidArgumentError("--max_queued and --worker_threads must be >= 0");
@@ -39,7 +56,7 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   if (!config.address.empty()) {
-    builder.AddListeningPort(config.address, grpc::InsecureServerCredentials(), &server->port_);
+    builder.AddListeningPort(config.address, Credentials(config), &server->port_);
   }
   builder.SetMaxReceiveMessageSize(config.max_message_bytes);
   builder.SetMaxSendMessageSize(config.max_message_bytes);

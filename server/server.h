@@ -28,6 +28,11 @@ struct ServerConfig {
   int worker_threads = 0;
   // Requests that may wait for a worker before new ones get RESOURCE_EXHAUSTED.
   int max_queued = 64;
+  // TLS, as PEM text: both empty = plaintext. With a client CA, clients must present a
+  // certificate that CA signed (mutual TLS).
+  std::string tls_cert_pem;
+  std::string tls_key_pem;
+  std::string tls_client_ca_pem;
 };
 
 class KomaServer {
