@@ -191,4 +191,54 @@ std::vector<double> FrameDistance::InputSsd() const {
   return ssd;
 }
 
+void FrameDistance::AdjacentDistances(std::vector<double>* ssd, std::vector<double>* skip,
+                                      std::vector<double>* skip2) const {
+  const int n = frame_count_;
+  if (ssd != nullptr) ssd->assign(n, 0.0);
+  if (skip != nullptr) skip->assign(n, 0.0);
+  if (skip2 != nullptr) skip2->assign(n, 0.0);
+  if (ssd == nullptr || skip == nullptr || skip2 == nullptr || dims_ != 3) {
+    // Not the hot case: the plain loops.
+    for (int k = 1; k < n; ++k) {
+      if (ssd != nullptr) (*ssd)[k] = (*this)(k - 1, k);
+      if (skip != nullptr && k + 1 < n) (*skip)[k] = (*this)(k - 1, k + 1);
+      if (skip2 != nullptr && k + 2 < n) (*skip2)[k] = (*this)(k - 1, k + 2);
+    }
+    return;
+  }
+  // Frames k - 1 .. k + 2 are read together, so the extra distances cost arithmetic only, not
+  // memory traffic. Each sum runs over the joints in index order, as operator() does.
+  const size_t stride = static_cast<size_t>(joint_count_) * 3;
+  const double* w = weights_.data();
+  double* out_ssd = ssd->data();
+  double* out_skip = skip->data();
+  double* out_skip2 = skip2->data();
+  int k = 1;
+  for (; k + 2 < n; ++k) {
+    const double* pa = points_.data() + static_cast<size_t>(k - 1) * stride;
+    const double* pb = pa + stride;
+    const double* pc = pb + stride;
+    const double* pd = pc + stride;
+    double sum_ab = 0.0;
+    double sum_ac = 0.0;
+    double sum_ad = 0.0;
+    for (int i = 0; i < joint_count_; ++i, pa += 3, pb += 3, pc += 3, pd += 3) {
+      const double ax = pa[0], ay = pa[1], az = pa[2];
+      const double bx = ax - pb[0], by = ay - pb[1], bz = az - pb[2];
+      sum_ab += w[i] * (bx * bx + by * by + bz * bz);
+      const double cx = ax - pc[0], cy = ay - pc[1], cz = az - pc[2];
+      sum_ac += w[i] * (cx * cx + cy * cy + cz * cz);
+      const double dx = ax - pd[0], dy = ay - pd[1], dz = az - pd[2];
+      sum_ad += w[i] * (dx * dx + dy * dy + dz * dz);
+    }
+    out_ssd[k] = sum_ab;
+    out_skip[k] = sum_ac;
+    out_skip2[k] = sum_ad;
+  }
+  for (; k < n; ++k) {
+    out_ssd[k] = (*this)(k - 1, k);
+    if (k + 1 < n) out_skip[k] = (*this)(k - 1, k + 1);
+  }
+}
+
 }  // namespace koma

@@ -67,6 +67,13 @@ class FrameDistance {
   // The per-frame SSD of the input: ssd[0] = 0, ssd[k] = dist(k - 1, k).
   std::vector<double> InputSsd() const;
 
+  // One streaming pass for RetimeFast: ssd[k] = dist(k - 1, k) as InputSsd,
+  // skip[k] = dist(k - 1, k + 1) for 1 <= k <= N - 2 and skip2[k] = dist(k - 1, k + 2) for
+  // 1 <= k <= N - 3 (0 elsewhere), each bit-identical to operator() (same summation order).
+  // Any pointer may be null; non-null vectors are resized to frame_count.
+  void AdjacentDistances(std::vector<double>* ssd, std::vector<double>* skip,
+                         std::vector<double>* skip2 = nullptr) const;
+
  private:
   FrameDistance() = default;
   int frame_count_ = 0;

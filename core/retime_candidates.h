@@ -5,8 +5,11 @@
 #ifndef KOMA_CORE_RETIME_CANDIDATES_H_
 #define KOMA_CORE_RETIME_CANDIDATES_H_
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -27,6 +30,26 @@ class CandidateHeap {
   // the smallest run (= the smallest output frame index t).
   explicit CandidateHeap(bool largest_ssd_first) : largest_ssd_first_(largest_ssd_first) {}
 
+  // True when `a` comes out before `b`.
+  bool Before(const CandidateEntry& a, const CandidateEntry& b) const {
+    if (a.ssd != b.ssd) return largest_ssd_first_ ? a.ssd > b.ssd : a.ssd < b.ssd;
+    return a.run < b.run;
+  }
+
+  // A bounded bulk load: during it, Push keeps only entries that come before `bound`. The
+  // caller must then treat a top that does not come before `bound` (or an empty heap) as
+  // unknown (see Trusted) and reload without a bound: the entries left out are exactly
+  // candidates from the bulk load at or after `bound`, and every later push goes in.
+  void SetBound(const CandidateEntry& bound) {
+    bound_ = bound;
+    bounded_ = true;
+  }
+  // False when a left-out entry might be the true best: `top` (from Top) is null or not
+  // before the bound.
+  bool Trusted(const CandidateEntry* top) const {
+    return !bounded_ || (top != nullptr && Before(*top, bound_));
+  }
+
   // Empties the heap and starts a bulk load of about `expected` entries: Push only
   // appends until Heapify, which orders everything in O(size).
   void StartBulkLoad(size_t expected) {
@@ -43,10 +66,19 @@ class CandidateHeap {
   void Clear() {
     entries_.clear();
     bulk_ = false;
+    bounded_ = false;
+  }
+
+  // Drops the top entry (the heap must not be empty).
+  void PopTop() {
+    entries_.front() = entries_.back();
+    entries_.pop_back();
+    if (!entries_.empty()) SiftDown(0);
   }
 
   // O(log size), or O(1) during a bulk load.
   void Push(const CandidateEntry& entry) {
+    if (bulk_ && bounded_ && !Before(entry, bound_)) return;
     entries_.push_back(entry);
     if (!bulk_) SiftUp(entries_.size() - 1);
   }
@@ -62,17 +94,6 @@ class CandidateHeap {
  private:
   static constexpr size_t kArity = 4;
 
-  // True when `a` comes out before `b`.
-  bool Before(const CandidateEntry& a, const CandidateEntry& b) const {
-    if (a.ssd != b.ssd) return largest_ssd_first_ ? a.ssd > b.ssd : a.ssd < b.ssd;
-    return a.run < b.run;
-  }
-
-  void PopTop() {
-    entries_.front() = entries_.back();
-    entries_.pop_back();
-    if (!entries_.empty()) SiftDown(0);
-  }
 
   void SiftUp(size_t i) {
     const CandidateEntry moving = entries_[i];
@@ -105,7 +126,123 @@ class CandidateHeap {
 
   bool largest_ssd_first_;
   bool bulk_ = false;
+  bool bounded_ = false;
+  CandidateEntry bound_;
   std::vector<CandidateEntry> entries_;
+};
+
+// The hold queue of RetimeFast (smallest SSD first, ties to the smallest run): the same
+// contract as CandidateHeap, but the bulk-loaded entries are not heapified: one counting pass
+// spreads them over up to kMaxBuckets buckets by their SSD (buckets in key order), and a bucket is
+// sorted only when the reading reaches it; only entries pushed later live in a heap. Step B
+// takes its N/3 holds from the bottom of about N candidates: popping each from a heap of N
+// entries costs a sift-down of cache misses, reading sorted buckets front to back costs
+// none, and the buckets above the last hold are never sorted. Top merges the two (the
+// buckets' head against the heap's top) by the same order.
+class SortedCandidateQueue {
+ public:
+  SortedCandidateQueue() : pushed_(false) {}
+
+  void StartBulkLoad(size_t expected) {
+    Clear();
+    sorted_.reserve(expected);
+    bulk_ = true;
+  }
+  // Buckets the bulk-loaded entries; later pushes go to the heap.
+  void Heapify() {
+    bulk_ = false;
+    Bucket();
+  }
+  void Clear() {
+    sorted_.clear();
+    bucket_end_.clear();
+    head_ = 0;
+    sorted_end_ = 0;
+    bucket_ = 0;
+    bulk_ = false;
+    pushed_.Clear();
+  }
+
+  void Push(const CandidateEntry& entry) {
+    if (bulk_) {
+      sorted_.push_back(entry);
+    } else {
+      pushed_.Push(entry);
+    }
+  }
+
+  template <typename IsCurrent>
+  const CandidateEntry* Top(IsCurrent is_current) {
+    for (;;) {
+      if (head_ == sorted_end_ && head_ < sorted_.size()) SortNextBucket();
+      const CandidateEntry* heap_top = pushed_.Top([](const CandidateEntry&) { return true; });
+      const bool have_sorted = head_ < sorted_.size();
+      if (heap_top == nullptr && !have_sorted) return nullptr;
+      if (have_sorted && (heap_top == nullptr || Before(sorted_[head_], *heap_top))) {
+        if (is_current(sorted_[head_])) return &sorted_[head_];
+        ++head_;
+      } else {
+        if (is_current(*heap_top)) return heap_top;
+        pushed_.PopTop();
+      }
+    }
+  }
+
+ private:
+  static constexpr uint64_t kMaxBuckets = 4096;
+
+  static bool Before(const CandidateEntry& a, const CandidateEntry& b) {
+    if (a.ssd != b.ssd) return a.ssd < b.ssd;
+    return a.run < b.run;
+  }
+  // Non-negative doubles order like their bit patterns (as unsigned integers); the SSDs are
+  // >= 0 and never NaN (-0.0 is read as +0.0).
+  static uint64_t Key(const CandidateEntry& e) {
+    const double ssd = e.ssd == 0.0 ? 0.0 : e.ssd;
+    uint64_t bits;
+    std::memcpy(&bits, &ssd, sizeof bits);
+    return bits;
+  }
+
+  // Buckets by (key - smallest) >> shift_, so keys in bucket b are all below those in b + 1.
+  void Bucket() {
+    const size_t n = sorted_.size();
+    if (n == 0) return;
+    uint64_t lo = Key(sorted_[0]);
+    uint64_t hi = lo;
+    for (const CandidateEntry& e : sorted_) {
+      const uint64_t k = Key(e);
+      lo = k < lo ? k : lo;
+      hi = k > hi ? k : hi;
+    }
+    // About 64 entries per bucket, at most kMaxBuckets buckets.
+    const uint64_t buckets = std::min<uint64_t>(kMaxBuckets, n / 64 + 1);
+    int shift = 0;
+    while (((hi - lo) >> shift) >= buckets) ++shift;
+    std::vector<uint32_t> start(buckets + 1, 0);
+    for (const CandidateEntry& e : sorted_) ++start[((Key(e) - lo) >> shift) + 1];
+    for (uint64_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+    bucket_end_.assign(start.begin() + 1, start.end());
+    scratch_.resize(n);
+    for (const CandidateEntry& e : sorted_) scratch_[start[(Key(e) - lo) >> shift]++] = e;
+    sorted_.swap(scratch_);
+    scratch_.clear();
+    scratch_.shrink_to_fit();
+  }
+  void SortNextBucket() {
+    while (bucket_ < bucket_end_.size() && bucket_end_[bucket_] <= head_) ++bucket_;
+    sorted_end_ = bucket_end_[bucket_];
+    std::sort(sorted_.begin() + head_, sorted_.begin() + sorted_end_, Before);
+  }
+
+  bool bulk_ = false;
+  size_t head_ = 0;        // sorted_[head_..] are not yet dropped
+  size_t sorted_end_ = 0;  // sorted_[..sorted_end_) are in final order
+  size_t bucket_ = 0;      // the bucket being read
+  std::vector<uint32_t> bucket_end_;
+  std::vector<CandidateEntry> sorted_;
+  std::vector<CandidateEntry> scratch_;
+  CandidateHeap pushed_;
 };
 
 }  // namespace koma::retime_internal

@@ -33,8 +33,19 @@
 // one). Every edit pushes a fresh entry for each run whose candidate may have changed or
 // reappeared, and nothing else; a candidate that only disappears needs no push.
 //
-// Cost: the N - 1 distances of the input SSD, one distance per unlinked run, and the heap
-// work. Each step's heaps are built once from all live runs with one O(N) heapify.
+// Cost: the N - 1 distances of the input SSD, one distance per unlinked run, and the queue
+// work. Where the memory traffic goes at 1M frames, and what keeps it down:
+//  - Step A pops at most a few thousand entries, so its two heaps are loaded with only about
+//    the best 4 * Nio candidates (a bound from a sample of every 64th run); if the best entry
+//    ever falls behind the bound, that heap is reloaded from every live run (LoadOmitHeap).
+//  - Step B takes ~N/3 holds from the bottom of ~N candidates: a SortedCandidateQueue
+//    buckets them once by SSD and sorts a bucket only when reading reaches it, so the holds
+//    read an array front to back instead of sifting a heap of N entries down each time.
+//  - A hold usually unlinks a run v whose neighbours are v - 1 and v + 1 (or v + 2): the
+//    distances dist(v - 1, v + 1) and dist(v - 1, v + 2) come from tables computed in the same
+//    streaming pass as the input SSD (FrameDistance::AdjacentDistances, bit-identical to
+//    operator()), not from two random 744-byte frames.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -47,9 +58,11 @@ namespace {
 
 using retime_internal::CandidateEntry;
 using retime_internal::CandidateHeap;
+using retime_internal::SortedCandidateQueue;
 using retime_internal::Step;
 
 constexpr int32_t kNoRun = -1;
+constexpr int32_t kTableMinFrames = 50000;  // see the FastRetimer constructor
 
 struct Run {
   int32_t prev = kNoRun;  // neighbouring runs (their source frames), kNoRun at the ends
@@ -107,20 +120,36 @@ class FastRetimer {
   // Removes run v's first frame; unlinks the run (recording `step`) if it empties.
   void PopFront(int32_t v, Step step);
 
+  // Step A's heaps are loaded with a bound (see LoadOmitHeap); when the best entry is not
+  // trusted, the heap is reloaded from every live run without one.
   const CandidateEntry* BestDelete() {
-    return delete_heap_.Top([this](const CandidateEntry& entry) {
+    auto current = [this](const CandidateEntry& entry) {
       const Run& run = runs_[entry.run];
       double ssd;
       return run.alive && DeleteKey(run, ssd) && ssd == entry.ssd;
-    });
+    };
+    const CandidateEntry* best = delete_heap_.Top(current);
+    if (delete_heap_.Trusted(best)) return best;
+    LoadOmitHeap(delete_heap_, false, 0);
+    return delete_heap_.Top(current);
   }
   const CandidateEntry* BestDuplicate() {
-    return duplicate_heap_.Top([this](const CandidateEntry& entry) {
+    auto current = [this](const CandidateEntry& entry) {
       const Run& run = runs_[entry.run];
       double ssd;
       return run.alive && DuplicateKey(run, ssd) && ssd == entry.ssd;
-    });
+    };
+    const CandidateEntry* best = duplicate_heap_.Top(current);
+    if (duplicate_heap_.Trusted(best)) return best;
+    LoadOmitHeap(duplicate_heap_, true, 0);
+    return duplicate_heap_.Top(current);
   }
+  // Loads `heap` (the delete heap, or the duplicate heap if `duplicates`) with the current
+  // candidates of every live run. With pops > 0 only about the best 4 * pops of them: a
+  // bound is taken from a sample of every 64th run, and the rest are left out (see
+  // CandidateHeap::SetBound). Step A pops at most a few thousand entries, so building two
+  // heaps of N entries would cost far more than it ever reads.
+  void LoadOmitHeap(CandidateHeap& heap, bool duplicates, int64_t pops);
   const CandidateEntry* BestHold() {
     return hold_heap_.Top([this](const CandidateEntry& entry) {
       const Run& run = runs_[entry.run];
@@ -129,13 +158,26 @@ class FastRetimer {
     });
   }
 
+  // dist(prev, next), from the tables when they hold it (step B's usual unlinks: next is 2
+  // or 3 frames after prev).
+  double NewHeadSsd(int32_t prev, int32_t next) const {
+    if (!skip_.empty()) {
+      if (next == prev + 2) return skip_[prev + 1];
+      if (next == prev + 3) return skip2_[prev + 1];
+    }
+    return distance_(prev, next);
+  }
+
   const FrameDistance& distance_;
   const RetimeOptions& options_;
   std::vector<Run> runs_;            // indexed by source frame; run 0 is always first
   std::vector<Step> gone_in_;        // per source frame: the step that removed it
+  // When holds run (else empty): skip_[v] = dist(v - 1, v + 1), skip2_[v] = dist(v - 1, v + 2).
+  std::vector<double> skip_;
+  std::vector<double> skip2_;
   CandidateHeap delete_heap_{true};  // largest SSD first
   CandidateHeap duplicate_heap_{false};
-  CandidateHeap hold_heap_{false};
+  SortedCandidateQueue hold_heap_;
 };
 
 FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& options)
@@ -147,7 +189,17 @@ FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& opt
   for (int32_t v = 0; v < n; ++v) {
     runs_[v].prev = v - 1;
     runs_[v].next = v + 1 < n ? v + 1 : kNoRun;
-    if (v > 0) runs_[v].head_ssd = distance_(v - 1, v);
+  }
+  if (n >= kTableMinFrames && int64_t{4} * options.holds >= n) {
+    // Step B usually unlinks a run v between v - 1 and v + 1 or v + 2: skip_ and skip2_ have
+    // those distances, computed in the same streaming pass as the input SSD. They cost two
+    // more distances per frame, so only where they replace enough random reads: many holds
+    // (>= N/4) on a clip too large for the cache.
+    std::vector<double> ssd;
+    distance_.AdjacentDistances(&ssd, &skip_, &skip2_);
+    for (int32_t v = 1; v < n; ++v) runs_[v].head_ssd = ssd[v];
+  } else {
+    for (int32_t v = 1; v < n; ++v) runs_[v].head_ssd = distance_(v - 1, v);
   }
 }
 
@@ -178,16 +230,47 @@ void FastRetimer::StartStep(Step step) {
   duplicate_heap_.Clear();
   hold_heap_.Clear();
   if (step == Step::kOmit) {
-    delete_heap_.StartBulkLoad(expected);
-    if (options_.keep_length) duplicate_heap_.StartBulkLoad(expected);
-    for (int32_t v = 0; v != kNoRun; v = runs_[v].next) PushOmitEntries(v);
-    delete_heap_.Heapify();
-    duplicate_heap_.Heapify();
+    LoadOmitHeap(delete_heap_, false, options_.omissions);
+    if (options_.keep_length) LoadOmitHeap(duplicate_heap_, true, options_.omissions);
   } else {
     hold_heap_.StartBulkLoad(expected);
     for (int32_t v = 0; v != kNoRun; v = runs_[v].next) PushHoldEntry(v);
     hold_heap_.Heapify();
   }
+}
+
+void FastRetimer::LoadOmitHeap(CandidateHeap& heap, bool duplicates, int64_t pops) {
+  auto key = [this, duplicates](const Run& run, double& ssd) {
+    return duplicates ? DuplicateKey(run, ssd) : DeleteKey(run, ssd);
+  };
+  heap.Clear();
+  bool bounded = false;
+  constexpr size_t kSampleStride = 64;
+  const size_t rank = pops > 0 ? static_cast<size_t>(4 * pops) / kSampleStride + 16 : 0;
+  if (pops > 0 && runs_.size() / kSampleStride > 4 * rank) {
+    std::vector<CandidateEntry> sample;
+    sample.reserve(runs_.size() / kSampleStride + 1);
+    for (size_t v = 0; v < runs_.size(); v += kSampleStride) {
+      double ssd;
+      if (runs_[v].alive && key(runs_[v], ssd)) sample.push_back({ssd, static_cast<uint32_t>(v)});
+    }
+    if (sample.size() > rank) {
+      auto before = [&heap](const CandidateEntry& a, const CandidateEntry& b) {
+        return heap.Before(a, b);
+      };
+      std::nth_element(sample.begin(), sample.begin() + rank, sample.end(), before);
+      heap.StartBulkLoad(8 * rank * kSampleStride + 4096);
+      heap.SetBound(sample[rank]);
+      bounded = true;
+    }
+  }
+  // No bound: room for every run plus the pushes of a few thousand steps.
+  if (!bounded) heap.StartBulkLoad(runs_.size() + 4096);
+  for (int32_t v = 0; v != kNoRun; v = runs_[v].next) {
+    double ssd;
+    if (key(runs_[v], ssd)) heap.Push({ssd, static_cast<uint32_t>(v)});
+  }
+  heap.Heapify();
 }
 
 void FastRetimer::PopFront(int32_t v, Step step) {
@@ -209,7 +292,7 @@ void FastRetimer::PopFront(int32_t v, Step step) {
   runs_[run.prev].next = run.next;
   if (run.next != kNoRun) {
     runs_[run.next].prev = run.prev;
-    runs_[run.next].head_ssd = distance_(run.prev, run.next);
+    runs_[run.next].head_ssd = NewHeadSsd(run.prev, run.next);
   }
 }
 
@@ -224,6 +307,7 @@ void FastRetimer::PopFront(int32_t v, Step step) {
 // Step A has few steps, so it pushes for all three. Step B pushes only what can change or
 // reappear (see RunHolds).
 void FastRetimer::RunOmissions(TimingMap& map) {
+  if (options_.omissions <= 0) return;
   StartStep(Step::kOmit);
   for (int i = 0; i < options_.omissions; ++i) {
     const CandidateEntry* best = BestDelete();
@@ -259,6 +343,7 @@ void FastRetimer::RunOmissions(TimingMap& map) {
 //  - next's candidate reads its previous run's length (v shrank, or prev grew and became
 //    next's previous run) and, after an unlink, its new head_ssd: push it.
 void FastRetimer::RunHolds(TimingMap& map) {
+  if (options_.holds <= 0) return;
   StartStep(Step::kHold);
   for (int i = 0; i < options_.holds; ++i) {
     const CandidateEntry* best = BestHold();
