@@ -4,9 +4,10 @@
 // Two implementations with identical results:
 //  - RetimeNaive follows the steps literally, rescanning the working sequence each step:
 //    O((omissions + holds) * N * J). It is the reference for tests.
-//  - RetimeFast keeps the candidates in binary heaps with lazy invalidation, keyed by
-//    (SSD, position), over a linked list of runs (all output frames showing one source
-//    frame): O(N*J + (omissions + holds) * (J + log N)). The server uses it.
+//  - RetimeFast keeps the candidates, keyed by (SSD, position), in 4-ary heaps with lazy
+//    invalidation and (for holds) lazily sorted SSD buckets, over a linked list of runs (all
+//    output frames showing one source frame): O(N*J + (omissions + holds) * (J + log N)).
+//    The server uses it; core/retime_fast.cc explains why it gives the same answers.
 #ifndef KOMA_CORE_RETIME_H_
 #define KOMA_CORE_RETIME_H_
 
