@@ -111,6 +111,12 @@ absl::StatusOr<std::shared_ptr<grpc::Channel>> MakeChannel(const std::string& se
   return grpc::CreateCustomChannel(target->uri, Credentials(), args);
 }
 
+absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> NewRetimeStub(const std::string& servers) {
+  absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = MakeChannel(servers);
+  if (!channel.ok()) return channel.status();
+  return v1::Retime::NewStub(*channel);
+}
+
 void SetDeadline(grpc::ClientContext* context, double seconds) {
   const auto timeout = std::chrono::duration_cast<std::chrono::system_clock::duration>(
       std::chrono::duration<double>(seconds));

@@ -9,6 +9,7 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
 
@@ -44,6 +45,9 @@ std::string ClientServiceConfig(bool balanced);
 // server's default (256 MiB), so large clips and their answers fit, with
 // ClientServiceConfig. INVALID_ARGUMENT for a malformed list.
 absl::StatusOr<std::shared_ptr<grpc::Channel>> MakeChannel(const std::string& servers);
+
+// A Retime stub on MakeChannel(servers).
+absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> NewRetimeStub(const std::string& servers);
 
 // Every RPC carries a deadline: now + `seconds`.
 void SetDeadline(grpc::ClientContext* context, double seconds);

@@ -120,16 +120,15 @@ int RunCurves(const CurvesArgs& args) {
   v1::RetimeCurvesRequest request = MakeRequest(args, input->curves);
   if (!AddCurveOverrides(args.curve_on, request)) return kUsageError;
 
-  absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = MakeChannel(args.server);
-  if (!channel.ok()) {
-    std::fprintf(stderr, "koma: %s\n", std::string(channel.status().message()).c_str());
+  absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
+  if (!stub.ok()) {
+    std::fprintf(stderr, "koma: %s\n", std::string(stub.status().message()).c_str());
     return 1;
   }
-  auto stub = v1::Retime::NewStub(*channel);
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeCurvesResponse response;
-  const grpc::Status status = stub->RetimeCurves(&context, request, &response);
+  const grpc::Status status = (*stub)->RetimeCurves(&context, request, &response);
   if (!status.ok()) return ReportRpcError(status);
 
   if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return Fail(s.message());

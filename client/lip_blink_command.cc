@@ -96,17 +96,16 @@ int RunLipBlink(const LipBlinkArgs& args) {
   absl::StatusOr<CurveInput> input = ReadCurveInput(args.input, args.csv_fps);
   if (!input.ok()) return Fail(input.status().message());
 
-  absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = MakeChannel(args.server);
-  if (!channel.ok()) {
-    std::fprintf(stderr, "koma: %s\n", std::string(channel.status().message()).c_str());
+  absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
+  if (!stub.ok()) {
+    std::fprintf(stderr, "koma: %s\n", std::string(stub.status().message()).c_str());
     return 1;
   }
-  auto stub = v1::Retime::NewStub(*channel);
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::LipBlinkResponse response;
   const grpc::Status status =
-      stub->LipBlink(&context, MakeRequest(args, input->curves), &response);
+      (*stub)->LipBlink(&context, MakeRequest(args, input->curves), &response);
   if (!status.ok()) return ReportRpcError(status);
   if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return Fail(s.message());
 

@@ -103,16 +103,15 @@ int RunSkeletal(const SkeletalArgs& args) {
     return ReportError(absl::InvalidArgumentError(
         absl::StrCat(args.input, ": ", clip.status().message())));
   }
-  absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = MakeChannel(args.server);
-  if (!channel.ok()) {
-    std::fprintf(stderr, "koma: %s\n", std::string(channel.status().message()).c_str());
+  absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
+  if (!stub.ok()) {
+    std::fprintf(stderr, "koma: %s\n", std::string(stub.status().message()).c_str());
     return 1;
   }
-  auto stub = v1::Retime::NewStub(*channel);
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeSkeletalResponse response;
-  const grpc::Status status = stub->RetimeSkeletal(&context, MakeRequest(args, *clip), &response);
+  const grpc::Status status = (*stub)->RetimeSkeletal(&context, MakeRequest(args, *clip), &response);
   if (!status.ok()) return ReportRpcError(status);
 
   absl::StatusOr<SkeletalClip> retimed = ClipFromResponse(response, clip->skeleton);
