@@ -14,7 +14,7 @@ podman_run=(podman run --runtime runc --ulimit nofile=1024:1024 --ulimit nproc=1
 
 cleanup() {
   podman rm -f "$container" >/dev/null 2>&1 || true
-  [ -n "${rootfs:-}" ] && rm -rf "$rootfs"
+  if [ -n "${rootfs:-}" ]; then rm -rf "$rootfs"; fi
 }
 trap cleanup EXIT
 fail() { echo "FAIL: $*" >&2; podman logs "$container" >&2 2>/dev/null || true; exit 1; }
