@@ -14,6 +14,7 @@ podman_run=(podman run --runtime runc --ulimit nofile=1024:1024 --ulimit nproc=1
 
 cleanup() {
   podman rm -f "$container" >/dev/null 2>&1 || true
+  podman image prune -f >/dev/null 2>&1 || true  # earlier builds' untagged images
   if [ -n "${rootfs:-}" ]; then rm -rf "$rootfs"; fi
 }
 trap cleanup EXIT
