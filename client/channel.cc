@@ -123,6 +123,11 @@ void SetDeadline(grpc::ClientContext* context, double seconds) {
   context->set_deadline(std::chrono::system_clock::now() + timeout);
 }
 
+int ReportError(const absl::Status& status) {
+  std::fprintf(stderr, "koma: %s\n", std::string(status.message()).c_str());
+  return 1;
+}
+
 int ReportRpcError(const grpc::Status& status) {
   // absl's canonical code names are gRPC's ("INVALID_ARGUMENT", ...).
   const std::string code =

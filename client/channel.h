@@ -52,6 +52,9 @@ absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> NewRetimeStub(const std::strin
 // Every RPC carries a deadline: now + `seconds`.
 void SetDeadline(grpc::ClientContext* context, double seconds);
 
+// Prints "koma: message" to stderr and returns exit code 1 (a local failure: files, flags).
+int ReportError(const absl::Status& status);
+
 // Prints "koma: CODE: message" to stderr and returns exit code 1.
 int ReportRpcError(const grpc::Status& status);
 

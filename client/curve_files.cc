@@ -1,5 +1,7 @@
 #include "client/curve_files.h"
 
+#include <cstdio>
+
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "client/files.h"
@@ -8,6 +10,13 @@
 namespace koma::client {
 
 bool IsCsvPath(const std::string& path) { return absl::EndsWithIgnoreCase(path, ".csv"); }
+
+bool CanWriteOutput(const std::string& input, const std::string& output) {
+  if (IsCsvPath(output) || !IsCsvPath(input)) return true;
+  std::fprintf(stderr, "koma: -o %s: a CSV input can only be written as CSV (-o OUT.csv)\n",
+               output.c_str());
+  return false;
+}
 
 absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps) {
   absl::StatusOr<std::string> text = ReadFile(path);

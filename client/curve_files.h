@@ -17,6 +17,10 @@ namespace koma::client {
 // True for "*.csv" (any case).
 bool IsCsvPath(const std::string& path);
 
+// False (with the reason on stderr) when `output` asks for motion3.json but `input` is a
+// CSV, which has no motion3 document to write back.
+bool CanWriteOutput(const std::string& input, const std::string& output);
+
 struct CurveInput {
   std::optional<formats::Motion3File> motion3;  // kept to write every other field back
   CurveSet curves;

@@ -21,11 +21,6 @@ namespace {
 
 constexpr int kUsageError = 2;
 
-int Fail(absl::string_view message) {
-  std::fprintf(stderr, "koma: %s\n", std::string(message).c_str());
-  return 1;
-}
-
 // "ParamHair=2" -> request.curve_overrides; false on a malformed entry.
 bool AddCurveOverrides(const std::vector<std::string>& entries, v1::RetimeCurvesRequest& request) {
   for (const std::string& entry : entries) {
@@ -110,32 +105,25 @@ void PrintSummary(const CurvesArgs& args, const CurveSet& curves,
 }  // namespace
 
 int RunCurves(const CurvesArgs& args) {
-  if (!IsCsvPath(args.output) && IsCsvPath(args.input)) {
-    std::fprintf(stderr, "koma: -o %s: a CSV input can only be written as CSV (-o OUT.csv)\n",
-                 args.output.c_str());
-    return kUsageError;
-  }
+  if (!CanWriteOutput(args.input, args.output)) return kUsageError;
   absl::StatusOr<CurveInput> input = ReadCurveInput(args.input, args.csv_fps);
-  if (!input.ok()) return Fail(input.status().message());
+  if (!input.ok()) return ReportError(input.status());
   v1::RetimeCurvesRequest request = MakeRequest(args, input->curves);
   if (!AddCurveOverrides(args.curve_on, request)) return kUsageError;
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
-  if (!stub.ok()) {
-    std::fprintf(stderr, "koma: %s\n", std::string(stub.status().message()).c_str());
-    return 1;
-  }
+  if (!stub.ok()) return ReportError(stub.status());
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeCurvesResponse response;
   const grpc::Status status = (*stub)->RetimeCurves(&context, request, &response);
   if (!status.ok()) return ReportRpcError(status);
 
-  if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return Fail(s.message());
+  if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return ReportError(s);
   if (!args.timing.empty()) {
     const std::string sheet = formats::WriteDrawingSheetCsv(
         TimingFromProto(response.timings(0)), input->curves.fps);
-    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return Fail(s.message());
+    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return ReportError(s);
   }
   PrintSummary(args, input->curves, response);
   return 0;

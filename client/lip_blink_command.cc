@@ -18,11 +18,6 @@ namespace {
 
 constexpr int kUsageError = 2;
 
-int Fail(absl::string_view message) {
-  std::fprintf(stderr, "koma: %s\n", std::string(message).c_str());
-  return 1;
-}
-
 v1::LipBlinkRequest MakeRequest(const LipBlinkArgs& args, const CurveSet& curves) {
   v1::LipBlinkRequest request;
   *request.mutable_curves() = CurveSetToProto(curves);
@@ -88,26 +83,19 @@ absl::Status WriteOutput(const LipBlinkArgs& args, const CurveInput& input,
 }  // namespace
 
 int RunLipBlink(const LipBlinkArgs& args) {
-  if (!IsCsvPath(args.output) && IsCsvPath(args.input)) {
-    std::fprintf(stderr, "koma: -o %s: a CSV input can only be written as CSV (-o OUT.csv)\n",
-                 args.output.c_str());
-    return kUsageError;
-  }
+  if (!CanWriteOutput(args.input, args.output)) return kUsageError;
   absl::StatusOr<CurveInput> input = ReadCurveInput(args.input, args.csv_fps);
-  if (!input.ok()) return Fail(input.status().message());
+  if (!input.ok()) return ReportError(input.status());
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
-  if (!stub.ok()) {
-    std::fprintf(stderr, "koma: %s\n", std::string(stub.status().message()).c_str());
-    return 1;
-  }
+  if (!stub.ok()) return ReportError(stub.status());
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::LipBlinkResponse response;
   const grpc::Status status =
       (*stub)->LipBlink(&context, MakeRequest(args, input->curves), &response);
   if (!status.ok()) return ReportRpcError(status);
-  if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return Fail(s.message());
+  if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return ReportError(s);
 
   std::printf("%s: %d frames at %.4g fps -> %s (seed %llu, %s mouth)\n", args.input.c_str(),
               input->curves.frame_count, input->curves.fps, args.output.c_str(),

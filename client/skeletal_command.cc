@@ -17,11 +17,6 @@
 namespace koma::client {
 namespace {
 
-int ReportError(const absl::Status& status) {
-  std::fprintf(stderr, "koma: %s\n", std::string(status.message()).c_str());
-  return 1;
-}
-
 v1::RetimeSkeletalRequest MakeRequest(const SkeletalArgs& args, const SkeletalClip& clip) {
   v1::RetimeSkeletalRequest request;
   *request.mutable_motion() = ToProto(clip);
@@ -104,10 +99,7 @@ int RunSkeletal(const SkeletalArgs& args) {
         absl::StrCat(args.input, ": ", clip.status().message())));
   }
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
-  if (!stub.ok()) {
-    std::fprintf(stderr, "koma: %s\n", std::string(stub.status().message()).c_str());
-    return 1;
-  }
+  if (!stub.ok()) return ReportError(stub.status());
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeSkeletalResponse response;

@@ -1,5 +1,7 @@
 #include "server/curve_convert.h"
 
+#include <cmath>
+
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
 
@@ -96,6 +98,17 @@ absl::StatusOr<CurveSet> CurveSetFromProto(const v1::CurveSet& proto, absl::stri
   }
   KOMA_RETURN_IF_ERROR(Prefixed(ValidateCurveSet(set), absl::StrCat(path, ".")));
   return set;
+}
+
+absl::Status CheckEvaluatedFinite(const std::vector<double>& values, int curve_index) {
+  for (size_t f = 0; f < values.size(); ++f) {
+    if (!std::isfinite(values[f])) {
+      return absl::OutOfRangeError(absl::StrCat("curves.curves[", curve_index, "]: evaluates to ",
+                                                values[f], " at frame ", f,
+                                                " (values too large to interpolate)"));
+    }
+  }
+  return absl::OkStatus();
 }
 
 void SteppedKeyframesToProto(const std::vector<CurvePoint>& steps, v1::Curve* out) {

@@ -18,6 +18,11 @@ namespace koma::server {
 absl::StatusOr<CurveSet> CurveSetFromProto(const v1::CurveSet& proto, absl::string_view path,
                                            const RequestLimits& limits);
 
+// OUT_OF_RANGE when curves.curves[curve_index] evaluated to inf or NaN somewhere: finite
+// keys can still overflow (a linear segment from -1e308 to 1e308), and such a curve must get
+// an error, never a silent NaN in an answer.
+absl::Status CheckEvaluatedFinite(const std::vector<double>& values, int curve_index);
+
 // Stepped keyframes: `steps[0]` as the start, then a SEGMENT_STEPPED segment to each next.
 void SteppedKeyframesToProto(const std::vector<CurvePoint>& steps, v1::Curve* out);
 

@@ -1,6 +1,5 @@
 #include "server/curves_request.h"
 
-#include <cmath>
 #include <set>
 #include <string>
 
@@ -80,18 +79,9 @@ void FillResponse(const CurveSet& set, const KomaUchiResult& result,
   }
 }
 
-// Finite keys can still evaluate to inf or NaN (a linear segment from -1e308 to 1e308
-// overflows); such a curve gets OUT_OF_RANGE, never a silent NaN in the answer.
 absl::Status CheckFinite(const KomaUchiResult& result) {
   for (size_t c = 0; c < result.curves.size(); ++c) {
-    const std::vector<double>& values = result.curves[c].values;
-    for (size_t f = 0; f < values.size(); ++f) {
-      if (!std::isfinite(values[f])) {
-        return absl::OutOfRangeError(absl::StrCat("curves.curves[", c, "]: evaluates to ",
-                                                  values[f], " at frame ", f,
-                                                  " (values too large to interpolate)"));
-      }
-    }
+    KOMA_RETURN_IF_ERROR(CheckEvaluatedFinite(result.curves[c].values, static_cast<int>(c)));
   }
   return absl::OkStatus();
 }

@@ -1,9 +1,7 @@
 // Run half of server/lip_blink_request.h: validated request -> ConvertMouth / ConvertEyes ->
 // response.
-#include <cmath>
 #include <vector>
 
-#include "absl/strings/str_cat.h"
 
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
@@ -64,18 +62,11 @@ void FillEye(const std::string& id, const EyeResult& eyes, size_t i, v1::EyeTrac
   out->set_open_level(eyes.open[i]);
 }
 
-// The curve at every frame; OUT_OF_RANGE if finite keys still evaluate to inf (a linear
-// segment between -1e308 and 1e308 overflows), which the mouth and eye levels cannot use.
+// The curve at every frame, or OUT_OF_RANGE where it overflows (CheckEvaluatedFinite).
 absl::StatusOr<std::vector<double>> Sample(const LipBlinkJob& job, int index) {
   std::vector<double> values = SampleEveryFrame(job.set.curves[index], job.set.frame_count,
                                                 job.set.beziers_restricted);
-  for (size_t f = 0; f < values.size(); ++f) {
-    if (!std::isfinite(values[f])) {
-      return absl::OutOfRangeError(absl::StrCat("curves.curves[", index, "]: evaluates to ",
-                                                values[f], " at frame ", f,
-                                                " (values too large to interpolate)"));
-    }
-  }
+  KOMA_RETURN_IF_ERROR(CheckEvaluatedFinite(values, index));
   return values;
 }
 
