@@ -9,14 +9,16 @@ packages=(
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libabsl-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev
+  prometheus-cpp-dev
 )
 # What the tests and benchmarks add (python3-grpcio: the interop test's second client;
-# buildah, podman, runc, debootstrap: deploy/test-image.sh builds and runs the image).
+# buildah, podman, runc, debootstrap: deploy/test-image.sh builds and runs the image;
+# nginx: the scale-out test puts it in front of two servers on loopback).
 # `install-deps.sh --build-only` skips them (the Dockerfile's build stage).
 if [ "${1:-}" != "--build-only" ]; then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev python3 python3-grpcio python3-protobuf
              python3-yaml openssl
-             buildah podman runc debootstrap)
+             buildah podman runc debootstrap nginx)
 fi
 
 missing=()
@@ -35,5 +37,22 @@ echo "install-deps: installing ${missing[*]}"
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
 export DEBIAN_FRONTEND=noninteractive
+
+# Packages such as nginx start a system service on 0.0.0.0 when installed. koma's tests start
+# their own servers on loopback only, so service starts are refused for the length of the
+# install (policy-rc.d exit 101 = "action forbidden", see invoke-rc.d(8)).
+policy=/usr/sbin/policy-rc.d
+made_policy=0
+if [ ! -e "$policy" ]; then
+  printf '#!/bin/sh\nexit 101\n' | "${sudo_cmd[@]}" tee "$policy" >/dev/null
+  "${sudo_cmd[@]}" chmod 755 "$policy"
+  made_policy=1
+fi
+remove_policy() {
+  if [ "$made_policy" = 1 ]; then "${sudo_cmd[@]}" rm -f "$policy"; fi
+  return 0
+}
+trap remove_policy EXIT
+
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
