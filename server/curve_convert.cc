@@ -15,15 +15,22 @@ void PointToProto(const CurvePoint& p, v1::CurvePoint* out) {
   out->set_value(p.value);
 }
 
-absl::StatusOr<SegmentType> SegmentTypeFromProto(int type, absl::string_view path) {
+// `path` makes the segment's field path; it is only called on an error (a string per segment
+// would be made for every valid segment otherwise).
+template <typename PathFn>
+absl::StatusOr<SegmentType> SegmentTypeFromProto(int type, const PathFn& path) {
   switch (type) {
-    case v1::SEGMENT_LINEAR: return SegmentType::kLinear;
-    case v1::SEGMENT_BEZIER: return SegmentType::kBezier;
-    case v1::SEGMENT_STEPPED: return SegmentType::kStepped;
-    case v1::SEGMENT_INVERSE_STEPPED: return SegmentType::kInverseStepped;
+    case v1::SEGMENT_LINEAR:
+      return SegmentType::kLinear;
+    case v1::SEGMENT_BEZIER:
+      return SegmentType::kBezier;
+    case v1::SEGMENT_STEPPED:
+      return SegmentType::kStepped;
+    case v1::SEGMENT_INVERSE_STEPPED:
+      return SegmentType::kInverseStepped;
     default:
       return absl::InvalidArgumentError(absl::StrCat(
-          path, ".type: ", type,
+          path(), ".type: ", type,
           " is not a segment type (1 LINEAR, 2 BEZIER, 3 STEPPED, 4 INVERSE_STEPPED)"));
   }
 }
@@ -49,8 +56,9 @@ absl::StatusOr<Curve> CurveFromProto(const v1::Curve& proto, const std::string& 
   for (int s = 0; s < proto.segments_size(); ++s) {
     const v1::CurveSegment& in = proto.segments(s);
     CurveSegment segment;
-    KOMA_ASSIGN_OR_RETURN(segment.type,
-                          SegmentTypeFromProto(in.type(), absl::StrCat(path, ".segments[", s, "]")));
+    KOMA_ASSIGN_OR_RETURN(segment.type, SegmentTypeFromProto(in.type(), [&] {
+                            return absl::StrCat(path, ".segments[", s, "]");
+                          }));
     segment.handles[0] = PointFromProto(in.handle1());
     segment.handles[1] = PointFromProto(in.handle2());
     segment.end = PointFromProto(in.end());
@@ -65,8 +73,8 @@ absl::Status CheckSize(const v1::CurveSet& proto, absl::string_view path,
   for (const v1::Curve& curve : proto.curves()) {
     points += curve.samples_size() + 1 + 3LL * curve.segments_size();
   }
-  const int64_t frame_values = static_cast<int64_t>(proto.curves_size()) *
-                               std::max<int64_t>(proto.frame_count(), 0);
+  const int64_t frame_values =
+      static_cast<int64_t>(proto.curves_size()) * std::max<int64_t>(proto.frame_count(), 0);
   const int64_t work = std::max(points, frame_values);
   if (work > limits.max_values) {
     return absl::ResourceExhaustedError(absl::StrCat(
