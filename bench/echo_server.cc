@@ -16,8 +16,8 @@
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "absl/flags/usage.h"
-#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "bench/echo_shapes.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 ABSL_FLAG(std::string, address, "127.0.0.1:50052",
@@ -28,60 +28,27 @@ ABSL_FLAG(int, max_message_bytes, 256 * 1024 * 1024, "largest request or respons
 
 namespace {
 
-using koma::v1::CurveSet;
 
-// Answers like koma without computing: source_frames 0..N-1 all ORIGINAL, N zero SSDs and
-// the request's motion copied back (koma's retimed clip has the same size).
+// Answers like koma without computing (bench/echo_shapes.h).
 class EchoService final : public koma::v1::Retime::CallbackService {
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
                                            const koma::v1::RetimeSkeletalRequest* request,
                                            koma::v1::RetimeSkeletalResponse* response) override {
-    const int frames = std::max(0, request->motion().frame_count());
-    for (int f = 0; f < frames; ++f) {
-      response->add_source_frames(f);
-      response->add_kinds(koma::v1::ORIGINAL);
-    }
-    response->mutable_input_ssd()->Resize(frames, 0.0);
-    *response->mutable_motion() = request->motion();
+    koma::echo::SkeletalLookalike(*request, response);
     return Finish(context);
   }
 
-  // Per curve frame_count zero values and an empty stepped curve; one on-ones timing.
   grpc::ServerUnaryReactor* RetimeCurves(grpc::CallbackServerContext* context,
                                          const koma::v1::RetimeCurvesRequest* request,
                                          koma::v1::RetimeCurvesResponse* response) override {
-    const int frames = std::max(0, request->curves().frame_count());
-    koma::v1::DrawingTiming* timing = response->add_timings();
-    timing->set_frames_per_drawing(1);
-    for (int f = 0; f < frames; ++f) {
-      timing->add_drawing_of_frame(f);
-      timing->add_source_frame(f);
-      timing->add_drawing_start(f);
-    }
-    for (const koma::v1::Curve& curve : request->curves().curves()) {
-      koma::v1::RetimedCurve* out = response->add_curves();
-      out->set_id(curve.id());
-      out->mutable_values()->Resize(frames, 0.0);
-      out->mutable_stepped()->set_id(curve.id());
-    }
+    koma::echo::CurvesLookalike(*request, response);
     return Finish(context);
   }
 
-  // Per mouth- or eye-like curve (id containing "Mouth" or "Eye") frame_count zero values.
   grpc::ServerUnaryReactor* LipBlink(grpc::CallbackServerContext* context,
                                      const koma::v1::LipBlinkRequest* request,
                                      koma::v1::LipBlinkResponse* response) override {
-    const int frames = std::max(0, request->curves().frame_count());
-    for (const koma::v1::Curve& curve : request->curves().curves()) {
-      if (!absl::StrContains(curve.id(), "Mouth") && !absl::StrContains(curve.id(), "Eye")) {
-        continue;
-      }
-      koma::v1::ConvertedCurve* out = response->add_curves();
-      out->set_id(curve.id());
-      out->mutable_values()->Resize(frames, 0.0);
-      out->mutable_stepped()->set_id(curve.id());
-    }
-    response->set_seed(request->has_seed() ? request->seed() : 0x6b6f6d61);
+    koma::echo::LipBlinkLookalike(*request, response);
     return Finish(context);
   }
 

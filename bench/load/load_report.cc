@@ -27,6 +27,8 @@ Report Summarise(RunResult& result) {
   report.rps = result.measured_s > 0.0 ? report.count / result.measured_s : 0.0;
   report.warmup_calls = result.warmup_calls;
   report.hit_time_cap = result.hit_time_cap;
+  report.response_bytes_min = result.response_bytes_min;
+  report.response_bytes_max = result.response_bytes_max;
   if (latencies.empty()) return report;
   report.mean_ms = std::accumulate(latencies.begin(), latencies.end(), 0.0) / latencies.size();
   report.p50_ms = NearestRank(latencies, 50.0);
@@ -45,6 +47,7 @@ nlohmann::json ReportToJson(const Report& r) {
       {"target", r.target},
       {"request", r.request},
       {"request_bytes", r.request_bytes},
+      {"response_bytes", {{"min", r.response_bytes_min}, {"max", r.response_bytes_max}}},
       {"mode", r.mode},
       {"count", r.count},
       {"ok", r.ok},
@@ -66,10 +69,11 @@ nlohmann::json ReportToJson(const Report& r) {
 std::string ReportToText(const Report& r) {
   std::string out = absl::StrFormat(
       "Summary:\n  RPC:       %s\n  Target:    %s\n  Request:   %s, %d bytes\n"
+      "  Response:  %d to %d bytes\n"
       "  Load:      %s\n  Count:     %d (%d ok, %d warmup calls not counted)\n"
       "  Total:     %.3f s\n  RPS:       %.2f\n",
-      r.rpc, r.target, r.request, r.request_bytes, r.mode, r.count, r.ok, r.warmup_calls,
-      r.measured_s, r.rps);
+      r.rpc, r.target, r.request, r.request_bytes, r.response_bytes_min, r.response_bytes_max,
+      r.mode, r.count, r.ok, r.warmup_calls, r.measured_s, r.rps);
   if (r.hit_time_cap)
     absl::StrAppend(&out, "  Note:      stopped by --max-duration before --count\n");
   absl::StrAppend(&out, "\nLatency (ms, successful calls):\n");

@@ -22,6 +22,7 @@ struct Report {
   std::string target;
   std::string request;  // LoadRequest::description
   int64_t request_bytes = 0;
+  int64_t response_bytes_min = 0, response_bytes_max = 0;  // of successful calls
   std::string mode;   // "closed (concurrency 4)" or "open (rate 100/s)"
   int64_t count = 0;  // measured calls, ok or not
   int64_t ok = 0;

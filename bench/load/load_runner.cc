@@ -147,6 +147,7 @@ void Runner::Send(Clock::time_point scheduled) {
 void Runner::Done(Call* call, const grpc::Status& status) {
   const Clock::time_point now = Clock::now();
   const Clock::time_point scheduled = call->scheduled;
+  const auto response_bytes = static_cast<int64_t>(call->response.Length());
   delete call;
   // Everything under the lock, notify included: once inflight_ reaches 0 Run() may return
   // and this Runner go away, so nothing may touch it after the unlock.
@@ -156,6 +157,10 @@ void Runner::Done(Call* call, const grpc::Status& status) {
   } else {
     last_done_ = std::max(last_done_, now);
     if (status.ok()) {
+      if (result_.latencies_ms.empty() || response_bytes < result_.response_bytes_min) {
+        result_.response_bytes_min = response_bytes;
+      }
+      result_.response_bytes_max = std::max(result_.response_bytes_max, response_bytes);
       result_.latencies_ms.push_back(Milliseconds(now - scheduled));
     } else {
       ++result_

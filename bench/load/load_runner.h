@@ -13,8 +13,8 @@
 
 #include "absl/status/statusor.h"
 #include "bench/load/load_options.h"
-#include "client/channel.h"
 #include "bench/load/load_request.h"
+#include "client/channel.h"
 
 namespace koma::load {
 
@@ -32,6 +32,10 @@ struct RunResult {
   int64_t warmup_calls = 0;               // calls sent during the warmup (not in the statistics)
   double measured_s = 0.0;                // seconds from the end of the warmup to the last reply
   bool hit_time_cap = false;              // stopped by --max-duration before --count
+  // Serialised response sizes of the successful measured calls, bytes: a baseline is only
+  // comparable when these match.
+  int64_t response_bytes_min = 0;
+  int64_t response_bytes_max = 0;
 };
 
 // Runs the load described by `options` with `request` on `channels` and waits for every

@@ -21,6 +21,7 @@ assert r["count"] > 0, "count is 0"
 assert r["ok"] == r["count"], "not every call ok"
 assert r["errors"] == {}, "errors: %s" % r["errors"]
 assert 0 < r["latency_ms"]["p50"] <= r["latency_ms"]["p99"] <= r["latency_ms"]["max"]
+assert 0 < r["response_bytes"]["min"] <= r["response_bytes"]["max"], r["response_bytes"]
 PY
 }
 
