@@ -63,5 +63,38 @@ TEST(TrigDegreesTest, BitsArePinned) {
   EXPECT_EQ(hash, 0xd4cf61d7c4f1771fULL) << std::hex << hash;
 }
 
+// The reduction's corner cases: the doubles next to every multiple of 45 degrees (where the
+// quadrant or the complement changes) up to +-1440, and angles past 360 that need fmod. The
+// hash was taken with the first implementation (fmod always, quadrant by division), so a
+// faster reduction must give the same bits.
+TEST(TrigDegreesTest, BitsArePinnedAtQuadrantBoundaries) {
+  uint64_t hash = 0xcbf29ce484222325ULL;  // FNV-1a
+  const auto mix = [&hash](double v) {
+    uint64_t bits;
+    std::memcpy(&bits, &v, sizeof(bits));
+    for (int b = 0; b < 8; ++b) {
+      hash ^= (bits >> (8 * b)) & 0xff;
+      hash *= 0x100000001b3ULL;
+    }
+  };
+  for (int k = -32; k <= 32; ++k) {
+    double degrees = std::nextafter(45.0 * k, -1e9);
+    degrees = std::nextafter(degrees, -1e9);
+    for (int step = 0; step < 5; ++step) {  // two below, the multiple, two above
+      const SinCos sc = SinCosDegrees(degrees);
+      mix(sc.sin);
+      mix(sc.cos);
+      degrees = std::nextafter(degrees, 1e9);
+    }
+  }
+  SplitMix64 rng(11);
+  for (int i = 0; i < 1000; ++i) {
+    const SinCos sc = SinCosDegrees((rng.Unit() - 0.5) * 1e7);
+    mix(sc.sin);
+    mix(sc.cos);
+  }
+  EXPECT_EQ(hash, 0x473f91e7886e300dULL) << std::hex << hash;
+}
+
 }  // namespace
 }  // namespace koma
