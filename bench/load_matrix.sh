@@ -4,7 +4,10 @@
 # Prints a markdown table (docs/benchmarks.md, "End to end over loopback").
 #   bench/load_matrix.sh                 build Release into build-release, run everything
 #   BUILD_DIR=build-x SKIP_BUILD=1 DURATION=2 bench/load_matrix.sh
-# Each cell restarts both servers, so "peak RSS" (VmHWM) is that cell's alone.
+#   SMALL_ONLY=1 leaves out the large payloads, STRICT=1 fails on any failed call (the ctest
+#   smoke, bench.matrix_smoke, runs with both)
+# Each cell restarts both servers, so "peak RSS" (VmHWM) is that cell's alone; koma runs the
+# cell twice on the same process and reports its peak after each run (growth check).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD_DIR:-$root/build-release}
@@ -35,56 +38,77 @@ start() {
   port=$(cat "$work/port")
 }
 
-# stop: sets $rss to the server's peak RSS in MiB, then SIGTERM and wait (must exit 0).
+# peak: the server's peak RSS so far (VmHWM), MiB.
+peak() { awk '/VmHWM/ { printf "%.0f", $2 / 1024 }' "/proc/$pid/status"; }
+
+# stop: SIGTERM and wait (must exit 0).
 stop() {
-  rss=$(awk '/VmHWM/ { printf "%.0f", $2 / 1024 }' "/proc/$pid/status")
   kill -TERM "$pid"
   wait "$pid" || { echo "server exited $? after SIGTERM" >&2; exit 1; }
   pid=""
 }
 
-# measure NAME SERVER_BIN [SERVER FLAGS] -- LOAD ARGS: one run; prints "rps p50 p99 rss".
+# measure NAME RUNS SERVER_BIN [SERVER FLAGS] -- LOAD ARGS: RUNS identical runs on one server
+# process; prints "rps|p50|p99|request bytes|response bytes|peak RSS after each run|errors"
+# for the first run.
 measure() {
-  local name=$1 server_args=() rss=""
-  shift
+  local name=$1 runs=$2 server_args=() peaks=""
+  shift 2
   while [ "$1" != "--" ]; do server_args+=("$1"); shift; done; shift
   start "${server_args[@]}"
-  "$load" --target "127.0.0.1:$port" --duration "$run_s" --warmup "$warm_s" \
-    --deadline 60 --quiet --json "$work/$name.json" "$@"
+  for run in $(seq "$runs"); do
+    "$load" --target "127.0.0.1:$port" --duration "$run_s" --warmup "$warm_s" \
+      --deadline 60 --quiet --json "$work/$name.$run.json" "$@"
+    peaks="$peaks${peaks:+ / }$(peak)"
+  done
   stop
-  python3 - "$work/$name.json" "$rss" <<'PY'
+  python3 - "$work/$name.1.json" "$peaks" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
 errors = sum(r["errors"].values())
 note = "" if errors == 0 else " (%d errors: %s)" % (errors, ",".join(r["errors"]))
-print("%.1f|%.2f|%.2f|%s|%s" % (r["rps"], r["latency_ms"]["p50"], r["latency_ms"]["p99"],
-                                sys.argv[2], note))
+print("%.1f|%.2f|%.2f|%d|%d|%s|%s" % (r["rps"], r["latency_ms"]["p50"], r["latency_ms"]["p99"],
+                                      r["request_bytes"], r["response_bytes"]["max"],
+                                      sys.argv[2], note))
 PY
 }
 
-echo "| RPC | size | concurrency | koma RPS | echo RPS | koma/echo | koma p50 / p99 (ms) | echo p50 / p99 (ms) | koma peak RSS (MiB) |"
-echo "|---|---|---:|---:|---:|---:|---:|---:|---:|"
+mib() { python3 -c "print('%.1f' % ($1 / 1048576))"; }
+
+echo "| RPC | size | c | koma RPS | echo RPS | koma/echo | koma p50 / p99 ms | echo p50 / p99 ms | request MiB | response MiB koma / echo | koma peak RSS MiB, run 1 / run 2 | RSS budget MiB |"
+echo "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|"
 # RPC|size label|big (no warmup, twice the time: calls take up to seconds)|koma_load flags
 cases=(
-  "skeletal|129 frames x 31 joints|0|--rpc skeletal --frames 129 --joints 31"
-  "skeletal|100k frames x 31 joints|1|--rpc skeletal --frames 100000 --joints 31"
+  "skeletal|129 frames x 31 joints, channels|0|--rpc skeletal --frames 129 --joints 31"
+  "skeletal|129 frames x 31 joints, positions|0|--rpc skeletal --frames 129 --joints 31 --form positions"
+  "skeletal|100k frames x 31 joints, channels|1|--rpc skeletal --frames 100000 --joints 31"
+  "skeletal|100k frames x 31 joints, positions|1|--rpc skeletal --frames 100000 --joints 31 --form positions"
   "curves|60 curves x 300 frames|0|--rpc curves --curves 60 --frames 300"
   "curves|500 curves x 10k frames|1|--rpc curves --curves 500 --frames 10000"
   "lipblink|3 curves x 100k frames|0|--rpc lipblink --curves 3 --frames 100000"
 )
 for case in "${cases[@]}"; do
   IFS='|' read -r rpc size big flags <<<"$case"
+  if [ "$big" = 1 ] && [ -n "${SMALL_ONLY:-}" ]; then continue; fi
   if [ "$big" = 1 ]; then
     run_s=$(python3 -c "print(2 * $duration)"); warm_s=0
   else
     run_s=$duration; warm_s=$warmup
   fi
   for c in $concurrencies; do
+    channels=$(( c < 4 ? c : 4 ))
     # shellcheck disable=SC2086  # $flags is a word list
-    IFS='|' read -r k_rps k_p50 k_p99 k_rss k_note <<<"$(measure koma "$build/server/koma_server" --log_level=warn -- $flags --concurrency "$c" --channels "$(( c < 4 ? c : 4 ))")"
+    IFS='|' read -r k_rps k_p50 k_p99 k_req k_resp k_peaks k_note <<<"$(measure koma 2 "$build/server/koma_server" --log_level=warn -- $flags --concurrency "$c" --channels "$channels")"
     # shellcheck disable=SC2086
-    IFS='|' read -r e_rps e_p50 e_p99 _ e_note <<<"$(measure echo "$build/bench/koma_echo_server" -- $flags --concurrency "$c" --channels "$(( c < 4 ? c : 4 ))")"
+    IFS='|' read -r e_rps e_p50 e_p99 _ e_resp _ e_note <<<"$(measure echo 1 "$build/bench/koma_echo_server" -- $flags --concurrency "$c" --channels "$channels")"
+    if [ -n "${STRICT:-}" ] && [ -n "$k_note$e_note" ]; then
+      echo "failed calls: $rpc $size c=$c: koma$k_note echo$e_note" >&2
+      exit 1
+    fi
     ratio=$(python3 -c "print('%.2f' % ($k_rps / $e_rps) if $e_rps > 0 else '-')")
-    echo "| $rpc | $size | $c | $k_rps$k_note | $e_rps$e_note | $ratio | $k_p50 / $k_p99 | $e_p50 / $e_p99 | $k_rss |"
+    # The issue's budget: 64 MiB plus 3x the requests in flight (c calls, each holding its
+    # request while it waits or runs).
+    budget=$(python3 -c "print('%.0f' % (64 + 3 * $c * $k_req / 1048576))")
+    echo "| $rpc | $size | $c | $k_rps$k_note | $e_rps$e_note | $ratio | $k_p50 / $k_p99 | $e_p50 / $e_p99 | $(mib "$k_req") | $(mib "$k_resp") / $(mib "$e_resp") | $k_peaks | $budget |"
   done
 done
