@@ -42,13 +42,19 @@ ABSL_FLAG(std::string, tls_client_ca, "",
           "PEM CA file: require client certificates signed by it (mutual TLS)");
 ABSL_FLAG(int, shutdown_grace_ms, 10000,
           "on SIGTERM/SIGINT, how long calls in flight may finish before they are cancelled");
+ABSL_FLAG(std::string, metrics_address, "",
+          "host:port for Prometheus metrics (plain HTTP GET /metrics); port 0 picks a free port "
+          "(see --metrics_port_file); empty = no metrics. Use 0.0.0.0:9464 in a container");
+ABSL_FLAG(std::string, metrics_port_file, "",
+          "if set, write the bound metrics port number to this file once serving (before "
+          "--port_file is written)");
 
 namespace {
 
 constexpr const char* kEnvironmentFlags[] = {
-    "address",    "port_file", "max_message_bytes", "max_values",        "max_joints",
-    "worker_threads", "max_queued", "log_level", "log_format", "shutdown_grace_ms",
-    "tls_cert", "tls_key", "tls_client_ca"};
+    "address",        "port_file",  "max_message_bytes", "max_values",      "max_joints",
+    "worker_threads", "max_queued", "log_level",         "log_format",      "shutdown_grace_ms",
+    "tls_cert",       "tls_key",    "tls_client_ca",     "metrics_address", "metrics_port_file"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -97,6 +103,7 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.limits.max_joints = absl::GetFlag(FLAGS_max_joints);
   config.worker_threads = absl::GetFlag(FLAGS_worker_threads);
   config.max_queued = absl::GetFlag(FLAGS_max_queued);
+  config.metrics_address = absl::GetFlag(FLAGS_metrics_address);
   return config;
 }
 
@@ -153,8 +160,16 @@ int main(int argc, char** argv) {
 
   koma::server::ServerConfig config = ConfigFromFlags();
   if (!ReadTls(config)) return 1;
+  const std::string metrics_port_file = absl::GetFlag(FLAGS_metrics_port_file);
+  if (!metrics_port_file.empty() && config.metrics_address.empty()) {
+    return Fail("--metrics_port_file needs --metrics_address");
+  }
   auto server = koma::server::KomaServer::Start(config);
   if (!server.ok()) return Fail(std::string(server.status().message()));
+  // Before --port_file: a script that waits for the port file finds both.
+  if (!metrics_port_file.empty() && !WritePortFile(metrics_port_file, (*server)->metrics_port())) {
+    return Fail(absl::StrCat("--metrics_port_file: cannot write ", metrics_port_file));
+  }
   const std::string port_file = absl::GetFlag(FLAGS_port_file);
   if (!port_file.empty() && !WritePortFile(port_file, (*server)->port())) {
     return Fail(absl::StrCat("--port_file: cannot write ", port_file));
@@ -165,6 +180,11 @@ int main(int argc, char** argv) {
   koma::server::LogEvent(absl::StrCat(
       "koma_server listening on ",
       ListeningAddress(absl::GetFlag(FLAGS_address), (*server)->port()), " (", security, ")"));
+  if (!config.metrics_address.empty()) {
+    koma::server::LogEvent(absl::StrCat(
+        "metrics on http://", ListeningAddress(config.metrics_address, (*server)->metrics_port()),
+        "/metrics"));
+  }
 
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);

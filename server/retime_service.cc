@@ -24,11 +24,11 @@ double MillisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// Finishes the call and writes its log line. `response` is cleared on error so a failed
-// call never carries a partial answer.
+// Finishes the call, writes its log line and counts it in `metrics` (null: no metrics).
+// `response` is cleared on error so a failed call never carries a partial answer.
 template <typename Response>
 void FinishAndLog(grpc::ServerUnaryReactor* reactor, grpc::Status status, Response* response,
-                  RpcRecord record, Clock::time_point start) {
+                  RpcRecord record, Clock::time_point start, const CallMetrics* metrics) {
   if (status.ok()) {
     record.bytes_out = static_cast<int64_t>(response->ByteSizeLong());
   } else {
@@ -38,6 +38,12 @@ void FinishAndLog(grpc::ServerUnaryReactor* reactor, grpc::Status status, Respon
   record.code = status.error_code();
   record.latency_ms = MillisecondsSince(start);
   LogRpc(record);
+  if (metrics != nullptr) {
+    // record.frames is the request's frame_count; on OK the handler validated it against
+    // the data, so it is the number of frames retimed.
+    metrics->Finish(record.code, record.latency_ms / 1000.0, record.frames, record.bytes_in,
+                    record.bytes_out);
+  }
   reactor->Finish(std::move(status));
 }
 
@@ -71,24 +77,27 @@ std::string RequestId(const grpc::CallbackServerContext& context) {
 template <typename Request, typename Response, typename Handler>
 grpc::ServerUnaryReactor* RetimeService::RunOnPool(grpc::CallbackServerContext* context,
                                                    const Request* request, Response* response,
-                                                   RpcRecord record, Handler handler) {
+                                                   RpcMethod method, RpcRecord record,
+                                                   Handler handler) {
   const Clock::time_point start = Clock::now();
+  const CallMetrics* metrics = metrics_ != nullptr ? &metrics_->ForMethod(method) : nullptr;
+  if (metrics != nullptr) metrics->Start();
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
   record.peer = context->peer();
   record.request_id = RequestId(*context);
   context->AddInitialMetadata(std::string(kRequestIdKey), record.request_id);
   record.bytes_in = static_cast<int64_t>(request->ByteSizeLong());
-  const bool accepted = pool_->TrySubmit([context, request, response, reactor, record, start,
-                                          handler]() {
-    grpc::Status status;
-    if (context->IsCancelled()) {
-      status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it started");
-    } else {
-      status = ToGrpcStatus(handler(*request, response));
-    }
-    FinishAndLog(reactor, std::move(status), response, record, start);
-  });
-  if (!accepted) FinishAndLog(reactor, Busy(record.method), response, record, start);
+  const bool accepted =
+      pool_->TrySubmit([context, request, response, reactor, record, start, metrics, handler]() {
+        grpc::Status status;
+        if (context->IsCancelled()) {
+          status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it started");
+        } else {
+          status = ToGrpcStatus(handler(*request, response));
+        }
+        FinishAndLog(reactor, std::move(status), response, record, start, metrics);
+      });
+  if (!accepted) FinishAndLog(reactor, Busy(record.method), response, record, start, metrics);
   return reactor;
 }
 
@@ -99,10 +108,9 @@ grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(
   record.method = "RetimeSkeletal";
   record.frames = request->motion().frame_count();
   record.joints = request->motion().skeleton().joints_size();
-  return RunOnPool(context, request, response, std::move(record),
-                   [this](const auto& in, auto* out) {
-                     return HandleRetimeSkeletal(in, limits_, out);
-                   });
+  return RunOnPool(
+      context, request, response, RpcMethod::kRetimeSkeletal, std::move(record),
+      [this](const auto& in, auto* out) { return HandleRetimeSkeletal(in, limits_, out); });
 }
 
 grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContext* context,
@@ -112,10 +120,9 @@ grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContex
   record.method = "RetimeCurves";
   record.frames = request->curves().frame_count();
   record.curves = request->curves().curves_size();
-  return RunOnPool(context, request, response, std::move(record),
-                   [this](const auto& in, auto* out) {
-                     return HandleRetimeCurves(in, limits_, out);
-                   });
+  return RunOnPool(
+      context, request, response, RpcMethod::kRetimeCurves, std::move(record),
+      [this](const auto& in, auto* out) { return HandleRetimeCurves(in, limits_, out); });
 }
 
 grpc::ServerUnaryReactor* RetimeService::LipBlink(grpc::CallbackServerContext* context,
@@ -125,7 +132,7 @@ grpc::ServerUnaryReactor* RetimeService::LipBlink(grpc::CallbackServerContext* c
   record.method = "LipBlink";
   record.frames = request->curves().frame_count();
   record.curves = request->curves().curves_size();
-  return RunOnPool(context, request, response, std::move(record),
+  return RunOnPool(context, request, response, RpcMethod::kLipBlink, std::move(record),
                    [this](const auto& in, auto* out) { return HandleLipBlink(in, limits_, out); });
 }
 

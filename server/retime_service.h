@@ -8,6 +8,7 @@
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/logging.h"
+#include "server/metrics.h"
 #include "server/request_limits.h"
 #include "server/worker_pool.h"
 
@@ -15,8 +16,10 @@ namespace koma::server {
 
 class RetimeService final : public v1::Retime::CallbackService {
  public:
-  // `pool` must outlive the service and every call it accepted.
-  RetimeService(const RequestLimits& limits, WorkerPool* pool) : limits_(limits), pool_(pool) {}
+  // `pool` must outlive the service and every call it accepted; so must `metrics`, which may
+  // be null (no metrics).
+  RetimeService(const RequestLimits& limits, WorkerPool* pool, const RpcMetrics* metrics = nullptr)
+      : limits_(limits), pool_(pool), metrics_(metrics) {}
 
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
                                            const v1::RetimeSkeletalRequest* request,
@@ -30,14 +33,16 @@ class RetimeService final : public v1::Retime::CallbackService {
 
  private:
   // Hands `handler(*request, response)` (returning absl::Status) to the worker pool, or
-  // answers RESOURCE_EXHAUSTED when its queue is full; logs one line when finished.
+  // answers RESOURCE_EXHAUSTED when its queue is full; logs one line and counts the call in
+  // the metrics of `method` when finished.
   template <typename Request, typename Response, typename Handler>
-  grpc::ServerUnaryReactor* RunOnPool(grpc::CallbackServerContext* context,
-                                      const Request* request, Response* response,
-                                      RpcRecord record, Handler handler);
+  grpc::ServerUnaryReactor* RunOnPool(grpc::CallbackServerContext* context, const Request* request,
+                                      Response* response, RpcMethod method, RpcRecord record,
+                                      Handler handler);
 
   const RequestLimits limits_;
   WorkerPool* const pool_;
+  const RpcMetrics* const metrics_;
 };
 
 }  // namespace koma::server

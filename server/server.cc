@@ -47,9 +47,12 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
     return absl::InvalidArgumentError("--max_queued and --worker_threads must be >= 0");
   }
   std::unique_ptr<KomaServer> server(new KomaServer());
+  // The metrics port first: a bad --metrics_address fails before any gRPC port is bound.
+  if (absl::Status s = server->StartMetrics(config); !s.ok()) return s;
   const int threads = config.worker_threads > 0 ? config.worker_threads : DefaultWorkerThreads();
   server->pool_ = std::make_unique<WorkerPool>(threads, static_cast<size_t>(config.max_queued));
-  server->service_ = std::make_unique<RetimeService>(config.limits, server->pool_.get());
+  server->service_ =
+      std::make_unique<RetimeService>(config.limits, server->pool_.get(), server->metrics_.get());
   server->max_message_bytes_ = config.max_message_bytes;
 
   grpc::EnableDefaultHealthCheckService(true);
@@ -71,6 +74,21 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
   health->SetServingStatus(true);
   health->SetServingStatus(kServiceName, true);
   return server;
+}
+
+absl::Status KomaServer::StartMetrics(const ServerConfig& config) {
+  metrics_registry_ = config.metrics_registry;
+  if (metrics_registry_ == nullptr && !config.metrics_address.empty()) {
+    metrics_registry_ = std::make_shared<prometheus::Registry>();
+  }
+  if (metrics_registry_ == nullptr) return absl::OkStatus();
+  metrics_ = std::make_unique<RpcMetrics>(*metrics_registry_);
+  if (config.metrics_address.empty()) return absl::OkStatus();
+  absl::StatusOr<std::unique_ptr<MetricsEndpoint>> endpoint =
+      MetricsEndpoint::Start(config.metrics_address, metrics_registry_);
+  if (!endpoint.ok()) return endpoint.status();
+  metrics_endpoint_ = *std::move(endpoint);
+  return absl::OkStatus();
 }
 
 KomaServer::~KomaServer() { Shutdown(absl::ZeroDuration()); }

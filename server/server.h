@@ -1,5 +1,6 @@
 // Builds and runs the koma gRPC server: the Retime service, health (grpc.health.v1) and
-// reflection (grpc.reflection.v1alpha), with message-size and request limits.
+// reflection (grpc.reflection.v1alpha), with message-size and request limits, and optionally
+// Prometheus metrics of the Retime calls on their own HTTP port.
 #ifndef KOMA_SERVER_SERVER_H_
 #define KOMA_SERVER_SERVER_H_
 
@@ -10,6 +11,8 @@
 
 #include "absl/status/statusor.h"
 #include "absl/time/time.h"
+#include "server/metrics.h"
+#include "server/metrics_endpoint.h"
 #include "server/request_limits.h"
 #include "server/retime_service.h"
 #include "server/worker_pool.h"
@@ -33,6 +36,12 @@ struct ServerConfig {
   std::string tls_cert_pem;
   std::string tls_key_pem;
   std::string tls_client_ca_pem;
+  // Prometheus: "HOST:PORT" serves GET /metrics over plain HTTP there (port 0 picks a free
+  // one); empty = no endpoint.
+  std::string metrics_address;
+  // Where the Retime calls are counted. Null: a new registry when metrics_address is set,
+  // else no metrics at all (no per-call cost). Tests pass one to read it in process.
+  std::shared_ptr<prometheus::Registry> metrics_registry;
 };
 
 class KomaServer {
@@ -42,6 +51,8 @@ class KomaServer {
 
   // The bound port (the chosen one when the address asked for port 0); 0 without a port.
   int port() const { return port_; }
+  // The bound metrics port; 0 without a metrics endpoint.
+  int metrics_port() const { return metrics_endpoint_ ? metrics_endpoint_->port() : 0; }
   // A channel to this server that bypasses the network (tests), with the same size limits.
   std::shared_ptr<grpc::Channel> InProcessChannel();
   // Health to NOT_SERVING, stop accepting, let calls in flight finish for up to `grace`
@@ -50,12 +61,17 @@ class KomaServer {
 
  private:
   KomaServer() = default;
+  // The registry, the RpcMetrics and the HTTP endpoint that `config` asks for.
+  absl::Status StartMetrics(const ServerConfig& config);
 
   int port_ = 0;
   int max_message_bytes_ = 0;
   bool shut_down_ = false;
   // Declaration order is destruction order in reverse: the server goes before the service
-  // and the pool it calls into.
+  // and the pool it calls into, and those before the metrics they count into.
+  std::shared_ptr<prometheus::Registry> metrics_registry_;
+  std::unique_ptr<RpcMetrics> metrics_;
+  std::unique_ptr<MetricsEndpoint> metrics_endpoint_;
   std::unique_ptr<WorkerPool> pool_;
   std::unique_ptr<RetimeService> service_;
   std::unique_ptr<grpc::Server> server_;
