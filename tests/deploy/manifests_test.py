@@ -1,4 +1,5 @@
-"""Checks deploy/k8s and deploy/nginx against each other and against koma_server's flags.
+"""Checks deploy/k8s, deploy/nginx and deploy/Dockerfile against each other and against
+koma_server's flags.
 
 Usage: manifests_test.py DEPLOY_DIR KOMA_SERVER. Prints "N passed, N failed"; exit 1 on any
 failure.
@@ -69,6 +70,39 @@ for service in by_kind["Service"]:
           service["spec"]["ports"][0]["targetPort"] in ("grpc", port))
 check("one headless Service for client-side balancing",
       sum(s["spec"].get("clusterIP") == "None" for s in by_kind["Service"]) == 1)
+
+# Prometheus metrics: off by default in the binary (--help), on in the pod and the image,
+# on the same port everywhere.
+help_metrics = re.search(r"--metrics_address \((.*?)\); default: \"(.*?)\";", help_text, re.S)
+check("--help lists --metrics_address, off by default",
+      help_metrics is not None and help_metrics.group(2) == "", str(help_metrics))
+suggested = re.search(r"0\.0\.0\.0:(\d+)", help_metrics.group(1)) if help_metrics else None
+metrics_port = int(args.get("metrics_address", ":0").rsplit(":", 1)[1])
+check("the pod serves metrics on the port --help suggests for containers",
+      suggested is not None and metrics_port == int(suggested.group(1)) and
+      args["metrics_address"].startswith("0.0.0.0:"), args.get("metrics_address", "unset"))
+named = {p.get("name"): p["containerPort"] for p in container["ports"]}
+check("containerPort \"metrics\" matches --metrics_address",
+      named.get("metrics") == metrics_port and metrics_port != port, str(container["ports"]))
+annotations = pod["metadata"].get("annotations", {})
+check("prometheus.io annotations scrape /metrics on the metrics port",
+      annotations.get("prometheus.io/scrape") == "true" and
+      annotations.get("prometheus.io/port") == str(metrics_port) and
+      annotations.get("prometheus.io/path") == "/metrics", str(annotations))
+
+with open(f"{deploy}/Dockerfile") as f:
+    dockerfile = f.read()
+runtime = dockerfile.rsplit("\nFROM ", 1)[-1]  # the last stage is what runs
+image_metrics = re.search(r"^ENV KOMA_METRICS_ADDRESS=(\S+):(\d+)$", runtime, re.M)
+exposed = {int(p) for line in re.findall(r"^EXPOSE (.+)$", runtime, re.M) for p in line.split()}
+check("the image serves metrics on all interfaces on the pod's metrics port",
+      image_metrics is not None and image_metrics.group(1) == "0.0.0.0" and
+      int(image_metrics.group(2)) == metrics_port, str(image_metrics))
+check("the image EXPOSEs the gRPC and metrics ports", {port, metrics_port} <= exposed,
+      str(exposed))
+check("the image installs prometheus-cpp's runtime libraries",
+      all(lib in runtime for lib in ("libprometheus-cpp-core1.0", "libprometheus-cpp-pull1.0",
+                                      "libcivetweb1")))
 
 hpa = by_kind["HorizontalPodAutoscaler"][0]
 check("HPA scales the Deployment",
