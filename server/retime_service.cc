@@ -95,6 +95,9 @@ grpc::ServerUnaryReactor* RetimeService::RunOnPool(grpc::CallbackServerContext* 
         } else {
           status = ToGrpcStatus(handler(*request, response));
         }
+        // The handler has read all it needs: drop the request's arena now rather than after
+        // the response is sent (a large clip's request is as big as its response).
+        context->GetRpcAllocatorState()->FreeRequest();
         FinishAndLog(reactor, std::move(status), response, record, start, metrics);
       });
   if (!accepted) FinishAndLog(reactor, Busy(record.method), response, record, start, metrics);

@@ -7,6 +7,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "koma/v1/retime.grpc.pb.h"
+#include "server/arena_allocator.h"
 #include "server/logging.h"
 #include "server/metrics.h"
 #include "server/request_limits.h"
@@ -19,7 +20,11 @@ class RetimeService final : public v1::Retime::CallbackService {
   // `pool` must outlive the service and every call it accepted; so must `metrics`, which may
   // be null (no metrics).
   RetimeService(const RequestLimits& limits, WorkerPool* pool, const RpcMetrics* metrics = nullptr)
-      : limits_(limits), pool_(pool), metrics_(metrics) {}
+      : limits_(limits), pool_(pool), metrics_(metrics) {
+    SetMessageAllocatorFor_RetimeSkeletal(&skeletal_messages_);
+    SetMessageAllocatorFor_RetimeCurves(&curves_messages_);
+    SetMessageAllocatorFor_LipBlink(&lip_blink_messages_);
+  }
 
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
                                            const v1::RetimeSkeletalRequest* request,
@@ -43,6 +48,11 @@ class RetimeService final : public v1::Retime::CallbackService {
   const RequestLimits limits_;
   WorkerPool* const pool_;
   const RpcMetrics* const metrics_;
+  // Each call's request and response on protobuf arenas (server/arena_allocator.h).
+  ArenaMessageAllocator<v1::RetimeSkeletalRequest, v1::RetimeSkeletalResponse>
+      skeletal_messages_;
+  ArenaMessageAllocator<v1::RetimeCurvesRequest, v1::RetimeCurvesResponse> curves_messages_;
+  ArenaMessageAllocator<v1::LipBlinkRequest, v1::LipBlinkResponse> lip_blink_messages_;
 };
 
 }  // namespace koma::server
