@@ -49,7 +49,8 @@ class RetimeService final : public v1::Retime::CallbackService {
   WorkerPool* const pool_;
   const RpcMetrics* const metrics_;
   // Each call's request and response on protobuf arenas (server/arena_allocator.h).
-  ArenaMessageAllocator<v1::RetimeSkeletalRequest, v1::RetimeSkeletalResponse>
+  ArenaMessageAllocator<v1::RetimeSkeletalRequest, v1::RetimeSkeletalResponse,
+                        RequestStorage::kHeap>
       skeletal_messages_;
   ArenaMessageAllocator<v1::RetimeCurvesRequest, v1::RetimeCurvesResponse> curves_messages_;
   ArenaMessageAllocator<v1::LipBlinkRequest, v1::LipBlinkResponse> lip_blink_messages_;

@@ -12,9 +12,12 @@ namespace {
 
 v1::FrameKind ToProto(FrameKind kind) {
   switch (kind) {
-    case FrameKind::kOriginal: return v1::ORIGINAL;
-    case FrameKind::kDuplicate: return v1::DUPLICATE;
-    case FrameKind::kHeld: return v1::HELD;
+    case FrameKind::kOriginal:
+      return v1::ORIGINAL;
+    case FrameKind::kDuplicate:
+      return v1::DUPLICATE;
+    case FrameKind::kHeld:
+      return v1::HELD;
   }
   return v1::FRAME_KIND_UNSPECIFIED;
 }
@@ -57,11 +60,9 @@ void FillMotion(const v1::SkeletalMotion& in, const SkeletalJob& job, const Timi
   const int per_frame = job.channel_form ? ChannelCount(job.skeleton)
                                          : 3 * static_cast<int>(job.skeleton.joints.size());
   if (job.channel_form) {
-    CopyFrames(in.channels().values(), per_frame, map,
-               out->mutable_channels()->mutable_values());
+    CopyFrames(in.channels().values(), per_frame, map, out->mutable_channels()->mutable_values());
   } else {
-    CopyFrames(in.positions().values(), per_frame, map,
-               out->mutable_positions()->mutable_values());
+    CopyFrames(in.positions().values(), per_frame, map, out->mutable_positions()->mutable_values());
   }
 }
 
@@ -90,20 +91,27 @@ absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
                                   const RequestLimits& limits,
                                   v1::RetimeSkeletalResponse* response) {
   KOMA_ASSIGN_OR_RETURN(const SkeletalJob job, ValidateSkeletalRequest(request, limits));
-  std::vector<double> computed_positions;
-  KOMA_ASSIGN_OR_RETURN(const absl::Span<const double> positions,
-                        WorldPositions(request.motion(), job, computed_positions));
-  absl::StatusOr<FrameDistance> distance =
-      FrameDistance::CreateView(positions, job.frame_count,
-                                static_cast<int>(job.skeleton.joints.size()),
-                                job.distance_options);
-  if (!distance.ok()) {
-    // Inputs are finite here; what fails is their size after FK or the transforms.
-    return absl::Status(distance.status().code(),
-                        absl::StrCat("motion: ", distance.status().message()));
+  TimingMap map;
+  std::vector<double> input_ssd;
+  {
+    // In this scope FK's world positions (as large as the request) are alive; they are freed
+    // before the response is built, so a large call never holds request, positions and
+    // response at once (peak memory: measured in docs/benchmarks.md).
+    std::vector<double> computed_positions;
+    KOMA_ASSIGN_OR_RETURN(const absl::Span<const double> positions,
+                          WorldPositions(request.motion(), job, computed_positions));
+    absl::StatusOr<FrameDistance> distance = FrameDistance::CreateView(
+        positions, job.frame_count, static_cast<int>(job.skeleton.joints.size()),
+        job.distance_options);
+    if (!distance.ok()) {
+      // Inputs are finite here; what fails is their size after FK or the transforms.
+      return absl::Status(distance.status().code(),
+                          absl::StrCat("motion: ", distance.status().message()));
+    }
+    map = RetimeFast(*distance, job.retime_options);
+    input_ssd = distance->InputSsd();
   }
-  const TimingMap map = RetimeFast(*distance, job.retime_options);
-  FillResponse(request, job, map, distance->InputSsd(), response);
+  FillResponse(request, job, map, input_ssd, response);
   return absl::OkStatus();
 }
 
