@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstring>
 #include <limits>
 #include <vector>
 
+#include "core/split_mix64.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma {
@@ -216,6 +218,41 @@ TEST(DistanceTest, RootRelativeOverflowIsOutOfRange) {
   options.root_relative = true;
   EXPECT_THAT(FrameDistance::Create(positions, 3, 2, options),
               StatusIs(absl::StatusCode::kOutOfRange, HasSubstr("largest |coordinate| inf")));
+}
+
+// The tables of AdjacentDistances (an unrolled, partly SIMD loop) must equal operator() bit for
+// bit: RetimeFast mixes both, and the tie rules compare them exactly. Random clips of every
+// small length (the loop's tail), 1-40 joints, random weights with zeros, mixed scales.
+TEST(DistanceTest, AdjacentDistancesEqualOperatorBitForBit) {
+  SplitMix64 rng(77);
+  for (int clip = 0; clip < 300; ++clip) {
+    const int frames = 1 + clip % 40 + (clip % 7 == 0 ? rng.Int(0, 500) : 0);
+    const int joints = rng.Int(1, 40);
+    std::vector<double> positions(static_cast<size_t>(frames) * joints * 3);
+    const double scale = rng.OneIn(2) ? 1e-3 : 1e3;
+    for (double& p : positions) p = rng.OneIn(5) ? rng.Int(-2, 2) : scale * (rng.Unit() - 0.5);
+    DistanceOptions options;
+    if (!rng.OneIn(3)) {
+      for (int j = 0; j < joints; ++j) options.weights.push_back(rng.OneIn(4) ? 0.0 : rng.Unit());
+    }
+    options.root_relative = rng.OneIn(4);
+    ASSERT_OK_AND_ASSIGN(const FrameDistance d,
+                         FrameDistance::Create(positions, frames, joints, options));
+    std::vector<double> ssd, skip, skip2;
+    d.AdjacentDistances(&ssd, &skip, &skip2);
+    ASSERT_EQ(ssd.size(), static_cast<size_t>(frames));
+    ASSERT_EQ(skip.size(), static_cast<size_t>(frames));
+    ASSERT_EQ(skip2.size(), static_cast<size_t>(frames));
+    auto bits_equal = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    for (int k = 0; k < frames; ++k) {
+      const double want_ssd = k >= 1 ? d(k - 1, k) : 0.0;
+      const double want_skip = k >= 1 && k + 1 < frames ? d(k - 1, k + 1) : 0.0;
+      const double want_skip2 = k >= 1 && k + 2 < frames ? d(k - 1, k + 2) : 0.0;
+      ASSERT_TRUE(bits_equal(ssd[k], want_ssd)) << "clip " << clip << " ssd[" << k << "]";
+      ASSERT_TRUE(bits_equal(skip[k], want_skip)) << "clip " << clip << " skip[" << k << "]";
+      ASSERT_TRUE(bits_equal(skip2[k], want_skip2)) << "clip " << clip << " skip2[" << k << "]";
+    }
+  }
 }
 
 }  // namespace
