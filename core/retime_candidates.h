@@ -94,7 +94,6 @@ class CandidateHeap {
  private:
   static constexpr size_t kArity = 4;
 
-
   void SiftUp(size_t i) {
     const CandidateEntry moving = entries_[i];
     while (i > 0) {
@@ -171,6 +170,12 @@ class SortedCandidateQueue {
     }
   }
 
+  // For prefetching only: the bulk-loaded entry `distance` places after the reading position
+  // (null past the end; in order within the sorted part, roughly so beyond it).
+  const CandidateEntry* Ahead(size_t distance) const {
+    return head_ + distance < sorted_.size() ? &sorted_[head_ + distance] : nullptr;
+  }
+
   template <typename IsCurrent>
   const CandidateEntry* Top(IsCurrent is_current) {
     for (;;) {
@@ -191,9 +196,15 @@ class SortedCandidateQueue {
  private:
   static constexpr uint64_t kMaxBuckets = 4096;
 
+  // A function object rather than a function, so std::sort inlines the comparison.
+  struct BeforeOrder {
+    bool operator()(const CandidateEntry& a, const CandidateEntry& b) const {
+      if (a.ssd != b.ssd) return a.ssd < b.ssd;
+      return a.run < b.run;
+    }
+  };
   static bool Before(const CandidateEntry& a, const CandidateEntry& b) {
-    if (a.ssd != b.ssd) return a.ssd < b.ssd;
-    return a.run < b.run;
+    return BeforeOrder()(a, b);
   }
   // Non-negative doubles order like their bit patterns (as unsigned integers); the SSDs are
   // >= 0 and never NaN (-0.0 is read as +0.0).
@@ -232,7 +243,7 @@ class SortedCandidateQueue {
   void SortNextBucket() {
     while (bucket_ < bucket_end_.size() && bucket_end_[bucket_] <= head_) ++bucket_;
     sorted_end_ = bucket_end_[bucket_];
-    std::sort(sorted_.begin() + head_, sorted_.begin() + sorted_end_, Before);
+    std::sort(sorted_.begin() + head_, sorted_.begin() + sorted_end_, BeforeOrder());
   }
 
   bool bulk_ = false;

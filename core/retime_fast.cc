@@ -63,11 +63,12 @@ using retime_internal::Step;
 
 constexpr int32_t kNoRun = -1;
 constexpr int32_t kTableMinFrames = 50000;  // see the FastRetimer constructor
+constexpr size_t kPrefetchAhead = 16;       // hold candidates; see BestHold
 
 struct Run {
   int32_t prev = kNoRun;  // neighbouring runs (their source frames), kNoRun at the ends
   int32_t next = kNoRun;
-  double head_ssd = 0.0;  // dist(prev, this): the SSD at this run's first frame
+  double head_ssd = 0.0;   // dist(prev, this): the SSD at this run's first frame
   int32_t duplicates = 0;  // kDuplicate frames right after the front
   int32_t helds = 0;       // kHeld frames after those
   FrameKind front = FrameKind::kOriginal;
@@ -151,6 +152,19 @@ class FastRetimer {
   // heaps of N entries would cost far more than it ever reads.
   void LoadOmitHeap(CandidateHeap& heap, bool duplicates, int64_t pops);
   const CandidateEntry* BestHold() {
+    // The candidates read next are random runs of a table too large for the caches: start
+    // loading the lines a hold kPrefetchAhead reads later will touch (its run, its
+    // neighbours, the tables' entries for its unlink), so the misses overlap.
+    if (const CandidateEntry* ahead = hold_heap_.Ahead(kPrefetchAhead)) {
+      const size_t v = ahead->run;  // an interior head: 1 <= v < N
+      __builtin_prefetch(&runs_[v - 1]);
+      __builtin_prefetch(&runs_[v]);
+      if (v + 1 < runs_.size()) __builtin_prefetch(&runs_[v + 1]);
+      if (!skip_.empty()) {
+        __builtin_prefetch(&skip_[v]);
+        __builtin_prefetch(&skip2_[v]);
+      }
+    }
     return hold_heap_.Top([this](const CandidateEntry& entry) {
       const Run& run = runs_[entry.run];
       double ssd;
@@ -170,8 +184,8 @@ class FastRetimer {
 
   const FrameDistance& distance_;
   const RetimeOptions& options_;
-  std::vector<Run> runs_;            // indexed by source frame; run 0 is always first
-  std::vector<Step> gone_in_;        // per source frame: the step that removed it
+  std::vector<Run> runs_;      // indexed by source frame; run 0 is always first
+  std::vector<Step> gone_in_;  // per source frame: the step that removed it
   // When holds run (else empty): skip_[v] = dist(v - 1, v + 1), skip2_[v] = dist(v - 1, v + 2).
   std::vector<double> skip_;
   std::vector<double> skip2_;
