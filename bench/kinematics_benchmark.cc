@@ -62,6 +62,18 @@ void BM_SinCosDegrees(benchmark::State& state) {
 }
 BENCHMARK(BM_SinCosDegrees);
 
+void BM_SinCosDegreesBatch(benchmark::State& state) {
+  const std::vector<double> angles = SyntheticValues(1, 4096);
+  std::vector<double> sin(angles.size()), cos(angles.size());
+  for (auto _ : state) {
+    SinCosDegrees(angles.data(), static_cast<int>(angles.size()), sin.data(), cos.data());
+    benchmark::DoNotOptimize(sin.data());
+    benchmark::DoNotOptimize(cos.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(angles.size()));
+}
+BENCHMARK(BM_SinCosDegreesBatch);
+
 }  // namespace
 }  // namespace koma
 

@@ -28,12 +28,8 @@ void Multiply3(const double* a, const double* b, double* out) {
 // rotation := rotation * R_axis(degrees), the right-handed rotation about the channel's axis
 // (intrinsic: later channels multiply on the right). R_axis has only a 2x2 block, so each
 // row mixes two entries: 12 multiplications instead of a full 3x3 product's 27.
-void RotateAbout(ChannelKind kind, double degrees, double* rotation) {
-  // Not std::sin/cos: their last bits differ between libms, and these bits reach the
-  // distances, the tie rules and the response.
-  const SinCos angle = SinCosDegrees(degrees);
-  const double c = angle.cos;
-  const double s = angle.sin;
+// `s` and `c` are the sine and cosine of the channel's angle.
+void RotateAbout(ChannelKind kind, double s, double c, double* rotation) {
   // Columns (i, k) of the block: X mixes y,z; Y mixes z,x; Z mixes x,y. In each case
   // new_i = c * old_i + s * old_k and new_k = c * old_k - s * old_i.
   int i = 0;
@@ -54,9 +50,11 @@ void RotateAbout(ChannelKind kind, double degrees, double* rotation) {
 }
 
 // T(offset) * T(position channels) * R(c1) * R(c2) * ... for one joint in one frame;
-// `values` are that joint's channel values in channel order. The rotation is only computed
-// when `with_rotation` (a joint's own rotation moves its children, never itself).
-Transform LocalTransform(const Joint& joint, const double* values, bool with_rotation) {
+// `values` are that joint's channel values in channel order, `sin` and `cos` their sines and
+// cosines (as angles in degrees). The rotation is only computed when `with_rotation` (a
+// joint's own rotation moves its children, never itself).
+Transform LocalTransform(const Joint& joint, const double* values, const double* sin,
+                         const double* cos, bool with_rotation) {
   Transform local;
   local.translation[0] = joint.offset.x;
   local.translation[1] = joint.offset.y;
@@ -68,7 +66,7 @@ Transform LocalTransform(const Joint& joint, const double* values, bool with_rot
       local.translation[static_cast<int>(kind) - static_cast<int>(ChannelKind::kXPosition)] +=
           values[c];
     } else if (with_rotation) {
-      RotateAbout(kind, values[c], local.rotation);
+      RotateAbout(kind, sin[c], cos[c], local.rotation);
     }
   }
   return local;
@@ -110,13 +108,23 @@ absl::StatusOr<std::vector<double>> ComputeWorldPositions(const Skeleton& skelet
   }
   std::vector<double> positions(static_cast<size_t>(frame_count) * joint_count * 3);
   std::vector<Transform> world(joint_count);  // this frame's world transforms
+  // This frame's channels' sines and cosines, all at once (a vectorised loop). Not std::sin
+  // and std::cos: their last bits differ between libms, and these bits reach the distances,
+  // the tie rules and the response. Position channels get one too, unused: cheaper than
+  // picking out the rotations.
+  std::vector<double> sin(channel_count);
+  std::vector<double> cos(channel_count);
   for (int f = 0; f < frame_count; ++f) {
     const double* frame = values.data() + static_cast<size_t>(f) * channel_count;
+    SinCosDegrees(frame, channel_count, sin.data(), cos.data());
     double* out = positions.data() + static_cast<size_t>(f) * joint_count * 3;
+    size_t first_channel = 0;
     for (size_t j = 0; j < joint_count; ++j) {
       const Joint& joint = joints[j];
-      const Transform local = LocalTransform(joint, frame, has_children[j]);
-      frame += joint.channels.size();
+      const Transform local =
+          LocalTransform(joint, frame + first_channel, sin.data() + first_channel,
+                         cos.data() + first_channel, has_children[j]);
+      first_channel += joint.channels.size();
       // Parents precede children (ValidateSkeleton rule 2), so world[parent] is ready.
       world[j] = joint.parent < 0 ? local : Compose(world[joint.parent], local, has_children[j]);
       for (int c = 0; c < 3; ++c) out[3 * j + c] = world[j].translation[c];

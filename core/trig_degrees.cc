@@ -9,7 +9,7 @@ constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
 
 // Taylor series for |x| <= pi/4 radians in Horner form. The first omitted terms, x^19/19! and
 // x^20/20!, are below 1e-19 there, far under half an ulp of the results.
-double SinSeries(double x) {
+inline double SinSeries(double x) {
   const double x2 = x * x;
   double p = 1.0 / 355687428096000.0;   // 1/17!
   p = -1.0 / 1307674368000.0 + x2 * p;  // 1/15!
@@ -22,7 +22,7 @@ double SinSeries(double x) {
   return x + x * (x2 * p);
 }
 
-double CosSeries(double x) {
+inline double CosSeries(double x) {
   const double x2 = x * x;
   double p = 1.0 / 6402373705728000.0;   // 1/18!
   p = -1.0 / 20922789888000.0 + x2 * p;  // 1/16!
@@ -39,39 +39,51 @@ double CosSeries(double x) {
 }  // namespace
 
 SinCos SinCosDegrees(double degrees) {
+  SinCos result;
+  SinCosDegrees(&degrees, 1, &result.sin, &result.cos);
+  return result;
+}
+
+void SinCosDegrees(const double* degrees, int n, double* sin, double* cos) {
   // Reduce in degrees, where every step is exact: sin(-a) = -sin(a) and cos(-a) = cos(a)
   // take the sign off, fmod is exact by definition, and subtracting a multiple of 90 from a
   // value at most twice it is exact (Sterbenz). (Adding 360 to a negative angle would not be.)
-  // FK calls this for every rotation channel of every frame (~7 million times for a
-  // 100,000-frame clip), so the common path avoids libm calls and divisions.
-  const bool negative = degrees < 0.0;
-  const double magnitude = std::fabs(degrees);
-  // fmod returns its argument below 360, so the libm call is only needed past a turn.
-  const double r = magnitude < 360.0 ? magnitude : std::fmod(magnitude, 360.0);  // [0, 360)
-  // The quadrant by comparisons rather than r / 90 (a division, and one that can round up
-  // across a boundary); r - 90 q is then exact: 90 q >= r / 2 for q >= 1 (Sterbenz).
-  const int quadrant = (r >= 90.0) + (r >= 180.0) + (r >= 270.0);
-  const double within = r - 90.0 * quadrant;  // [0, 90)
-  // Past 45 degrees use the complement, so the series only sees |x| <= pi/4.
-  const bool complement = within > 45.0;
-  const double x = (complement ? 90.0 - within : within) * kRadiansPerDegree;
-  const double series_sin = SinSeries(x);
-  const double series_cos = CosSeries(x);
-  // Complement and quadrant as selects, not branches: neighbouring channels' angles fall in
-  // unrelated quadrants, which a branch predictor keeps missing. Quadrant q turns (s, c) into
-  // (s, c), (c, -s), (-s, -c), (-c, s) for q = 0..3; negations are exact.
-  const bool swap = complement != ((quadrant & 1) != 0);
-  const double s = swap ? series_cos : series_sin;
-  const double c = swap ? series_sin : series_cos;
-  const bool sin_negative = (quadrant >= 2) != negative;
-  const bool cos_negative = quadrant == 1 || quadrant == 2;
-  SinCos result;
-  result.sin = sin_negative ? -s : s;
-  result.cos = cos_negative ? -c : c;
-  // "+ 0.0" turns a -0 into +0.
-  result.sin += 0.0;
-  result.cos += 0.0;
-  return result;
+  // First pass: |degrees| within one turn, into sin[] as scratch. fmod returns its argument
+  // below 360, so the libm call is only made past a turn (rare: a separate, scalar loop).
+  for (int i = 0; i < n; ++i) {
+    const double magnitude = std::fabs(degrees[i]);
+    sin[i] = magnitude < 360.0 ? magnitude : std::fmod(magnitude, 360.0);  // [0, 360)
+  }
+  // Second pass, branch-free (comparisons and selects only), so it vectorises.
+  for (int i = 0; i < n; ++i) {
+    const double r = sin[i];
+    // The quadrant by comparisons rather than r / 90 (a division, and one that can round up
+    // across a boundary); r - 90 q is then exact: 90 q >= r / 2 for q >= 1 (Sterbenz).
+    const double quadrant =
+        (r >= 90.0 ? 1.0 : 0.0) + (r >= 180.0 ? 1.0 : 0.0) + (r >= 270.0 ? 1.0 : 0.0);
+    const double within = r - 90.0 * quadrant;  // [0, 90)
+    // Past 45 degrees use the complement, so the series only sees |x| <= pi/4.
+    // (Every operand is computed before a select picks one: a select that guards arithmetic
+    // counts as control flow, and the loop would not vectorise.)
+    const bool complement = within > 45.0;
+    const double complement_angle = 90.0 - within;
+    const double x = (complement ? complement_angle : within) * kRadiansPerDegree;
+    const double series_sin = SinSeries(x);
+    const double series_cos = CosSeries(x);
+    // Quadrant q turns (s, c) into (s, c), (c, -s), (-s, -c), (-c, s) for q = 0..3;
+    // negations are exact.
+    const bool odd = (quadrant == 1.0) | (quadrant == 3.0);
+    const bool swap = complement ^ odd;
+    const double s = swap ? series_cos : series_sin;
+    const double c = swap ? series_sin : series_cos;
+    const bool sin_negative = (quadrant >= 2.0) ^ (degrees[i] < 0.0);
+    const bool cos_negative = (quadrant == 1.0) | (quadrant == 2.0);
+    // "+ 0.0" turns a -0 into +0.
+    const double minus_s = -s;
+    const double minus_c = -c;
+    sin[i] = (sin_negative ? minus_s : s) + 0.0;
+    cos[i] = (cos_negative ? minus_c : c) + 0.0;
+  }
 }
 
 }  // namespace koma

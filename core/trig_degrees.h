@@ -16,6 +16,11 @@ struct SinCos {
 // Any finite `degrees`.
 SinCos SinCosDegrees(double degrees);
 
+// SinCosDegrees of each of degrees[0..n), bit for bit, into sin[i] and cos[i] (which must
+// not overlap `degrees`). Written as one branch-free loop the compiler vectorises: forward
+// kinematics converts a whole frame's channels at once.
+void SinCosDegrees(const double* degrees, int n, double* sin, double* cos);
+
 }  // namespace koma
 
 #endif  // KOMA_CORE_TRIG_DEGREES_H_
