@@ -44,6 +44,10 @@ SinCos SinCosDegrees(double degrees) {
   return result;
 }
 
+// Built twice, for plain x86-64 (SSE2: 2 lanes) and for AVX2 (4 lanes), picked at load time
+// by the CPU. Same operations lane by lane, and -ffp-contract=off keeps multiply-adds
+// unfused in both, so the bits are the same on every machine.
+__attribute__((target_clones("avx2", "default")))
 void SinCosDegrees(const double* degrees, int n, double* sin, double* cos) {
   // Reduce in degrees, where every step is exact: sin(-a) = -sin(a) and cos(-a) = cos(a)
   // take the sign off, fmod is exact by definition, and subtracting a multiple of 90 from a

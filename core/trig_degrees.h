@@ -13,7 +13,7 @@ struct SinCos {
   double cos = 1.0;
 };
 
-// Any finite `degrees`.
+// Any finite `degrees`. One angle at a time (the batch form below is the fast one).
 SinCos SinCosDegrees(double degrees);
 
 // SinCosDegrees of each of degrees[0..n), bit for bit, into sin[i] and cos[i] (which must
