@@ -66,24 +66,30 @@ absl::Status ConfigureLogging(absl::string_view level, absl::string_view format)
 }
 
 void LogRpc(const RpcRecord& r) {
+  const spdlog::level::level_enum level =
+      r.code == grpc::StatusCode::INTERNAL ? spdlog::level::err : spdlog::level::info;
+  // Nothing is formatted for a line the level filters out, and only the chosen format is
+  // built: this runs once per call.
+  if (!spdlog::default_logger_raw()->should_log(level)) return;
   const std::string code = GrpcCodeName(r.code);
-  nlohmann::json fields = {{"msg", "rpc"},         {"method", r.method},
-                           {"request_id", r.request_id},
-                           {"peer", r.peer},       {"frames", r.frames},
-                           {"joints", r.joints},   {"curves", r.curves},
-                           {"bytes_in", r.bytes_in},
-                           {"bytes_out", r.bytes_out}, {"code", code},
-                           {"latency_ms", r.latency_ms}};
+  if (g_format == LogFormat::kJson) {
+    nlohmann::json fields = {{"msg", "rpc"},         {"method", r.method},
+                             {"request_id", r.request_id},
+                             {"peer", r.peer},       {"frames", r.frames},
+                             {"joints", r.joints},   {"curves", r.curves},
+                             {"bytes_in", r.bytes_in},
+                             {"bytes_out", r.bytes_out}, {"code", code},
+                             {"latency_ms", r.latency_ms}};
+    if (r.code != grpc::StatusCode::OK) fields["error"] = r.error;
+    Emit(level, std::move(fields), "");
+    return;
+  }
   std::string text = absl::StrFormat("rpc %s id=%s peer=%s frames=%d joints=%d curves=%d in=%dB "
                                      "out=%dB code=%s latency_ms=%.3f",
                                      r.method, r.request_id, r.peer, r.frames, r.joints,
                                      r.curves, r.bytes_in, r.bytes_out, code, r.latency_ms);
-  if (r.code != grpc::StatusCode::OK) {
-    fields["error"] = r.error;
-    absl::StrAppend(&text, " error=\"", r.error, "\"");
-  }
-  Emit(r.code == grpc::StatusCode::INTERNAL ? spdlog::level::err : spdlog::level::info,
-       std::move(fields), std::move(text));
+  if (r.code != grpc::StatusCode::OK) absl::StrAppend(&text, " error=\"", r.error, "\"");
+  Emit(level, {}, std::move(text));
 }
 
 void LogEvent(absl::string_view message, bool warning) {
