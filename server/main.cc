@@ -2,6 +2,7 @@
 #include <malloc.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include "absl/flags/usage_config.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "absl/time/clock.h"
 #include "absl/time/time.h"
 #include "server/logging.h"
 #include "server/server.h"
@@ -41,8 +43,12 @@ ABSL_FLAG(std::string, tls_cert, "", "PEM certificate chain file: serve TLS inst
 ABSL_FLAG(std::string, tls_key, "", "PEM private key file of --tls_cert");
 ABSL_FLAG(std::string, tls_client_ca, "",
           "PEM CA file: require client certificates signed by it (mutual TLS)");
+ABSL_FLAG(int, shutdown_delay_ms, 1000,
+          "on SIGTERM/SIGINT, how long health reports NOT_SERVING while calls are still "
+          "accepted, so clients and load balancers that watch health move away first");
 ABSL_FLAG(int, shutdown_grace_ms, 10000,
-          "on SIGTERM/SIGINT, how long calls in flight may finish before they are cancelled");
+          "on SIGTERM/SIGINT, after --shutdown_delay_ms, how long calls in flight may finish "
+          "before they are cancelled");
 ABSL_FLAG(std::string, metrics_address, "",
           "host:port for Prometheus metrics (plain HTTP GET /metrics); port 0 picks a free port "
           "(see --metrics_port_file); empty = no metrics. Use 0.0.0.0:9464 in a container");
@@ -53,9 +59,10 @@ ABSL_FLAG(std::string, metrics_port_file, "",
 namespace {
 
 constexpr const char* kEnvironmentFlags[] = {
-    "address",        "port_file",  "max_message_bytes", "max_values",      "max_joints",
-    "worker_threads", "max_queued", "log_level",         "log_format",      "shutdown_grace_ms",
-    "tls_cert",       "tls_key",    "tls_client_ca",     "metrics_address", "metrics_port_file"};
+    "address",       "port_file",         "max_message_bytes", "max_values",
+    "max_joints",    "worker_threads",    "max_queued",        "log_level",
+    "log_format",    "shutdown_grace_ms", "tls_cert",          "tls_key",
+    "tls_client_ca", "metrics_address",   "metrics_port_file", "shutdown_delay_ms"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -200,9 +207,16 @@ int main(int argc, char** argv) {
 
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);
+  const int delay_ms = std::max(0, absl::GetFlag(FLAGS_shutdown_delay_ms));
   koma::server::LogEvent(absl::StrCat("received ", signal_number == SIGTERM ? "SIGTERM" : "SIGINT",
-                                      ", draining (grace ", absl::GetFlag(FLAGS_shutdown_grace_ms),
-                                      " ms)"));
+                                      ", NOT_SERVING; still accepting calls for ", delay_ms,
+                                      " ms"));
+  // Calls that reach a gRPC server after its Shutdown began are cancelled, so the clients
+  // that watch health (koma's own with a server list) get time to move away first.
+  (*server)->StopServing();
+  absl::SleepFor(absl::Milliseconds(delay_ms));
+  koma::server::LogEvent(
+      absl::StrCat("draining (grace ", absl::GetFlag(FLAGS_shutdown_grace_ms), " ms)"));
   (*server)->Shutdown(absl::Milliseconds(absl::GetFlag(FLAGS_shutdown_grace_ms)));
   koma::server::LogEvent("koma_server stopped");
   return 0;

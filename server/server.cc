@@ -100,10 +100,14 @@ std::shared_ptr<grpc::Channel> KomaServer::InProcessChannel() {
   return server_->InProcessChannel(args);
 }
 
+void KomaServer::StopServing() {
+  if (server_ != nullptr) server_->GetHealthCheckService()->SetServingStatus(false);
+}
+
 void KomaServer::Shutdown(absl::Duration grace) {
   if (shut_down_ || server_ == nullptr) return;
   shut_down_ = true;
-  server_->GetHealthCheckService()->SetServingStatus(false);
+  StopServing();
   const auto deadline = std::chrono::system_clock::now() + absl::ToChronoMilliseconds(grace);
   server_->Shutdown(deadline);
   pool_.reset();  // runs what was accepted; every reactor gets its Finish

@@ -55,8 +55,11 @@ class KomaServer {
   int metrics_port() const { return metrics_endpoint_ ? metrics_endpoint_->port() : 0; }
   // A channel to this server that bypasses the network (tests), with the same size limits.
   std::shared_ptr<grpc::Channel> InProcessChannel();
-  // Health to NOT_SERVING, stop accepting, let calls in flight finish for up to `grace`
-  // then cancel them, and wait for the workers. Safe to call more than once.
+  // Health to NOT_SERVING ("" and "koma.v1.Retime") while calls are still accepted, so
+  // clients and load balancers that watch health stop sending new ones.
+  void StopServing();
+  // StopServing, stop accepting, let calls in flight finish for up to `grace` then cancel
+  // them, and wait for the workers. Safe to call more than once.
   void Shutdown(absl::Duration grace);
 
  private:

@@ -53,10 +53,10 @@ for probe in ("readinessProbe", "livenessProbe"):
           container[probe].get("grpc", {}).get("port") == port, str(container[probe]))
 
 grace_s = pod["spec"]["terminationGracePeriodSeconds"]
-drain_s = int(args["shutdown_grace_ms"]) / 1000
+drain_s = (int(args["shutdown_delay_ms"]) + int(args["shutdown_grace_ms"])) / 1000
 pre_stop = container["lifecycle"]["preStop"]["exec"]["command"]
 pre_stop_s = int(pre_stop[-1]) if pre_stop[0].endswith("sleep") else 0
-check("terminationGracePeriodSeconds covers preStop + the drain",
+check("terminationGracePeriodSeconds covers preStop + the delay and drain",
       grace_s > pre_stop_s + drain_s, f"{grace_s} <= {pre_stop_s} + {drain_s}")
 check("CPU sized for 2 cores", str(container["resources"]["limits"]["cpu"]) == "2" and
       args.get("worker_threads") == "2")
