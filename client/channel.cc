@@ -93,12 +93,21 @@ absl::Status ConfigureTls(const TlsFiles& files) {
 }
 
 std::string ClientServiceConfig(bool balanced) {
+  // Every koma.v1.Retime RPC is a pure function of its request, so a second attempt on
+  // another server is always safe. CANCELLED is retried too because gRPC's server answers
+  // CANCELLED, not UNAVAILABLE, to a call that reaches it after its shutdown began
+  // (grpc/grpc#41785); gRPC never retries a call the application itself cancelled.
   const std::string retry =
       R"("methodConfig":[{"name":[{"service":"koma.v1.Retime"}],)"
       R"("retryPolicy":{"maxAttempts":3,"initialBackoff":"0.1s","maxBackoff":"1s",)"
-      R"("backoffMultiplier":2,"retryableStatusCodes":["UNAVAILABLE"]}}])";
-  return balanced ? absl::StrCat(R"({"loadBalancingConfig":[{"round_robin":{}}],)", retry, "}")
-                  : absl::StrCat("{", retry, "}");
+      R"("backoffMultiplier":2,"retryableStatusCodes":["UNAVAILABLE","CANCELLED"]}}])";
+  // Balanced: round_robin over the servers whose health (grpc.health.v1 Watch) says
+  // SERVING, so a server that got SIGTERM (NOT_SERVING for --shutdown_delay_ms before it
+  // stops accepting) gets no new calls.
+  return balanced
+             ? absl::StrCat(R"({"loadBalancingConfig":[{"round_robin":{}}],)",
+                            R"("healthCheckConfig":{"serviceName":"koma.v1.Retime"},)", retry, "}")
+             : absl::StrCat("{", retry, "}");
 }
 
 absl::StatusOr<std::shared_ptr<grpc::Channel>> MakeChannel(const std::string& servers) {

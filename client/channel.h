@@ -36,9 +36,10 @@ struct TlsFiles {
 };
 absl::Status ConfigureTls(const TlsFiles& files);
 
-// The service config of koma's own clients: round_robin over the addresses when
-// `balanced`, and up to 3 attempts of a call that fails with UNAVAILABLE (a server that is
-// draining or gone), 0.1 s backoff doubling to 1 s.
+// The service config of koma's own clients: when `balanced`, round_robin over the
+// addresses whose grpc.health.v1 health for "koma.v1.Retime" is SERVING (a draining server
+// drops out); always up to 3 attempts of a call that fails with UNAVAILABLE or CANCELLED (a
+// server that is draining or gone), 0.1 s backoff doubling to 1 s.
 std::string ClientServiceConfig(bool balanced);
 
 // An insecure channel to `servers` (see ResolveTarget) whose message limits match the
