@@ -15,7 +15,9 @@ constexpr char kDescription[] =
     "--duration 10\n"
     "  open loop:   koma_load --rpc curves --input a.motion3.json --rate 200 --count 2000\n"
     "Prints count, RPS, latency percentiles (ms) and errors by status code; exit 0 even "
-    "with RPC errors unless --fail-on-error, 1 on a failed setup, 2 on a usage error.";
+    "with RPC errors unless --fail-on-error, 1 on a failed setup, 2 on a usage error.\n"
+    "Calls use the koma client's service config: round_robin over the SERVING servers of a "
+    "list, UNAVAILABLE and CANCELLED retried (up to 3 attempts, reported as one call).";
 
 void AddRequestOptions(CLI::App& app, LoadOptions* o) {
   app.add_option("--rpc", o->rpc, "which RPC: skeletal, curves or lipblink")
@@ -37,7 +39,7 @@ void AddRequestOptions(CLI::App& app, LoadOptions* o) {
 }
 
 void AddLoadOptions(CLI::App& app, LoadOptions* o) {
-  app.add_option("--target", o->target,
+  app.add_option("--target,--server", o->target,
                  "host:port, host:port,host:port (round robin) or dns:///name:port")
       ->capture_default_str();
   app.add_option("--concurrency,-c", o->concurrency, "closed loop: outstanding calls")

@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 
 namespace koma::load {
 
@@ -29,6 +30,7 @@ Report Summarise(RunResult& result) {
   report.hit_time_cap = result.hit_time_cap;
   report.response_bytes_min = result.response_bytes_min;
   report.response_bytes_max = result.response_bytes_max;
+  report.ok_by_peer = result.ok_by_peer;
   if (latencies.empty()) return report;
   report.mean_ms = std::accumulate(latencies.begin(), latencies.end(), 0.0) / latencies.size();
   report.p50_ms = NearestRank(latencies, 50.0);
@@ -42,6 +44,8 @@ Report Summarise(RunResult& result) {
 nlohmann::json ReportToJson(const Report& r) {
   nlohmann::json errors = nlohmann::json::object();
   for (const auto& [code, n] : r.errors) errors[code] = n;
+  nlohmann::json ok_by_peer = nlohmann::json::object();
+  for (const auto& [peer, n] : r.ok_by_peer) ok_by_peer[peer] = n;
   return {
       {"rpc", r.rpc},
       {"target", r.target},
@@ -61,6 +65,7 @@ nlohmann::json ReportToJson(const Report& r) {
         {"p99.9", r.p999_ms},
         {"max", r.max_ms}}},
       {"errors", errors},
+      {"ok_by_peer", ok_by_peer},
       {"warmup_calls", r.warmup_calls},
       {"hit_time_cap", r.hit_time_cap},
   };
@@ -76,6 +81,10 @@ std::string ReportToText(const Report& r) {
       r.mode, r.count, r.ok, r.warmup_calls, r.measured_s, r.rps);
   if (r.hit_time_cap)
     absl::StrAppend(&out, "  Note:      stopped by --max-duration before --count\n");
+  if (r.ok_by_peer.size() > 1) {
+    absl::StrAppend(
+        &out, "  Answered:  ", absl::StrJoin(r.ok_by_peer, ", ", absl::PairFormatter(" ")), "\n");
+  }
   absl::StrAppend(&out, "\nLatency (ms, successful calls):\n");
   absl::StrAppend(
       &out, absl::StrFormat("  %-8s %10s\n  %-8s %10.3f\n  %-8s %10.3f\n  %-8s %10.3f\n"

@@ -23,6 +23,8 @@ struct Report {
   std::string request;  // LoadRequest::description
   int64_t request_bytes = 0;
   int64_t response_bytes_min = 0, response_bytes_max = 0;  // of successful calls
+  // Successful calls by the server that answered them ("ipv4:127.0.0.1:50051").
+  std::map<std::string, int64_t> ok_by_peer;
   std::string mode;   // "closed (concurrency 4)" or "open (rate 100/s)"
   int64_t count = 0;  // measured calls, ok or not
   int64_t ok = 0;

@@ -22,7 +22,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr int kMaxMessageBytes = 256 * 1024 * 1024;  // as the server's default
-constexpr char kRoundRobin[] = R"({"loadBalancingConfig":[{"round_robin":{}}]})";
 
 Clock::duration Seconds(double s) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
@@ -148,6 +147,7 @@ void Runner::Done(Call* call, const grpc::Status& status) {
   const Clock::time_point now = Clock::now();
   const Clock::time_point scheduled = call->scheduled;
   const auto response_bytes = static_cast<int64_t>(call->response.Length());
+  const std::string peer = status.ok() ? call->context.peer() : std::string();
   delete call;
   // Everything under the lock, notify included: once inflight_ reaches 0 Run() may return
   // and this Runner go away, so nothing may touch it after the unlock.
@@ -162,6 +162,7 @@ void Runner::Done(Call* call, const grpc::Status& status) {
       }
       result_.response_bytes_max = std::max(result_.response_bytes_max, response_bytes);
       result_.latencies_ms.push_back(Milliseconds(now - scheduled));
+      ++result_.ok_by_peer[peer];
     } else {
       ++result_
             .errors[absl::StatusCodeToString(static_cast<absl::StatusCode>(status.error_code()))];
@@ -181,7 +182,10 @@ std::vector<std::shared_ptr<grpc::Channel>> MakeChannels(const ChannelTarget& ta
     args.SetMaxSendMessageSize(kMaxMessageBytes);
     // A subchannel pool per channel, so K channels are K connections, not one shared.
     args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);
-    if (target.balanced) args.SetServiceConfigJSON(kRoundRobin);
+    // The koma client's own service config (round_robin over the SERVING servers when
+    // balanced; UNAVAILABLE and CANCELLED retried), so the load sees what a real client sees
+    // when a server drains or goes away.
+    args.SetServiceConfigJSON(client::ClientServiceConfig(target.balanced));
     channels.push_back(
         grpc::CreateCustomChannel(target.uri, grpc::InsecureChannelCredentials(), args));
   }

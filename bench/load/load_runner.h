@@ -22,8 +22,9 @@ namespace koma::load {
 using client::ChannelTarget;
 using client::ResolveTarget;
 
-// `count` distinct channels (separate connections) with 256 MiB message limits, and
-// round_robin through the service config when `target.balanced`.
+// `count` distinct channels (separate connections) with 256 MiB message limits and the
+// koma client's service config (client::ClientServiceConfig: round_robin when
+// `target.balanced`, retries).
 std::vector<std::shared_ptr<grpc::Channel>> MakeChannels(const ChannelTarget& target, int count);
 
 struct RunResult {
@@ -36,6 +37,9 @@ struct RunResult {
   // comparable when these match.
   int64_t response_bytes_min = 0;
   int64_t response_bytes_max = 0;
+  // Successful measured calls by the server that answered them, as gRPC names it
+  // ("ipv4:127.0.0.1:50051"): with a server list, the calls per backend.
+  std::map<std::string, int64_t> ok_by_peer;
 };
 
 // Runs the load described by `options` with `request` on `channels` and waits for every
