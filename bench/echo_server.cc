@@ -19,6 +19,8 @@
 #include "absl/strings/str_cat.h"
 #include "bench/echo_shapes.h"
 #include "koma/v1/retime.grpc.pb.h"
+#include "server/arena_allocator.h"
+#include "server/malloc_tuning.h"
 
 ABSL_FLAG(std::string, address, "127.0.0.1:50052",
           "host:port to listen on; port 0 picks a free port (see --port_file)");
@@ -28,9 +30,17 @@ ABSL_FLAG(int, max_message_bytes, 256 * 1024 * 1024, "largest request or respons
 
 namespace {
 
-
-// Answers like koma without computing (bench/echo_shapes.h).
+// Answers like koma without computing (bench/echo_shapes.h). Messages live on per-call arenas
+// and malloc is tuned exactly as in koma_server, so the two differ only in the computing.
 class EchoService final : public koma::v1::Retime::CallbackService {
+ public:
+  EchoService() {
+    SetMessageAllocatorFor_RetimeSkeletal(&skeletal_messages_);
+    SetMessageAllocatorFor_RetimeCurves(&curves_messages_);
+    SetMessageAllocatorFor_LipBlink(&lip_blink_messages_);
+  }
+
+ private:
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
                                            const koma::v1::RetimeSkeletalRequest* request,
                                            koma::v1::RetimeSkeletalResponse* response) override {
@@ -51,6 +61,15 @@ class EchoService final : public koma::v1::Retime::CallbackService {
     koma::echo::LipBlinkLookalike(*request, response);
     return Finish(context);
   }
+
+  koma::server::ArenaMessageAllocator<koma::v1::RetimeSkeletalRequest,
+                                      koma::v1::RetimeSkeletalResponse,
+                                      koma::server::RequestStorage::kHeap>
+      skeletal_messages_;
+  koma::server::ArenaMessageAllocator<koma::v1::RetimeCurvesRequest, koma::v1::RetimeCurvesResponse>
+      curves_messages_;
+  koma::server::ArenaMessageAllocator<koma::v1::LipBlinkRequest, koma::v1::LipBlinkResponse>
+      lip_blink_messages_;
 
   static grpc::ServerUnaryReactor* Finish(grpc::CallbackServerContext* context) {
     grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
@@ -76,6 +95,7 @@ int Fail(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  koma::server::TuneMallocForLargeMessages();
   absl::SetProgramUsageMessage(
       "koma_echo_server [--address=HOST:PORT] [--port_file=F] [--max_message_bytes=N]: "
       "koma.v1.Retime answering koma-sized responses without computing (load baseline)");

@@ -1,5 +1,4 @@
 // koma_server: the koma gRPC service. Flags are listed by --help.
-#include <malloc.h>
 #include <signal.h>
 
 #include <algorithm>
@@ -12,14 +11,15 @@
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "absl/flags/reflection.h"
-#include "absl/strings/ascii.h"
 #include "absl/flags/usage.h"
 #include "absl/flags/usage_config.h"
+#include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
 #include "server/logging.h"
+#include "server/malloc_tuning.h"
 #include "server/server.h"
 
 ABSL_FLAG(std::string, address, "127.0.0.1:50051",
@@ -75,8 +75,7 @@ bool ApplyEnvironment() {
     absl::CommandLineFlag* flag = absl::FindCommandLineFlag(name);
     std::string error;
     if (flag == nullptr || !flag->ParseFrom(value, &error)) {
-      std::fprintf(stderr, "koma_server: %s=\"%s\": %s\n", variable.c_str(), value,
-                   error.c_str());
+      std::fprintf(stderr, "koma_server: %s=\"%s\": %s\n", variable.c_str(), value, error.c_str());
       return false;
     }
   }
@@ -138,24 +137,10 @@ int Fail(const std::string& message) {
   return 1;
 }
 
-// glibc raises its mmap threshold (up to 32 MiB) each time a large block is freed, after
-// which blocks of a large call's size come from the heap and stay resident when freed: RSS
-// grew from call to call on 100,000-frame clips. Fixed thresholds instead: blocks of 1 MiB
-// or more (a large clip's arrays) are mmap'd and returned to the system when freed; smaller
-// ones come from the heap, which keeps up to 16 MiB of free space instead of returning it at
-// once, so mid-size calls (LipBlink's 800 KB curves) reuse memory rather than fault in fresh
-// pages every call. Measured (docs/benchmarks.md): 256 KiB / 1 MiB kept the 100k-frame peak
-// lowest but made LipBlink 3x100k ~1.7x slower (page faults); 2 MiB / 16 MiB and up made
-// it fastest but the 100k-frame peak ~1.6x higher.
-void ReturnLargeBlocksToTheSystem() {
-  mallopt(M_MMAP_THRESHOLD, 1024 * 1024);
-  mallopt(M_TRIM_THRESHOLD, 16 * 1024 * 1024);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  ReturnLargeBlocksToTheSystem();
+  koma::server::TuneMallocForLargeMessages();
   absl::FlagsUsageConfig usage;
   // --help lists this file's flags (Abseil's default looks for a file named after the binary).
   usage.contains_help_flags = [](absl::string_view file) {
@@ -197,7 +182,7 @@ int main(int argc, char** argv) {
   if (!port_file.empty() && !WritePortFile(port_file, (*server)->port())) {
     return Fail(absl::StrCat("--port_file: cannot write ", port_file));
   }
-  const char* security = config.tls_cert_pem.empty()          ? "plaintext"
+  const char* security = config.tls_cert_pem.empty()        ? "plaintext"
                          : config.tls_client_ca_pem.empty() ? "TLS"
                                                             : "mutual TLS";
   koma::server::LogEvent(absl::StrCat(
