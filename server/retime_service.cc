@@ -9,9 +9,9 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "core/split_mix64.h"
-#include "server/logging.h"
 #include "server/curves_request.h"
 #include "server/lip_blink_request.h"
+#include "server/logging.h"
 #include "server/skeletal_request.h"
 #include "server/status_mapping.h"
 
@@ -49,8 +49,9 @@ void FinishAndLog(grpc::ServerUnaryReactor* reactor, grpc::Status status, Respon
 
 grpc::Status Busy(absl::string_view method) {
   return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                      absl::StrCat(method, ": server busy, the request queue is full "
-                                           "(--max_queued); retry with backoff"));
+                      absl::StrCat(method,
+                                   ": server busy, the request queue is full "
+                                   "(--max_queued); retry with backoff"));
 }
 
 constexpr absl::string_view kRequestIdKey = "x-request-id";
@@ -66,8 +67,8 @@ std::string RequestId(const grpc::CallbackServerContext& context) {
   if (found != metadata.end() && found->second.size() > 0) {
     return std::string(found->second.data(), std::min(found->second.size(), kMaxRequestIdBytes));
   }
-  static std::atomic<uint64_t> counter{static_cast<uint64_t>(
-      std::chrono::system_clock::now().time_since_epoch().count())};
+  static std::atomic<uint64_t> counter{
+      static_cast<uint64_t>(std::chrono::system_clock::now().time_since_epoch().count())};
   SplitMix64 rng(counter.fetch_add(1));
   return absl::StrFormat("%016x", rng.Next());
 }
@@ -87,26 +88,34 @@ grpc::ServerUnaryReactor* RetimeService::RunOnPool(grpc::CallbackServerContext* 
   record.request_id = RequestId(*context);
   context->AddInitialMetadata(std::string(kRequestIdKey), record.request_id);
   record.bytes_in = static_cast<int64_t>(request->ByteSizeLong());
-  const bool accepted =
-      pool_->TrySubmit([context, request, response, reactor, record, start, metrics, handler]() {
-        grpc::Status status;
-        if (context->IsCancelled()) {
-          status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it started");
-        } else {
-          status = ToGrpcStatus(handler(*request, response));
-        }
-        // The handler has read all it needs: drop the request's arena now rather than after
-        // the response is sent (a large clip's request is as big as its response).
-        context->GetRpcAllocatorState()->FreeRequest();
-        FinishAndLog(reactor, std::move(status), response, record, start, metrics);
-      });
-  if (!accepted) FinishAndLog(reactor, Busy(record.method), response, record, start, metrics);
+  auto run = [context, request, response, reactor, record, start, metrics, handler]() {
+    grpc::Status status;
+    if (context->IsCancelled()) {
+      status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it started");
+    } else {
+      status = ToGrpcStatus(handler(*request, response));
+    }
+    // The handler has read all it needs: drop the request's arena now rather than after
+    // the response is sent (a large clip's request is as big as its response).
+    context->GetRpcAllocatorState()->FreeRequest();
+    FinishAndLog(reactor, std::move(status), response, record, start, metrics);
+  };
+  // A small call (a Pitch-size clip is ~100 KB and retimes in well under a millisecond) runs
+  // right here: handing it to a worker and back costs a thread wake-up each way, which on 2
+  // cores measured as much as the retiming (docs/benchmarks.md, "Inline small calls"). Large
+  // calls go to the pool, so a call of seconds never holds one of gRPC's few callback threads
+  // and the bounded queue still applies to them.
+  if (record.bytes_in <= inline_max_bytes_) {
+    run();
+  } else if (!pool_->TrySubmit(std::move(run))) {
+    FinishAndLog(reactor, Busy(record.method), response, record, start, metrics);
+  }
   return reactor;
 }
 
-grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(
-    grpc::CallbackServerContext* context, const v1::RetimeSkeletalRequest* request,
-    v1::RetimeSkeletalResponse* response) {
+grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(grpc::CallbackServerContext* context,
+                                                        const v1::RetimeSkeletalRequest* request,
+                                                        v1::RetimeSkeletalResponse* response) {
   RpcRecord record;
   record.method = "RetimeSkeletal";
   record.frames = request->motion().frame_count();

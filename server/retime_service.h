@@ -17,10 +17,15 @@ namespace koma::server {
 
 class RetimeService final : public v1::Retime::CallbackService {
  public:
+  // Requests of at most this many serialised bytes run on gRPC's callback thread itself.
+  static constexpr int64_t kDefaultInlineMaxBytes = 256 * 1024;
+
   // `pool` must outlive the service and every call it accepted; so must `metrics`, which may
-  // be null (no metrics).
-  RetimeService(const RequestLimits& limits, WorkerPool* pool, const RpcMetrics* metrics = nullptr)
-      : limits_(limits), pool_(pool), metrics_(metrics) {
+  // be null (no metrics). Calls whose request is at most `inline_max_bytes` run inline, the
+  // rest on `pool` (see RunOnPool).
+  RetimeService(const RequestLimits& limits, WorkerPool* pool, const RpcMetrics* metrics = nullptr,
+                int64_t inline_max_bytes = kDefaultInlineMaxBytes)
+      : limits_(limits), pool_(pool), metrics_(metrics), inline_max_bytes_(inline_max_bytes) {
     SetMessageAllocatorFor_RetimeSkeletal(&skeletal_messages_);
     SetMessageAllocatorFor_RetimeCurves(&curves_messages_);
     SetMessageAllocatorFor_LipBlink(&lip_blink_messages_);
@@ -37,9 +42,9 @@ class RetimeService final : public v1::Retime::CallbackService {
                                      v1::LipBlinkResponse* response) override;
 
  private:
-  // Hands `handler(*request, response)` (returning absl::Status) to the worker pool, or
-  // answers RESOURCE_EXHAUSTED when its queue is full; logs one line and counts the call in
-  // the metrics of `method` when finished.
+  // Runs `handler(*request, response)` (returning absl::Status): inline when the request is
+  // small, else on the worker pool, or answers RESOURCE_EXHAUSTED when the pool's queue is
+  // full; logs one line and counts the call in the metrics of `method` when finished.
   template <typename Request, typename Response, typename Handler>
   grpc::ServerUnaryReactor* RunOnPool(grpc::CallbackServerContext* context, const Request* request,
                                       Response* response, RpcMethod method, RpcRecord record,
@@ -48,6 +53,7 @@ class RetimeService final : public v1::Retime::CallbackService {
   const RequestLimits limits_;
   WorkerPool* const pool_;
   const RpcMetrics* const metrics_;
+  const int64_t inline_max_bytes_;
   // Each call's request and response on protobuf arenas (server/arena_allocator.h).
   ArenaMessageAllocator<v1::RetimeSkeletalRequest, v1::RetimeSkeletalResponse,
                         RequestStorage::kHeap>

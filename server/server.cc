@@ -15,9 +15,7 @@ namespace {
 
 constexpr char kServiceName[] = "koma.v1.Retime";
 
-int DefaultWorkerThreads() {
-  return std::max(1u, std::thread::hardware_concurrency());
-}
+int DefaultWorkerThreads() { return std::max(1u, std::thread::hardware_concurrency()); }
 
 std::shared_ptr<grpc::ServerCredentials> Credentials(const ServerConfig& config) {
   if (config.tls_cert_pem.empty()) return grpc::InsecureServerCredentials();
@@ -34,8 +32,8 @@ std::shared_ptr<grpc::ServerCredentials> Credentials(const ServerConfig& config)
 
 absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig& config) {
   if (config.max_message_bytes < 1024) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "--max_message_bytes: ", config.max_message_bytes, " is below 1024"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("--max_message_bytes: ", config.max_message_bytes, " is below 1024"));
   }
   if (config.tls_cert_pem.empty() != config.tls_key_pem.empty()) {
     return absl::InvalidArgumentError("--tls_cert and --tls_key: give both or neither");
@@ -46,13 +44,18 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
   if (config.max_queued < 0 || config.worker_threads < 0) {
     return absl::InvalidArgumentError("--max_queued and --worker_threads must be >= 0");
   }
+  if (config.inline_max_bytes < 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("--inline_max_bytes: ", config.inline_max_bytes,
+                     " must be >= 0 (0 = every request on a worker)"));
+  }
   std::unique_ptr<KomaServer> server(new KomaServer());
   // The metrics port first: a bad --metrics_address fails before any gRPC port is bound.
   if (absl::Status s = server->StartMetrics(config); !s.ok()) return s;
   const int threads = config.worker_threads > 0 ? config.worker_threads : DefaultWorkerThreads();
   server->pool_ = std::make_unique<WorkerPool>(threads, static_cast<size_t>(config.max_queued));
-  server->service_ =
-      std::make_unique<RetimeService>(config.limits, server->pool_.get(), server->metrics_.get());
+  server->service_ = std::make_unique<RetimeService>(
+      config.limits, server->pool_.get(), server->metrics_.get(), config.inline_max_bytes);
   server->max_message_bytes_ = config.max_message_bytes;
 
   grpc::EnableDefaultHealthCheckService(true);
@@ -66,9 +69,8 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
   builder.RegisterService(server->service_.get());
   server->server_ = builder.BuildAndStart();
   if (server->server_ == nullptr || (!config.address.empty() && server->port_ == 0)) {
-    return absl::UnavailableError(
-        absl::StrCat("--address: could not listen on ", config.address,
-                     " (in use, or not a valid host:port)"));
+    return absl::UnavailableError(absl::StrCat("--address: could not listen on ", config.address,
+                                               " (in use, or not a valid host:port)"));
   }
   grpc::HealthCheckServiceInterface* health = server->server_->GetHealthCheckService();
   health->SetServingStatus(true);

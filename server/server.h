@@ -31,6 +31,8 @@ struct ServerConfig {
   int worker_threads = 0;
   // Requests that may wait for a worker before new ones get RESOURCE_EXHAUSTED.
   int max_queued = 64;
+  // Requests of at most this many bytes run on gRPC's callback thread, not the pool.
+  int64_t inline_max_bytes = RetimeService::kDefaultInlineMaxBytes;
   // TLS, as PEM text: both empty = plaintext. With a client CA, clients must present a
   // certificate that CA signed (mutual TLS).
   std::string tls_cert_pem;
