@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "core/magnitude_scan.h"
 #include "core/status_macros.h"
 
 namespace koma {
@@ -33,6 +35,7 @@ absl::Status ValidateSizes(absl::Span<const double> world_positions, int frame_c
         absl::StrCat("world_positions: expected ", expected, " values (", frame_count, " frames x ",
                      joint_count, " joints x 3), got ", world_positions.size()));
   }
+  if (AllFinite(world_positions)) return absl::OkStatus();  // one vectorised pass
   for (size_t k = 0; k < world_positions.size(); ++k) {
     if (!std::isfinite(world_positions[k])) {
       const size_t point = k / 3;
@@ -101,8 +104,10 @@ absl::Status Project(const std::array<double, 16>& m, const double* p, int frame
 // distance finite, so the candidate orderings never meet inf or NaN.
 absl::Status CheckDistanceBound(absl::Span<const double> points, const std::vector<double>& weights,
                                 int dims) {
-  double largest = 0.0;
-  for (double c : points) largest = std::max(largest, std::fabs(c));
+  // The largest |coordinate| (inf or NaN when one is not finite), in one vectorised pass.
+  const uint64_t largest_bits = LargestMagnitudeBits(points);
+  double largest;
+  std::memcpy(&largest, &largest_bits, sizeof(largest));
   double total_weight = 0.0;
   for (double w : weights) total_weight += w;
   const double bound = total_weight * dims * (2.0 * largest) * (2.0 * largest);

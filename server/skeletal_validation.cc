@@ -6,6 +6,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "core/magnitude_scan.h"
 #include "core/status_macros.h"
 #include "server/skeletal_request.h"
 
@@ -34,7 +35,8 @@ absl::StatusOr<Skeleton> ConvertSkeleton(const v1::Skeleton& proto, const Reques
     out.name = in.name();
     out.parent = in.parent();
     out.offset = {in.offset().x(), in.offset().y(), in.offset().z()};
-    for (const v1::Vec3& site : in.end_sites()) out.end_sites.push_back({site.x(), site.y(), site.z()});
+    for (const v1::Vec3& site : in.end_sites())
+      out.end_sites.push_back({site.x(), site.y(), site.z()});
     for (int c = 0; c < in.channels_size(); ++c) {
       absl::StatusOr<ChannelKind> kind = ParseChannelName(in.channels(c));
       if (!kind.ok()) {
@@ -50,12 +52,12 @@ absl::StatusOr<Skeleton> ConvertSkeleton(const v1::Skeleton& proto, const Reques
 
 absl::Status CheckTiming(const v1::SkeletalMotion& motion) {
   if (!std::isfinite(motion.frame_time()) || motion.frame_time() <= 0.0) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "motion.frame_time: ", motion.frame_time(), " s must be finite and > 0"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("motion.frame_time: ", motion.frame_time(), " s must be finite and > 0"));
   }
   if (motion.frame_count() < 2) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "motion.frame_count: ", motion.frame_count(), " frames, retiming needs at least 2"));
+    return absl::InvalidArgumentError(absl::StrCat("motion.frame_count: ", motion.frame_count(),
+                                                   " frames, retiming needs at least 2"));
   }
   return absl::OkStatus();
 }
@@ -73,10 +75,11 @@ absl::Status CheckValues(const google::protobuf::RepeatedField<double>& values,
   }
   const int64_t expected = static_cast<int64_t>(frame_count) * per_frame;
   if (values.size() != expected) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        field, ": expected ", expected, " values (", frame_count, " frames x ", breakdown,
-        "), got ", values.size()));
+    return absl::InvalidArgumentError(absl::StrCat(field, ": expected ", expected, " values (",
+                                                   frame_count, " frames x ", breakdown, "), got ",
+                                                   values.size()));
   }
+  if (AllFinite(absl::MakeConstSpan(values.data(), values.size()))) return absl::OkStatus();
   for (int i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i])) {
       return absl::InvalidArgumentError(absl::StrCat(field, "[", i, "]: ", values[i],
@@ -95,19 +98,17 @@ absl::Status CheckMotionData(const v1::SkeletalMotion& motion, const Skeleton& s
     case v1::SkeletalMotion::kChannels: {
       *channel_form = true;
       const int channels = ChannelCount(skeleton);
-      return CheckValues(motion.channels().values(), "motion.channels.values",
-                         motion.frame_count(), channels, absl::StrCat(channels, " channels"),
+      return CheckValues(motion.channels().values(), "motion.channels.values", motion.frame_count(),
+                         channels, absl::StrCat(channels, " channels"),
                          std::max<int64_t>(channels, position_values), limits);
     }
     case v1::SkeletalMotion::kPositions:
       *channel_form = false;
       return CheckValues(motion.positions().values(), "motion.positions.values",
                          motion.frame_count(), 3 * joints,
-                         absl::StrCat(joints, " joints x 3 coordinates"), position_values,
-                         limits);
+                         absl::StrCat(joints, " joints x 3 coordinates"), position_values, limits);
     default:
-      return absl::InvalidArgumentError(
-          "motion.data: neither channels nor positions is set");
+      return absl::InvalidArgumentError("motion.data: neither channels nor positions is set");
   }
 }
 
@@ -117,9 +118,9 @@ absl::StatusOr<DistanceOptions> ConvertDistanceOptions(const v1::RetimeSkeletalR
   options.root_relative = request.root_relative();
   if (request.joint_weights_size() != 0) {
     if (request.joint_weights_size() != joints) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "joint_weights: ", request.joint_weights_size(), " weights for ", joints,
-          " joints (give one per joint, or none for all 1)"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("joint_weights: ", request.joint_weights_size(), " weights for ", joints,
+                       " joints (give one per joint, or none for all 1)"));
     }
     for (int i = 0; i < joints; ++i) {
       const double w = request.joint_weights(i);
@@ -164,9 +165,9 @@ absl::StatusOr<RetimeOptions> ConvertRetimeOptions(const v1::RetimeSkeletalReque
       options.order = StepOrder::kHoldThenOmit;
       break;
     default:
-      return absl::InvalidArgumentError(absl::StrCat(
-          "order: ", static_cast<int>(request.order()),
-          " is not a StepOrder (1 OMIT_THEN_HOLD, 2 HOLD_THEN_OMIT)"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("order: ", static_cast<int>(request.order()),
+                       " is not a StepOrder (1 OMIT_THEN_HOLD, 2 HOLD_THEN_OMIT)"));
   }
   KOMA_RETURN_IF_ERROR(ValidateRetimeOptions(options, frame_count));
   return options;
