@@ -24,52 +24,28 @@ double MillisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// One call's reactor. It finishes the call and, once gRPC is done with it (the response sent,
-// or the call failed), writes the call's log line and counts it in `metrics` (null: no
-// metrics). Logging in OnDone lets the response size be the one gRPC computed while
-// serialising (GetCachedSize) rather than a second pass over the response, which for a
-// RetimeCurves answer (thousands of stepped keys) cost several percent of the call; the
-// latency logged includes sending the response.
-class CallReactor final : public grpc::ServerUnaryReactor {
- public:
-  CallReactor(RpcRecord record, Clock::time_point start, const CallMetrics* metrics,
-              const google::protobuf::MessageLite* response)
-      : record_(std::move(record)), start_(start), metrics_(metrics), response_(response) {}
-
-  // `response` is cleared on error so a failed call never carries a partial answer.
-  template <typename Response>
-  void FinishCall(grpc::Status status, Response* response) {
-    if (!status.ok()) {
-      response->Clear();
-      record_.error = status.error_message();
-    }
-    record_.code = status.error_code();
-    Finish(std::move(status));
+// Finishes the call, writes its log line and counts it in `metrics` (null: no metrics).
+// `response` is cleared on error so a failed call never carries a partial answer.
+template <typename Response>
+void FinishAndLog(grpc::ServerUnaryReactor* reactor, grpc::Status status, Response* response,
+                  RpcRecord record, Clock::time_point start, const CallMetrics* metrics) {
+  if (status.ok()) {
+    record.bytes_out = static_cast<int64_t>(response->ByteSizeLong());
+  } else {
+    response->Clear();
+    record.error = status.error_message();
   }
-
-  void OnDone() override {
-    // gRPC sends a message only with an OK status, after sizing it (ByteSizeLong caches the
-    // size in the message).
-    if (record_.code == grpc::StatusCode::OK) record_.bytes_out = response_->GetCachedSize();
-    record_.latency_ms = MillisecondsSince(start_);
-    LogRpc(record_);
-    if (metrics_ != nullptr) {
-      // record.frames is the request's frame_count; on OK the handler validated it against
-      // the data, so it is the number of frames retimed.
-      metrics_->Finish(record_.code, record_.latency_ms / 1000.0, record_.frames, record_.bytes_in,
-                       record_.bytes_out);
-    }
-    delete this;
+  record.code = status.error_code();
+  record.latency_ms = MillisecondsSince(start);
+  LogRpc(record);
+  if (metrics != nullptr) {
+    // record.frames is the request's frame_count; on OK the handler validated it against
+    // the data, so it is the number of frames retimed.
+    metrics->Finish(record.code, record.latency_ms / 1000.0, record.frames, record.bytes_in,
+                    record.bytes_out);
   }
-
-  RpcRecord& record() { return record_; }
-
- private:
-  RpcRecord record_;
-  const Clock::time_point start_;
-  const CallMetrics* const metrics_;
-  const google::protobuf::MessageLite* const response_;
-};
+  reactor->Finish(std::move(status));
+}
 
 grpc::Status Busy(absl::string_view method) {
   return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
@@ -100,19 +76,19 @@ std::string RequestId(const grpc::CallbackServerContext& context) {
 }  // namespace
 
 template <typename Request, typename Response, typename Handler>
-grpc::ServerUnaryReactor* RetimeService::RunOnPool(grpc::CallbackServerContext* context,
-                                                   const Request* request, Response* response,
-                                                   RpcMethod method, RpcRecord record,
-                                                   Handler handler) {
+grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* context,
+                                                  const Request* request, Response* response,
+                                                  RpcMethod method, RpcRecord record,
+                                                  Handler handler) {
   const Clock::time_point start = Clock::now();
   const CallMetrics* metrics = metrics_ != nullptr ? &metrics_->ForMethod(method) : nullptr;
   if (metrics != nullptr) metrics->Start();
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
   record.peer = context->peer();
   record.request_id = RequestId(*context);
   context->AddInitialMetadata(std::string(kRequestIdKey), record.request_id);
   record.bytes_in = static_cast<int64_t>(request->ByteSizeLong());
-  auto* reactor = new CallReactor(std::move(record), start, metrics, response);
-  auto run = [context, request, response, reactor, handler]() {
+  auto run = [context, request, response, reactor, record, start, metrics, handler]() {
     grpc::Status status;
     if (context->IsCancelled()) {
       status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it started");
@@ -122,17 +98,17 @@ grpc::ServerUnaryReactor* RetimeService::RunOnPool(grpc::CallbackServerContext* 
     // The handler has read all it needs: drop the request's arena now rather than after
     // the response is sent (a large clip's request is as big as its response).
     context->GetRpcAllocatorState()->FreeRequest();
-    reactor->FinishCall(std::move(status), response);
+    FinishAndLog(reactor, std::move(status), response, record, start, metrics);
   };
   // A small call (a Pitch-size clip is ~100 KB and retimes in well under a millisecond) runs
   // right here: handing it to a worker and back costs a thread wake-up each way, which on 2
-  // cores measured as much as the retiming (docs/benchmarks.md, "What this round changed").
-  // Large calls go to the pool, so a call of seconds never holds one of gRPC's few callback
-  // threads and the bounded queue still applies to them.
-  if (reactor->record().bytes_in <= inline_max_bytes_) {
+  // cores measured as much as the retiming (docs/benchmarks.md, "Inline small calls"). Large
+  // calls go to the pool, so a call of seconds never holds one of gRPC's few callback threads
+  // and the bounded queue still applies to them.
+  if (record.bytes_in <= inline_max_bytes_) {
     run();
   } else if (!pool_->TrySubmit(std::move(run))) {
-    reactor->FinishCall(Busy(reactor->record().method), response);
+    FinishAndLog(reactor, Busy(record.method), response, record, start, metrics);
   }
   return reactor;
 }
@@ -144,7 +120,7 @@ grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(grpc::CallbackServerCont
   record.method = "RetimeSkeletal";
   record.frames = request->motion().frame_count();
   record.joints = request->motion().skeleton().joints_size();
-  return RunOnPool(
+  return Dispatch(
       context, request, response, RpcMethod::kRetimeSkeletal, std::move(record),
       [this](const auto& in, auto* out) { return HandleRetimeSkeletal(in, limits_, out); });
 }
@@ -156,7 +132,7 @@ grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContex
   record.method = "RetimeCurves";
   record.frames = request->curves().frame_count();
   record.curves = request->curves().curves_size();
-  return RunOnPool(
+  return Dispatch(
       context, request, response, RpcMethod::kRetimeCurves, std::move(record),
       [this](const auto& in, auto* out) { return HandleRetimeCurves(in, limits_, out); });
 }
@@ -168,8 +144,8 @@ grpc::ServerUnaryReactor* RetimeService::LipBlink(grpc::CallbackServerContext* c
   record.method = "LipBlink";
   record.frames = request->curves().frame_count();
   record.curves = request->curves().curves_size();
-  return RunOnPool(context, request, response, RpcMethod::kLipBlink, std::move(record),
-                   [this](const auto& in, auto* out) { return HandleLipBlink(in, limits_, out); });
+  return Dispatch(context, request, response, RpcMethod::kLipBlink, std::move(record),
+                  [this](const auto& in, auto* out) { return HandleLipBlink(in, limits_, out); });
 }
 
 }  // namespace koma::server

@@ -22,7 +22,7 @@ class RetimeService final : public v1::Retime::CallbackService {
 
   // `pool` must outlive the service and every call it accepted; so must `metrics`, which may
   // be null (no metrics). Calls whose request is at most `inline_max_bytes` run inline, the
-  // rest on `pool` (see RunOnPool).
+  // rest on `pool` (see Dispatch).
   RetimeService(const RequestLimits& limits, WorkerPool* pool, const RpcMetrics* metrics = nullptr,
                 int64_t inline_max_bytes = kDefaultInlineMaxBytes)
       : limits_(limits), pool_(pool), metrics_(metrics), inline_max_bytes_(inline_max_bytes) {
@@ -46,9 +46,9 @@ class RetimeService final : public v1::Retime::CallbackService {
   // small, else on the worker pool, or answers RESOURCE_EXHAUSTED when the pool's queue is
   // full; logs one line and counts the call in the metrics of `method` when finished.
   template <typename Request, typename Response, typename Handler>
-  grpc::ServerUnaryReactor* RunOnPool(grpc::CallbackServerContext* context, const Request* request,
-                                      Response* response, RpcMethod method, RpcRecord record,
-                                      Handler handler);
+  grpc::ServerUnaryReactor* Dispatch(grpc::CallbackServerContext* context, const Request* request,
+                                     Response* response, RpcMethod method, RpcRecord record,
+                                     Handler handler);
 
   const RequestLimits limits_;
   WorkerPool* const pool_;
