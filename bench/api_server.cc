@@ -9,12 +9,10 @@
 //   callback_pool    koma_server's RetimeService + WorkerPool (the production model).
 //   async            completion queues, one per thread, handler run on the queue thread.
 #include <grpcpp/grpcpp.h>
-#include <signal.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
@@ -29,6 +27,7 @@
 #include "server/curves_request.h"
 #include "server/lip_blink_request.h"
 #include "server/logging.h"
+#include "server/process_control.h"
 #include "server/request_limits.h"
 #include "server/retime_service.h"
 #include "server/skeletal_request.h"
@@ -166,15 +165,6 @@ absl::Status Register(const std::string& api, int threads, const RequestLimits& 
   return absl::OkStatus();
 }
 
-bool WritePortFile(const std::string& path, int port) {
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::trunc);
-    if (!(out << port << '\n')) return false;
-  }
-  return std::rename(temporary.c_str(), path.c_str()) == 0;
-}
-
 int Fail(const std::string& message) {
   std::fprintf(stderr, "koma_api_server: %s\n", message.c_str());
   return 1;
@@ -193,12 +183,7 @@ int main(int argc, char** argv) {
   if (absl::Status s = koma::server::ConfigureLogging("warn", "text"); !s.ok()) {
     return Fail(std::string(s.message()));
   }
-  // As koma_server: block the stop signals in every thread and take them with sigwait.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGTERM);
-  sigaddset(&stop_signals, SIGINT);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  koma::server::StopSignals stop_signals;  // as koma_server, before gRPC starts any thread
 
   const std::string api = absl::GetFlag(FLAGS_api);
   const std::string address = absl::GetFlag(FLAGS_address);
@@ -219,13 +204,12 @@ int main(int argc, char** argv) {
   }
   if (services.async) services.async->Start();
   const std::string port_file = absl::GetFlag(FLAGS_port_file);
-  if (!port_file.empty() && !WritePortFile(port_file, port)) {
+  if (!port_file.empty() && !koma::server::WritePortFile(port_file, port)) {
     return Fail(absl::StrCat("--port_file: cannot write ", port_file));
   }
   std::fprintf(stderr, "koma_api_server --api=%s listening on port %d\n", api.c_str(), port);
 
-  int signal_number = 0;
-  sigwait(&stop_signals, &signal_number);
+  stop_signals.Wait();
   // Calls in flight get 5 s; the pool (callback_pool) keeps running until then so their
   // reactors are finished, and async's queues are drained only after the server is down.
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));

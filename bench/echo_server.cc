@@ -4,12 +4,10 @@
 // koma RPS / echo RPS shows what the retiming itself costs over the wire.
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
-#include <signal.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <string>
 
@@ -21,6 +19,7 @@
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/arena_allocator.h"
 #include "server/malloc_tuning.h"
+#include "server/process_control.h"
 
 ABSL_FLAG(std::string, address, "127.0.0.1:50052",
           "host:port to listen on; port 0 picks a free port (see --port_file)");
@@ -78,15 +77,6 @@ class EchoService final : public koma::v1::Retime::CallbackService {
   }
 };
 
-bool WritePortFile(const std::string& path, int port) {
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::trunc);
-    if (!(out << port << '\n')) return false;
-  }
-  return std::rename(temporary.c_str(), path.c_str()) == 0;
-}
-
 int Fail(const std::string& message) {
   std::fprintf(stderr, "koma_echo_server: %s\n", message.c_str());
   return 1;
@@ -100,12 +90,7 @@ int main(int argc, char** argv) {
       "koma_echo_server [--address=HOST:PORT] [--port_file=F] [--max_message_bytes=N]: "
       "koma.v1.Retime answering koma-sized responses without computing (load baseline)");
   absl::ParseCommandLine(argc, argv);
-  // As koma_server: block the stop signals in every thread and take them with sigwait.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGTERM);
-  sigaddset(&stop_signals, SIGINT);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  koma::server::StopSignals stop_signals;  // as koma_server, before gRPC starts any thread
 
   const std::string address = absl::GetFlag(FLAGS_address);
   const int max_bytes = absl::GetFlag(FLAGS_max_message_bytes);
@@ -124,13 +109,12 @@ int main(int argc, char** argv) {
   }
   server->GetHealthCheckService()->SetServingStatus(true);
   const std::string port_file = absl::GetFlag(FLAGS_port_file);
-  if (!port_file.empty() && !WritePortFile(port_file, port)) {
+  if (!port_file.empty() && !koma::server::WritePortFile(port_file, port)) {
     return Fail(absl::StrCat("--port_file: cannot write ", port_file));
   }
   std::fprintf(stderr, "koma_echo_server listening on port %d\n", port);
 
-  int signal_number = 0;
-  sigwait(&stop_signals, &signal_number);
+  stop_signals.Wait();
   server->GetHealthCheckService()->SetServingStatus(false);
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(10));
   server->Wait();

@@ -20,6 +20,7 @@
 #include "absl/time/time.h"
 #include "server/logging.h"
 #include "server/malloc_tuning.h"
+#include "server/process_control.h"
 #include "server/server.h"
 
 ABSL_FLAG(std::string, address, "127.0.0.1:50051",
@@ -37,7 +38,7 @@ ABSL_FLAG(int, max_joints, 4096, "largest skeleton in joints");
 ABSL_FLAG(int, worker_threads, 0, "threads that run retiming; 0 = one per core");
 ABSL_FLAG(int, max_queued, 64,
           "requests that may wait for a worker; beyond that, RESOURCE_EXHAUSTED");
-ABSL_FLAG(int64_t, inline_max_bytes, 256 * 1024,
+ABSL_FLAG(int64_t, inline_max_bytes, koma::server::RetimeService::kDefaultInlineMaxBytes,
           "requests of at most this many bytes are retimed on gRPC's callback thread instead "
           "of a worker (saves two thread hand-offs on small clips); 0 = every request on a "
           "worker");
@@ -120,17 +121,6 @@ koma::server::ServerConfig ConfigFromFlags() {
   return config;
 }
 
-// Writes the port through a temporary file and a rename, so a reader never sees it half
-// written.
-bool WritePortFile(const std::string& path, int port) {
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::trunc);
-    if (!(out << port << '\n')) return false;
-  }
-  return std::rename(temporary.c_str(), path.c_str()) == 0;
-}
-
 // The --address with its port replaced by the bound one ("127.0.0.1:0" -> "127.0.0.1:41149").
 std::string ListeningAddress(const std::string& address, int port) {
   const size_t colon = address.rfind(':');
@@ -164,13 +154,7 @@ int main(int argc, char** argv) {
       !s.ok()) {
     return Fail(std::string(s.message()));
   }
-  // Block the stop signals in every thread (gRPC's threads inherit this mask) and take them
-  // synchronously below with sigwait, so no handler runs inside gRPC code.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGTERM);
-  sigaddset(&stop_signals, SIGINT);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  koma::server::StopSignals stop_signals;  // before gRPC starts any thread
 
   koma::server::ServerConfig config = ConfigFromFlags();
   if (!ReadTls(config)) return 1;
@@ -181,11 +165,12 @@ int main(int argc, char** argv) {
   auto server = koma::server::KomaServer::Start(config);
   if (!server.ok()) return Fail(std::string(server.status().message()));
   // Before --port_file: a script that waits for the port file finds both.
-  if (!metrics_port_file.empty() && !WritePortFile(metrics_port_file, (*server)->metrics_port())) {
+  if (!metrics_port_file.empty() &&
+      !koma::server::WritePortFile(metrics_port_file, (*server)->metrics_port())) {
     return Fail(absl::StrCat("--metrics_port_file: cannot write ", metrics_port_file));
   }
   const std::string port_file = absl::GetFlag(FLAGS_port_file);
-  if (!port_file.empty() && !WritePortFile(port_file, (*server)->port())) {
+  if (!port_file.empty() && !koma::server::WritePortFile(port_file, (*server)->port())) {
     return Fail(absl::StrCat("--port_file: cannot write ", port_file));
   }
   const char* security = config.tls_cert_pem.empty()        ? "plaintext"
@@ -200,8 +185,7 @@ int main(int argc, char** argv) {
         "/metrics"));
   }
 
-  int signal_number = 0;
-  sigwait(&stop_signals, &signal_number);
+  const int signal_number = stop_signals.Wait();
   const int delay_ms = std::max(0, absl::GetFlag(FLAGS_shutdown_delay_ms));
   koma::server::LogEvent(absl::StrCat("received ", signal_number == SIGTERM ? "SIGTERM" : "SIGINT",
                                       ", NOT_SERVING; still accepting calls for ", delay_ms,
