@@ -1,5 +1,6 @@
 #include "core/forward_kinematics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -10,14 +11,36 @@
 namespace koma {
 namespace {
 
-// A rigid transform: x' = rotation * x + translation. rotation is row-major 3x3.
-struct Transform {
-  double rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  double translation[3] = {0, 0, 0};
+// Four frames are computed side by side, one per SIMD lane: the transforms of a joint go through
+// the same operations in every frame (only the values differ), so each lane performs exactly
+// the scalar operations of one frame, in the same order, and gets the same bits. Lanes is a
+// GCC/Clang vector extension: two SSE2 registers on plain x86-64, one AVX2 register in the AVX2
+// build (see FillWorldPositions), scalar code elsewhere; no FMA (-ffp-contract=off).
+// Its declared alignment is 8: GCC aligns a 32-byte vector to 32 in the AVX2 build but to 16 in
+// the plain one, where std::vector allocates the transforms below; with alignment 8 every
+// access is an unaligned one (no cost on current x86 cores) and both builds agree.
+typedef double Lanes __attribute__((vector_size(32), aligned(8)));
+constexpr int kLanes = 4;
+
+// Vectors are passed by reference and the helpers are inlined: a 32-byte vector passed by value
+// has a different ABI in the AVX2 and the plain build.
+#define KOMA_FK_INLINE __attribute__((always_inline)) inline
+
+// A rigid transform of four frames: x' = rotation * x + translation. rotation is row-major 3x3.
+struct LaneTransform {
+  Lanes rotation[9];
+  Lanes translation[3];
 };
 
+KOMA_FK_INLINE void Broadcast(double value, Lanes& out) { out = Lanes{value, value, value, value}; }
+
+// Lane l = column[l * stride]: one channel's entry in four consecutive frames.
+KOMA_FK_INLINE void Gather(const double* column, size_t stride, Lanes& out) {
+  out = Lanes{column[0], column[stride], column[2 * stride], column[3 * stride]};
+}
+
 // out = a * b for row-major 3x3 matrices (out must not alias a or b).
-void Multiply3(const double* a, const double* b, double* out) {
+KOMA_FK_INLINE void Multiply3(const Lanes* a, const Lanes* b, Lanes* out) {
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) {
       out[3 * r + c] = a[3 * r] * b[c] + a[3 * r + 1] * b[3 + c] + a[3 * r + 2] * b[6 + c];
@@ -29,7 +52,8 @@ void Multiply3(const double* a, const double* b, double* out) {
 // (intrinsic: later channels multiply on the right). R_axis has only a 2x2 block, so each
 // row mixes two entries: 12 multiplications instead of a full 3x3 product's 27.
 // `s` and `c` are the sine and cosine of the channel's angle.
-void RotateAbout(ChannelKind kind, double s, double c, double* rotation) {
+KOMA_FK_INLINE void RotateAbout(ChannelKind kind, const Lanes& s, const Lanes& c,
+                                Lanes* rotation) {
   // Columns (i, k) of the block: X mixes y,z; Y mixes z,x; Z mixes x,y. In each case
   // new_i = c * old_i + s * old_k and new_k = c * old_k - s * old_i.
   int i = 0;
@@ -42,47 +66,109 @@ void RotateAbout(ChannelKind kind, double s, double c, double* rotation) {
     k = 0;
   }
   for (int r = 0; r < 3; ++r) {
-    const double a = rotation[3 * r + i];
-    const double b = rotation[3 * r + k];
+    const Lanes a = rotation[3 * r + i];
+    const Lanes b = rotation[3 * r + k];
     rotation[3 * r + i] = c * a + s * b;
     rotation[3 * r + k] = c * b - s * a;
   }
 }
 
-// T(offset) * T(position channels) * R(c1) * R(c2) * ... for one joint in one frame;
-// `values` are that joint's channel values in channel order, `sin` and `cos` their sines and
-// cosines (as angles in degrees). The rotation is only computed when `with_rotation` (a
-// joint's own rotation moves its children, never itself).
-Transform LocalTransform(const Joint& joint, const double* values, const double* sin,
-                         const double* cos, bool with_rotation) {
-  Transform local;
-  local.translation[0] = joint.offset.x;
-  local.translation[1] = joint.offset.y;
-  local.translation[2] = joint.offset.z;
+// T(offset) * T(position channels) * R(c1) * R(c2) * ... for one joint in four frames;
+// `values`, `sin` and `cos` point at the joint's first channel in the first frame (frames are
+// `stride` apart): the channel values, and their sines and cosines (as angles in degrees).
+// The rotation is only computed when `with_rotation` (a joint's own rotation moves its
+// children, never itself).
+KOMA_FK_INLINE void LocalTransform(const Joint& joint, const double* values, const double* sin,
+                                   const double* cos, size_t stride, bool with_rotation,
+                                   LaneTransform& local) {
+  constexpr double kIdentity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  for (int e = 0; e < 9; ++e) Broadcast(kIdentity[e], local.rotation[e]);
+  Broadcast(joint.offset.x, local.translation[0]);
+  Broadcast(joint.offset.y, local.translation[1]);
+  Broadcast(joint.offset.z, local.translation[2]);
   for (size_t c = 0; c < joint.channels.size(); ++c) {
     const ChannelKind kind = joint.channels[c];
     if (kind == ChannelKind::kXPosition || kind == ChannelKind::kYPosition ||
         kind == ChannelKind::kZPosition) {
+      Lanes value;
+      Gather(values + c, stride, value);
       local.translation[static_cast<int>(kind) - static_cast<int>(ChannelKind::kXPosition)] +=
-          values[c];
+          value;
     } else if (with_rotation) {
-      RotateAbout(kind, sin[c], cos[c], local.rotation);
+      Lanes s, co;
+      Gather(sin + c, stride, s);
+      Gather(cos + c, stride, co);
+      RotateAbout(kind, s, co, local.rotation);
     }
   }
-  return local;
 }
 
-// parent * local; the rotation only `with_rotation` (a leaf's world rotation is never used).
-Transform Compose(const Transform& parent, const Transform& local, bool with_rotation) {
-  Transform world;
+// world = parent * local; the rotation only `with_rotation` (a leaf's world rotation is never
+// used).
+KOMA_FK_INLINE void Compose(const LaneTransform& parent, const LaneTransform& local,
+                            bool with_rotation, LaneTransform& world) {
   if (with_rotation) Multiply3(parent.rotation, local.rotation, world.rotation);
   for (int r = 0; r < 3; ++r) {
     world.translation[r] = parent.translation[r] + parent.rotation[3 * r] * local.translation[0] +
                            parent.rotation[3 * r + 1] * local.translation[1] +
                            parent.rotation[3 * r + 2] * local.translation[2];
   }
-  return world;
 }
+
+// The positions of every joint in every frame (see ComputeWorldPositions; the sizes are
+// checked there), four frames at a time. Built for plain x86-64 and for AVX2, picked at load
+// time; the same IEEE operations either way (tests/core/forward_kinematics_test pins the bits
+// against a one-frame-at-a-time reference).
+__attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
+    const std::vector<Joint>& joints, const double* values, int frame_count, int channel_count,
+    double* positions) {
+  const size_t joint_count = joints.size();
+  std::vector<bool> has_children(joint_count, false);
+  std::vector<size_t> first_channel(joint_count, 0);
+  for (size_t j = 0, channel = 0; j < joint_count; ++j) {
+    if (joints[j].parent >= 0) has_children[joints[j].parent] = true;
+    first_channel[j] = channel;
+    channel += joints[j].channels.size();
+  }
+  const size_t stride = static_cast<size_t>(channel_count);
+  std::vector<LaneTransform> world(joint_count);  // this group's world transforms
+  // The group's channels' sines and cosines, all at once (a vectorised loop). Not std::sin
+  // and std::cos: their last bits differ between libms, and these bits reach the distances,
+  // the tie rules and the response. Position channels get one too, unused: cheaper than
+  // picking out the rotations.
+  std::vector<double> sin(kLanes * stride);
+  std::vector<double> cos(kLanes * stride);
+  std::vector<double> last_group;  // the last frames, padded with zeros to four
+  for (int f = 0; f < frame_count; f += kLanes) {
+    const int frames = std::min(kLanes, frame_count - f);
+    const double* group = values + static_cast<size_t>(f) * stride;
+    if (frames < kLanes) {
+      last_group.assign(kLanes * stride, 0.0);
+      std::copy(group, group + frames * stride, last_group.begin());
+      group = last_group.data();
+    }
+    SinCosDegrees(group, static_cast<int>(kLanes * stride), sin.data(), cos.data());
+    for (size_t j = 0; j < joint_count; ++j) {
+      const Joint& joint = joints[j];
+      const size_t c = first_channel[j];
+      LaneTransform local;
+      LocalTransform(joint, group + c, sin.data() + c, cos.data() + c, stride, has_children[j],
+                     local);
+      // Parents precede children (ValidateSkeleton rule 2), so world[parent] is ready.
+      if (joint.parent < 0) {
+        world[j] = local;
+      } else {
+        Compose(world[joint.parent], local, has_children[j], world[j]);
+      }
+      for (int l = 0; l < frames; ++l) {
+        double* out = positions + (static_cast<size_t>(f + l) * joint_count + j) * 3;
+        for (int axis = 0; axis < 3; ++axis) out[axis] = world[j].translation[axis][l];
+      }
+    }
+  }
+}
+
+#undef KOMA_FK_INLINE
 
 }  // namespace
 
@@ -101,35 +187,8 @@ absl::StatusOr<std::vector<double>> ComputeWorldPositions(const Skeleton& skelet
                                                    frame_count, " frames x ", channel_count,
                                                    " channels), got ", values.size()));
   }
-  const size_t joint_count = joints.size();
-  std::vector<bool> has_children(joint_count, false);
-  for (const Joint& joint : joints) {
-    if (joint.parent >= 0) has_children[joint.parent] = true;
-  }
-  std::vector<double> positions(static_cast<size_t>(frame_count) * joint_count * 3);
-  std::vector<Transform> world(joint_count);  // this frame's world transforms
-  // This frame's channels' sines and cosines, all at once (a vectorised loop). Not std::sin
-  // and std::cos: their last bits differ between libms, and these bits reach the distances,
-  // the tie rules and the response. Position channels get one too, unused: cheaper than
-  // picking out the rotations.
-  std::vector<double> sin(channel_count);
-  std::vector<double> cos(channel_count);
-  for (int f = 0; f < frame_count; ++f) {
-    const double* frame = values.data() + static_cast<size_t>(f) * channel_count;
-    SinCosDegrees(frame, channel_count, sin.data(), cos.data());
-    double* out = positions.data() + static_cast<size_t>(f) * joint_count * 3;
-    size_t first_channel = 0;
-    for (size_t j = 0; j < joint_count; ++j) {
-      const Joint& joint = joints[j];
-      const Transform local =
-          LocalTransform(joint, frame + first_channel, sin.data() + first_channel,
-                         cos.data() + first_channel, has_children[j]);
-      first_channel += joint.channels.size();
-      // Parents precede children (ValidateSkeleton rule 2), so world[parent] is ready.
-      world[j] = joint.parent < 0 ? local : Compose(world[joint.parent], local, has_children[j]);
-      for (int c = 0; c < 3; ++c) out[3 * j + c] = world[j].translation[c];
-    }
-  }
+  std::vector<double> positions(static_cast<size_t>(frame_count) * joints.size() * 3);
+  FillWorldPositions(joints, values.data(), frame_count, channel_count, positions.data());
   return positions;
 }
 
