@@ -39,12 +39,16 @@ absl::StatusOr<absl::Span<const double>> WorldPositions(const v1::SkeletalMotion
   return absl::MakeConstSpan(storage);
 }
 
-// Output frame t is a verbatim copy of source frame map.source_frames[t].
+// Output frame t is a verbatim copy of source frame map.source_frames[t]. The space is taken
+// uninitialised (Reserve + AddNAlreadyReserved) and written once: Resize would first zero all
+// of it, a second pass over as many bytes as the request (~77 MB at 100k frames x 96 channels).
 void CopyFrames(const google::protobuf::RepeatedField<double>& source, int per_frame,
                 const TimingMap& map, google::protobuf::RepeatedField<double>* out) {
-  out->Resize(static_cast<int>(map.source_frames.size()) * per_frame, 0.0);
-  if (per_frame == 0) return;
-  double* dst = out->mutable_data();
+  const int total = static_cast<int>(map.source_frames.size()) * per_frame;
+  out->Clear();
+  if (total == 0) return;
+  out->Reserve(total);
+  double* dst = out->AddNAlreadyReserved(total);
   for (int32_t frame : map.source_frames) {
     std::memcpy(dst, source.data() + static_cast<size_t>(frame) * per_frame,
                 sizeof(double) * per_frame);
