@@ -52,8 +52,7 @@ KOMA_FK_INLINE void Multiply3(const Lanes* a, const Lanes* b, Lanes* out) {
 // (intrinsic: later channels multiply on the right). R_axis has only a 2x2 block, so each
 // row mixes two entries: 12 multiplications instead of a full 3x3 product's 27.
 // `s` and `c` are the sine and cosine of the channel's angle.
-KOMA_FK_INLINE void RotateAbout(ChannelKind kind, const Lanes& s, const Lanes& c,
-                                Lanes* rotation) {
+KOMA_FK_INLINE void RotateAbout(ChannelKind kind, const Lanes& s, const Lanes& c, Lanes* rotation) {
   // Columns (i, k) of the block: X mixes y,z; Y mixes z,x; Z mixes x,y. In each case
   // new_i = c * old_i + s * old_k and new_k = c * old_k - s * old_i.
   int i = 0;
