@@ -4,6 +4,7 @@
 // koma RPS / echo RPS shows what the retiming itself costs over the wire.
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/support/proto_buffer_writer.h>
 
 #include <algorithm>
 #include <chrono>
@@ -20,6 +21,7 @@
 #include "server/arena_allocator.h"
 #include "server/malloc_tuning.h"
 #include "server/process_control.h"
+#include "server/skeletal_parse.h"
 
 ABSL_FLAG(std::string, address, "127.0.0.1:50052",
           "host:port to listen on; port 0 picks a free port (see --port_file)");
@@ -29,22 +31,41 @@ ABSL_FLAG(int, max_message_bytes, 256 * 1024 * 1024, "largest request or respons
 
 namespace {
 
-// Answers like koma without computing (bench/echo_shapes.h). Messages live on per-call arenas
-// and malloc is tuned exactly as in koma_server, so the two differ only in the computing.
-class EchoService final : public koma::v1::Retime::CallbackService {
+// Answers like koma without computing (bench/echo_shapes.h). Messages live on per-call arenas,
+// RetimeSkeletal is a raw method parsed by koma's own ParseSkeletalRequest, and malloc is tuned
+// exactly as in koma_server, so the two differ only in the computing.
+class EchoService final : public koma::v1::Retime::WithRawCallbackMethod_RetimeSkeletal<
+                              koma::v1::Retime::CallbackService> {
  public:
   EchoService() {
-    SetMessageAllocatorFor_RetimeSkeletal(&skeletal_messages_);
     SetMessageAllocatorFor_RetimeCurves(&curves_messages_);
     SetMessageAllocatorFor_LipBlink(&lip_blink_messages_);
   }
 
  private:
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
-                                           const koma::v1::RetimeSkeletalRequest* request,
-                                           koma::v1::RetimeSkeletalResponse* response) override {
+                                           const grpc::ByteBuffer* request_bytes,
+                                           grpc::ByteBuffer* response_bytes) override {
+    // As koma_server's RetimeSkeletal (server/retime_service.cc): parse, free the received
+    // bytes, answer from an arena, serialise.
+    auto request = std::make_unique<koma::v1::RetimeSkeletalRequest>();
+    const absl::Status parsed = koma::server::ParseSkeletalRequest(*request_bytes, request.get());
+    const_cast<grpc::ByteBuffer*>(request_bytes)->Clear();
+    grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+    if (!parsed.ok()) {
+      reactor->Finish(
+          grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, std::string(parsed.message())));
+      return reactor;
+    }
+    google::protobuf::Arena arena(koma::server::CallArenaOptions());
+    using Response = koma::v1::RetimeSkeletalResponse;
+    Response* response = google::protobuf::Arena::CreateMessage<Response>(&arena);
     koma::echo::SkeletalLookalike(*request, response);
-    return Finish(context);
+    request.reset();
+    bool own_buffer = false;
+    reactor->Finish(grpc::GenericSerialize<grpc::ProtoBufferWriter, Response>(
+        *response, response_bytes, &own_buffer));
+    return reactor;
   }
 
   grpc::ServerUnaryReactor* RetimeCurves(grpc::CallbackServerContext* context,
@@ -61,10 +82,6 @@ class EchoService final : public koma::v1::Retime::CallbackService {
     return Finish(context);
   }
 
-  koma::server::ArenaMessageAllocator<koma::v1::RetimeSkeletalRequest,
-                                      koma::v1::RetimeSkeletalResponse,
-                                      koma::server::RequestStorage::kHeap>
-      skeletal_messages_;
   koma::server::ArenaMessageAllocator<koma::v1::RetimeCurvesRequest, koma::v1::RetimeCurvesResponse>
       curves_messages_;
   koma::server::ArenaMessageAllocator<koma::v1::LipBlinkRequest, koma::v1::LipBlinkResponse>

@@ -9,10 +9,9 @@
 // 100,000-frame clip ~77 MB) as soon as the handler has read it, before the response is
 // serialised; it lowers the peak memory of a large call by the size of its request.
 //
-// RequestStorage::kHeap keeps the request off the arena, for messages that are a few huge
-// packed arrays (skeletal motion): the parser grows such an array chunk by chunk as the bytes
-// arrive, and on an arena every outgrown copy stays until the call ends (measured: ~1x the
-// request again in peak memory), while the heap frees each at once.
+// RetimeSkeletal does not use it: its requests are a few huge packed arrays, which the parser
+// grows chunk by chunk as the bytes arrive (on an arena every outgrown copy stays until the
+// call ends); the service parses those itself, each array allocated once (skeletal_parse.h).
 #ifndef KOMA_SERVER_ARENA_ALLOCATOR_H_
 #define KOMA_SERVER_ARENA_ALLOCATOR_H_
 
@@ -23,10 +22,16 @@
 
 namespace koma::server {
 
-enum class RequestStorage { kArena, kHeap };
+// Blocks grow from 8 KiB (a small call stays in one or two) to 1 MiB; a field larger than a
+// block gets a block of its own, so big packed arrays are not split.
+inline google::protobuf::ArenaOptions CallArenaOptions() {
+  google::protobuf::ArenaOptions options;
+  options.start_block_size = 8 * 1024;
+  options.max_block_size = 1024 * 1024;
+  return options;
+}
 
-template <typename Request, typename Response,
-          RequestStorage kRequestStorage = RequestStorage::kArena>
+template <typename Request, typename Response>
 class ArenaMessageAllocator final : public grpc::MessageAllocator<Request, Response> {
  public:
   grpc::MessageHolder<Request, Response>* AllocateMessages() override { return new Holder; }
@@ -34,14 +39,10 @@ class ArenaMessageAllocator final : public grpc::MessageAllocator<Request, Respo
  private:
   class Holder final : public grpc::MessageHolder<Request, Response> {
    public:
-    Holder() : response_arena_(Options()) {
-      if (kRequestStorage == RequestStorage::kArena) {
-        request_arena_ = std::make_unique<google::protobuf::Arena>(Options());
-        this->set_request(google::protobuf::Arena::CreateMessage<Request>(request_arena_.get()));
-      } else {
-        heap_request_ = std::make_unique<Request>();
-        this->set_request(heap_request_.get());
-      }
+    Holder()
+        : request_arena_(std::make_unique<google::protobuf::Arena>(CallArenaOptions())),
+          response_arena_(CallArenaOptions()) {
+      this->set_request(google::protobuf::Arena::CreateMessage<Request>(request_arena_.get()));
       this->set_response(google::protobuf::Arena::CreateMessage<Response>(&response_arena_));
     }
 
@@ -51,22 +52,11 @@ class ArenaMessageAllocator final : public grpc::MessageAllocator<Request, Respo
     // The request and everything it owns is gone after this; request() is null.
     void FreeRequest() override {
       request_arena_.reset();
-      heap_request_.reset();
       this->set_request(nullptr);
     }
 
    private:
-    // Blocks grow from 8 KiB (a small call stays in one or two) to 1 MiB; a field larger
-    // than a block gets a block of its own, so big packed arrays are not split.
-    static google::protobuf::ArenaOptions Options() {
-      google::protobuf::ArenaOptions options;
-      options.start_block_size = 8 * 1024;
-      options.max_block_size = 1024 * 1024;
-      return options;
-    }
-
-    std::unique_ptr<google::protobuf::Arena> request_arena_;  // kArena
-    std::unique_ptr<Request> heap_request_;                   // kHeap
+    std::unique_ptr<google::protobuf::Arena> request_arena_;
     google::protobuf::Arena response_arena_;
   };
 };

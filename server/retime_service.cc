@@ -1,8 +1,11 @@
 #include "server/retime_service.h"
 
+#include <grpcpp/support/proto_buffer_writer.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -12,6 +15,7 @@
 #include "server/curves_request.h"
 #include "server/lip_blink_request.h"
 #include "server/logging.h"
+#include "server/skeletal_parse.h"
 #include "server/skeletal_request.h"
 #include "server/status_mapping.h"
 
@@ -25,14 +29,21 @@ double MillisecondsSince(Clock::time_point start) {
 }
 
 // Finishes the call, writes its log line and counts it in `metrics` (null: no metrics).
-// `response` is cleared on error so a failed call never carries a partial answer.
-template <typename Response>
-void FinishAndLog(grpc::ServerUnaryReactor* reactor, grpc::Status status, Response* response,
+// `call.Answer(ok)` turns the outcome into the response to send and returns its size; on error
+// it sends nothing, so a failed call never carries a partial answer.
+template <typename Call>
+void FinishAndLog(grpc::ServerUnaryReactor* reactor, grpc::Status status, Call& call,
                   RpcRecord record, Clock::time_point start, const CallMetrics* metrics) {
   if (status.ok()) {
-    record.bytes_out = static_cast<int64_t>(response->ByteSizeLong());
-  } else {
-    response->Clear();
+    absl::StatusOr<int64_t> bytes_out = call.Answer();
+    if (bytes_out.ok()) {
+      record.bytes_out = *bytes_out;
+    } else {
+      status = ToGrpcStatus(bytes_out.status());
+    }
+  }
+  if (!status.ok()) {
+    call.DropAnswer();
     record.error = status.error_message();
   }
   record.code = status.error_code();
@@ -46,6 +57,80 @@ void FinishAndLog(grpc::ServerUnaryReactor* reactor, grpc::Status status, Respon
   }
   reactor->Finish(std::move(status));
 }
+
+// A call of the typed API: gRPC has parsed the request into a message from the method's
+// MessageAllocator and serialises `response` after Finish.
+template <typename Request, typename Response, typename Handler>
+class TypedCall {
+ public:
+  TypedCall(grpc::CallbackServerContext* context, const Request* request, Response* response,
+            Handler handler)
+      : context_(context), request_(request), response_(response), handler_(std::move(handler)) {}
+
+  int64_t BytesIn() const { return static_cast<int64_t>(request_->ByteSizeLong()); }
+  grpc::Status Run(RpcRecord&) { return ToGrpcStatus(handler_(*request_, response_)); }
+  // The handler has read all it needs: drop the request's arena now rather than after the
+  // response is sent (a large call's request is as big as its response).
+  void FreeRequest() { context_->GetRpcAllocatorState()->FreeRequest(); }
+  absl::StatusOr<int64_t> Answer() { return static_cast<int64_t>(response_->ByteSizeLong()); }
+  void DropAnswer() { response_->Clear(); }
+
+ private:
+  grpc::CallbackServerContext* context_;
+  const Request* request_;
+  Response* response_;
+  Handler handler_;
+};
+
+// A RetimeSkeletal call on the raw method: the service parses the received bytes itself
+// (server/skeletal_parse.h: the big value array allocated once at its size) and serialises
+// the response into the bytes gRPC sends.
+class SkeletalBytesCall {
+ public:
+  SkeletalBytesCall(const grpc::ByteBuffer* request_bytes, grpc::ByteBuffer* response_bytes,
+                    const RequestLimits* limits)
+      : request_bytes_(request_bytes),
+        response_bytes_(response_bytes),
+        limits_(limits),
+        request_(std::make_unique<v1::RetimeSkeletalRequest>()),
+        response_arena_(CallArenaOptions()),
+        response_(
+            google::protobuf::Arena::CreateMessage<v1::RetimeSkeletalResponse>(&response_arena_)) {}
+
+  int64_t BytesIn() const { return static_cast<int64_t>(request_bytes_->Length()); }
+
+  grpc::Status Run(RpcRecord& record) {
+    const absl::Status parsed = ParseSkeletalRequest(*request_bytes_, request_.get());
+    // The received bytes are not read again: free them now, as gRPC's own parse does. (The
+    // buffer belongs to the call; Clear() leaves it empty, which gRPC's cleanup accepts.)
+    const_cast<grpc::ByteBuffer*>(request_bytes_)->Clear();
+    if (!parsed.ok()) return ToGrpcStatus(parsed);
+    record.frames = request_->motion().frame_count();
+    record.joints = request_->motion().skeleton().joints_size();
+    return ToGrpcStatus(HandleRetimeSkeletal(*request_, *limits_, response_));
+  }
+  void FreeRequest() { request_.reset(); }
+  absl::StatusOr<int64_t> Answer() {
+    bool own_buffer = false;
+    const grpc::Status serialised =
+        grpc::GenericSerialize<grpc::ProtoBufferWriter, v1::RetimeSkeletalResponse>(
+            *response_, response_bytes_, &own_buffer);
+    if (!serialised.ok()) {
+      return absl::InternalError(
+          absl::StrCat("response: cannot be serialised: ", serialised.error_message()));
+    }
+    return static_cast<int64_t>(response_bytes_->Length());
+  }
+  void DropAnswer() { response_bytes_->Clear(); }
+
+ private:
+  const grpc::ByteBuffer* request_bytes_;
+  grpc::ByteBuffer* response_bytes_;
+  const RequestLimits* limits_;
+  std::unique_ptr<v1::RetimeSkeletalRequest> request_;  // on the heap: see skeletal_parse.h
+  google::protobuf::Arena response_arena_;
+  v1::RetimeSkeletalResponse* response_;
+};
 
 grpc::Status Busy(absl::string_view method) {
   return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
@@ -75,11 +160,10 @@ std::string RequestId(const grpc::CallbackServerContext& context) {
 
 }  // namespace
 
-template <typename Request, typename Response, typename Handler>
+template <typename Call>
 grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* context,
-                                                  const Request* request, Response* response,
-                                                  RpcMethod method, RpcRecord record,
-                                                  Handler handler) {
+                                                  std::shared_ptr<Call> call, RpcMethod method,
+                                                  RpcRecord record) {
   const Clock::time_point start = Clock::now();
   const CallMetrics* metrics = metrics_ != nullptr ? &metrics_->ForMethod(method) : nullptr;
   if (metrics != nullptr) metrics->Start();
@@ -87,18 +171,16 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   record.peer = context->peer();
   record.request_id = RequestId(*context);
   context->AddInitialMetadata(std::string(kRequestIdKey), record.request_id);
-  record.bytes_in = static_cast<int64_t>(request->ByteSizeLong());
-  auto run = [context, request, response, reactor, record, start, metrics, handler]() {
+  record.bytes_in = call->BytesIn();
+  auto run = [context, call, reactor, record, start, metrics]() mutable {
     grpc::Status status;
     if (context->IsCancelled()) {
       status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it started");
     } else {
-      status = ToGrpcStatus(handler(*request, response));
+      status = call->Run(record);
     }
-    // The handler has read all it needs: drop the request's arena now rather than after
-    // the response is sent (a large clip's request is as big as its response).
-    context->GetRpcAllocatorState()->FreeRequest();
-    FinishAndLog(reactor, std::move(status), response, record, start, metrics);
+    call->FreeRequest();
+    FinishAndLog(reactor, std::move(status), *call, record, start, metrics);
   };
   // A small call (a Pitch-size clip is ~100 KB and retimes in well under a millisecond) runs
   // right here: handing it to a worker and back costs a thread wake-up each way, which on 2
@@ -107,22 +189,30 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   // and the bounded queue still applies to them.
   if (record.bytes_in <= inline_max_bytes_) {
     run();
-  } else if (!pool_->TrySubmit(std::move(run))) {
-    FinishAndLog(reactor, Busy(record.method), response, record, start, metrics);
+  } else if (!pool_->TrySubmit(run)) {
+    FinishAndLog(reactor, Busy(record.method), *call, record, start, metrics);
   }
   return reactor;
 }
 
+template <typename Request, typename Response, typename Handler>
+grpc::ServerUnaryReactor* RetimeService::DispatchTyped(grpc::CallbackServerContext* context,
+                                                       const Request* request, Response* response,
+                                                       RpcMethod method, RpcRecord record,
+                                                       Handler handler) {
+  return Dispatch(context,
+                  std::make_shared<TypedCall<Request, Response, Handler>>(
+                      context, request, response, std::move(handler)),
+                  method, std::move(record));
+}
+
 grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(grpc::CallbackServerContext* context,
-                                                        const v1::RetimeSkeletalRequest* request,
-                                                        v1::RetimeSkeletalResponse* response) {
+                                                        const grpc::ByteBuffer* request,
+                                                        grpc::ByteBuffer* response) {
   RpcRecord record;
-  record.method = "RetimeSkeletal";
-  record.frames = request->motion().frame_count();
-  record.joints = request->motion().skeleton().joints_size();
-  return Dispatch(
-      context, request, response, RpcMethod::kRetimeSkeletal, std::move(record),
-      [this](const auto& in, auto* out) { return HandleRetimeSkeletal(in, limits_, out); });
+  record.method = "RetimeSkeletal";  // frames and joints are filled in once it is parsed
+  return Dispatch(context, std::make_shared<SkeletalBytesCall>(request, response, &limits_),
+                  RpcMethod::kRetimeSkeletal, std::move(record));
 }
 
 grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContext* context,
@@ -132,7 +222,7 @@ grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContex
   record.method = "RetimeCurves";
   record.frames = request->curves().frame_count();
   record.curves = request->curves().curves_size();
-  return Dispatch(
+  return DispatchTyped(
       context, request, response, RpcMethod::kRetimeCurves, std::move(record),
       [this](const auto& in, auto* out) { return HandleRetimeCurves(in, limits_, out); });
 }
@@ -144,8 +234,9 @@ grpc::ServerUnaryReactor* RetimeService::LipBlink(grpc::CallbackServerContext* c
   record.method = "LipBlink";
   record.frames = request->curves().frame_count();
   record.curves = request->curves().curves_size();
-  return Dispatch(context, request, response, RpcMethod::kLipBlink, std::move(record),
-                  [this](const auto& in, auto* out) { return HandleLipBlink(in, limits_, out); });
+  return DispatchTyped(
+      context, request, response, RpcMethod::kLipBlink, std::move(record),
+      [this](const auto& in, auto* out) { return HandleLipBlink(in, limits_, out); });
 }
 
 }  // namespace koma::server

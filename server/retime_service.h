@@ -1,10 +1,12 @@
-// The koma.v1.Retime service on gRPC's callback API. Each RPC is handed to a WorkerPool so
-// CPU-bound retiming never runs on gRPC's own event threads; the reactor is finished from the
-// worker.
+// The koma.v1.Retime service on gRPC's callback API. Small calls run on gRPC's callback
+// thread; large ones are handed to a WorkerPool, so a call of seconds never holds one of
+// gRPC's event threads, and the reactor is finished from the worker.
 #ifndef KOMA_SERVER_RETIME_SERVICE_H_
 #define KOMA_SERVER_RETIME_SERVICE_H_
 
 #include <grpcpp/grpcpp.h>
+
+#include <memory>
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/arena_allocator.h"
@@ -15,7 +17,10 @@
 
 namespace koma::server {
 
-class RetimeService final : public v1::Retime::CallbackService {
+// RetimeSkeletal is a raw method (bytes in, bytes out): the service parses its request itself,
+// so the big value array is allocated once at its size (server/skeletal_parse.h).
+class RetimeService final
+    : public v1::Retime::WithRawCallbackMethod_RetimeSkeletal<v1::Retime::CallbackService> {
  public:
   // Requests of at most this many serialised bytes run on gRPC's callback thread itself.
   static constexpr int64_t kDefaultInlineMaxBytes = 256 * 1024;
@@ -26,14 +31,13 @@ class RetimeService final : public v1::Retime::CallbackService {
   RetimeService(const RequestLimits& limits, WorkerPool* pool, const RpcMetrics* metrics = nullptr,
                 int64_t inline_max_bytes = kDefaultInlineMaxBytes)
       : limits_(limits), pool_(pool), metrics_(metrics), inline_max_bytes_(inline_max_bytes) {
-    SetMessageAllocatorFor_RetimeSkeletal(&skeletal_messages_);
     SetMessageAllocatorFor_RetimeCurves(&curves_messages_);
     SetMessageAllocatorFor_LipBlink(&lip_blink_messages_);
   }
 
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
-                                           const v1::RetimeSkeletalRequest* request,
-                                           v1::RetimeSkeletalResponse* response) override;
+                                           const grpc::ByteBuffer* request,
+                                           grpc::ByteBuffer* response) override;
   grpc::ServerUnaryReactor* RetimeCurves(grpc::CallbackServerContext* context,
                                          const v1::RetimeCurvesRequest* request,
                                          v1::RetimeCurvesResponse* response) override;
@@ -42,22 +46,25 @@ class RetimeService final : public v1::Retime::CallbackService {
                                      v1::LipBlinkResponse* response) override;
 
  private:
-  // Runs `handler(*request, response)` (returning absl::Status): inline when the request is
-  // small, else on the worker pool, or answers RESOURCE_EXHAUSTED when the pool's queue is
-  // full; logs one line and counts the call in the metrics of `method` when finished.
+  // Runs `call` (its Run, FreeRequest, then Answer or DropAnswer; see retime_service.cc):
+  // inline when the request is small, else on the worker pool, or answers RESOURCE_EXHAUSTED
+  // when the pool's queue is full; logs one line and counts the call in the metrics of
+  // `method` when finished.
+  template <typename Call>
+  grpc::ServerUnaryReactor* Dispatch(grpc::CallbackServerContext* context,
+                                     std::shared_ptr<Call> call, RpcMethod method,
+                                     RpcRecord record);
+  // Dispatch for a typed method: `handler(*request, response)` returns absl::Status.
   template <typename Request, typename Response, typename Handler>
-  grpc::ServerUnaryReactor* Dispatch(grpc::CallbackServerContext* context, const Request* request,
-                                     Response* response, RpcMethod method, RpcRecord record,
-                                     Handler handler);
+  grpc::ServerUnaryReactor* DispatchTyped(grpc::CallbackServerContext* context,
+                                          const Request* request, Response* response,
+                                          RpcMethod method, RpcRecord record, Handler handler);
 
   const RequestLimits limits_;
   WorkerPool* const pool_;
   const RpcMetrics* const metrics_;
   const int64_t inline_max_bytes_;
   // Each call's request and response on protobuf arenas (server/arena_allocator.h).
-  ArenaMessageAllocator<v1::RetimeSkeletalRequest, v1::RetimeSkeletalResponse,
-                        RequestStorage::kHeap>
-      skeletal_messages_;
   ArenaMessageAllocator<v1::RetimeCurvesRequest, v1::RetimeCurvesResponse> curves_messages_;
   ArenaMessageAllocator<v1::LipBlinkRequest, v1::LipBlinkResponse> lip_blink_messages_;
 };
