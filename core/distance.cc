@@ -8,6 +8,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "core/huge_page_vector.h"
 #include "core/magnitude_scan.h"
 #include "core/status_macros.h"
 
@@ -201,8 +202,8 @@ std::vector<double> FrameDistance::InputSsd() const {
   return ssd;
 }
 
-void FrameDistance::AdjacentDistances(std::vector<double>* ssd, std::vector<double>* skip,
-                                      std::vector<double>* skip2) const {
+template <typename Vector>
+void FrameDistance::AdjacentDistances(Vector* ssd, Vector* skip, Vector* skip2) const {
   const int n = frame_count_;
   if (ssd != nullptr) ssd->assign(n, 0.0);
   if (skip != nullptr) skip->assign(n, 0.0);
@@ -254,5 +255,10 @@ void FrameDistance::AdjacentDistances(std::vector<double>* ssd, std::vector<doub
     if (k + 1 < n) out_skip[k] = (*this)(k - 1, k + 1);
   }
 }
+
+template void FrameDistance::AdjacentDistances(std::vector<double>*, std::vector<double>*,
+                                               std::vector<double>*) const;
+template void FrameDistance::AdjacentDistances(HugePageVector<double>*, HugePageVector<double>*,
+                                               HugePageVector<double>*) const;
 
 }  // namespace koma

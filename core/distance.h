@@ -71,17 +71,18 @@ class FrameDistance {
   // skip[k] = dist(k - 1, k + 1) for 1 <= k <= N - 2 and skip2[k] = dist(k - 1, k + 2) for
   // 1 <= k <= N - 3 (0 elsewhere), each bit-identical to operator() (same summation order).
   // Any pointer may be null; non-null vectors are resized to frame_count.
-  void AdjacentDistances(std::vector<double>* ssd, std::vector<double>* skip,
-                         std::vector<double>* skip2 = nullptr) const;
+  // `Vector` is std::vector<double> or HugePageVector<double> (core/huge_page_vector.h).
+  template <typename Vector>
+  void AdjacentDistances(Vector* ssd, Vector* skip, Vector* skip2 = nullptr) const;
 
  private:
   FrameDistance() = default;
   int frame_count_ = 0;
   int joint_count_ = 0;
-  int dims_ = 3;                 // 3, or 2 after camera projection
-  std::vector<double> owned_;         // the transformed points, unless read in place
-  absl::Span<const double> points_;   // frame_count x joint_count x dims_: owned_ or a view
-  std::vector<double> weights_;  // joint_count
+  int dims_ = 3;                     // 3, or 2 after camera projection
+  std::vector<double> owned_;        // the transformed points, unless read in place
+  absl::Span<const double> points_;  // frame_count x joint_count x dims_: owned_ or a view
+  std::vector<double> weights_;      // joint_count
 };
 
 }  // namespace koma

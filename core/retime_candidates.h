@@ -13,6 +13,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/huge_page_vector.h"
+
 namespace koma::retime_internal {
 
 // 16 bytes, so four siblings of the 4-ary heap share one 64-byte cache line.
@@ -127,7 +129,7 @@ class CandidateHeap {
   bool bulk_ = false;
   bool bounded_ = false;
   CandidateEntry bound_;
-  std::vector<CandidateEntry> entries_;
+  HugePageVector<CandidateEntry> entries_;
 };
 
 // The hold queue of RetimeFast (smallest SSD first, ties to the smallest run): the same
@@ -251,8 +253,8 @@ class SortedCandidateQueue {
   size_t sorted_end_ = 0;  // sorted_[..sorted_end_) are in final order
   size_t bucket_ = 0;      // the bucket being read
   std::vector<uint32_t> bucket_end_;
-  std::vector<CandidateEntry> sorted_;
-  std::vector<CandidateEntry> scratch_;
+  HugePageVector<CandidateEntry> sorted_;
+  HugePageVector<CandidateEntry> scratch_;
   CandidateHeap pushed_;
 };
 
