@@ -1,0 +1,135 @@
+// RetimeCurves answers pinned byte for byte: the exact bytes the server sends (a generic call,
+// so nothing is parsed and serialised again on the client) for fixed requests that use every
+// segment type, dense samples, curve and segment overrides, tame and tsume. A change that only
+// makes the server faster must leave these fingerprints as they are; a change that means to
+// alter the answer updates them and says so.
+#include <grpcpp/generic/generic_stub.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/split_mix64.h"
+#include "koma/v1/retime.pb.h"
+#include "tests/server/in_process_server.h"
+
+namespace koma::server {
+namespace {
+
+// FNV-1a, 64 bits: a fingerprint of the answer's bytes.
+uint64_t Fnv1a64(const std::string& bytes) {
+  uint64_t hash = 0xcbf29ce484222325ULL;
+  for (unsigned char c : bytes) {
+    hash ^= c;
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+void SetPoint(double frame, double value, v1::CurvePoint* point) {
+  point->set_frame(frame);
+  point->set_value(value);
+}
+
+// `curves` keyframe curves over `frames` frames, keys every 5-14 frames, segment types drawn
+// from all four (Beziers with handles inside their segment), plus one dense curve; ids
+// "P0", "P1", ...
+v1::RetimeCurvesRequest MixedRequest(int curves, int frames, uint64_t seed) {
+  SplitMix64 rng(seed);
+  v1::RetimeCurvesRequest request;
+  v1::CurveSet* set = request.mutable_curves();
+  set->set_fps(30.0);
+  set->set_frame_count(frames);
+  set->set_beziers_restricted(true);
+  for (int c = 0; c < curves; ++c) {
+    v1::Curve* curve = set->add_curves();
+    curve->set_id("P" + std::to_string(c));
+    double frame = 0.0;
+    SetPoint(frame, rng.Unit() * 60.0 - 30.0, curve->mutable_start());
+    while (frame < frames - 1) {
+      const double next = std::min<double>(frames - 1, frame + rng.Int(5, 14));
+      v1::CurveSegment* segment = curve->add_segments();
+      const int type = rng.Int(1, 4);
+      segment->set_type(static_cast<v1::SegmentType>(type));
+      if (type == v1::SEGMENT_BEZIER) {
+        const double third = (next - frame) / 3.0;
+        SetPoint(frame + third, rng.Unit() * 60.0 - 30.0, segment->mutable_handle1());
+        SetPoint(next - third, rng.Unit() * 60.0 - 30.0, segment->mutable_handle2());
+      }
+      SetPoint(next, rng.Unit() * 60.0 - 30.0, segment->mutable_end());
+      frame = next;
+    }
+  }
+  v1::Curve* dense = set->add_curves();
+  dense->set_id("Dense");
+  for (int f = 0; f < frames; ++f) dense->add_samples(rng.Unit());
+  return request;
+}
+
+// The raw bytes the server answers for `request` (the call must succeed).
+std::string AnswerBytes(koma::testing::InProcessServer& server,
+                        const v1::RetimeCurvesRequest& request) {
+  grpc::GenericStub generic(server.server().InProcessChannel());
+  grpc::ClientContext context;
+  koma::testing::SetTestDeadline(context);
+  const std::string serialised = request.SerializeAsString();
+  grpc::Slice slice(serialised);
+  const grpc::ByteBuffer request_bytes(&slice, 1);
+  grpc::ByteBuffer response_bytes;
+  grpc::Status status;
+  grpc::internal::Mutex mu;
+  grpc::internal::CondVar cv;
+  bool done = false;
+  generic.UnaryCall(&context, "/koma.v1.Retime/RetimeCurves", grpc::StubOptions(),
+                    &request_bytes, &response_bytes, [&](grpc::Status s) {
+                      grpc::internal::MutexLock lock(&mu);
+                      status = std::move(s);
+                      done = true;
+                      cv.Signal();
+                    });
+  {
+    grpc::internal::MutexLock lock(&mu);
+    while (!done) cv.Wait(&mu);
+  }
+  EXPECT_TRUE(status.ok()) << status.error_message();
+  std::vector<grpc::Slice> slices;
+  EXPECT_TRUE(response_bytes.Dump(&slices).ok());
+  std::string bytes;
+  for (const grpc::Slice& s : slices) {
+    bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
+  }
+  return bytes;
+}
+
+TEST(CurvesGoldenTest, DefaultOptionsAnswerTheSameBytes) {
+  koma::testing::InProcessServer server;
+  const std::string bytes = AnswerBytes(server, MixedRequest(12, 300, 1));
+  EXPECT_EQ(bytes.size(), 106839u);
+  EXPECT_EQ(Fnv1a64(bytes), 6502357649322255037ULL);
+}
+
+TEST(CurvesGoldenTest, OverridesTameAndTsumeAnswerTheSameBytes) {
+  koma::testing::InProcessServer server;
+  v1::RetimeCurvesRequest request = MixedRequest(8, 240, 2);
+  request.set_frames_per_drawing(2);
+  request.set_tame(1.4);
+  request.set_tsume(1.25);
+  v1::CurveOverride* own = request.add_curve_overrides();
+  own->set_curve_id("P3");
+  own->set_frames_per_drawing(3);
+  own = request.add_curve_overrides();
+  own->set_curve_id("Dense");
+  own->set_frames_per_drawing(1);
+  v1::SegmentOverride* segment = request.add_segment_overrides();
+  segment->set_segment(1);
+  segment->set_frames_per_drawing(4);
+  segment->set_tsume(2.0);
+  const std::string bytes = AnswerBytes(server, request);
+  EXPECT_EQ(bytes.size(), 62813u);
+  EXPECT_EQ(Fnv1a64(bytes), 126128801214034750ULL);
+}
+
+}  // namespace
+}  // namespace koma::server
