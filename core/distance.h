@@ -11,6 +11,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/types/span.h"
+#include "core/huge_page_vector.h"
 
 namespace koma {
 
@@ -79,8 +80,10 @@ class FrameDistance {
   FrameDistance() = default;
   int frame_count_ = 0;
   int joint_count_ = 0;
-  int dims_ = 3;                     // 3, or 2 after camera projection
-  std::vector<double> owned_;        // the transformed points, unless read in place
+  int dims_ = 3;  // 3, or 2 after camera projection
+  // The transformed points, unless read in place; on huge pages when large (every distance
+  // pass reads them, the holds at random).
+  HugePageVector<double> owned_;
   absl::Span<const double> points_;  // frame_count x joint_count x dims_: owned_ or a view
   std::vector<double> weights_;      // joint_count
 };
