@@ -171,9 +171,9 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
 
 }  // namespace
 
-absl::StatusOr<std::vector<double>> ComputeWorldPositions(const Skeleton& skeleton,
-                                                          absl::Span<const double> values,
-                                                          int frame_count) {
+absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& skeleton,
+                                                             absl::Span<const double> values,
+                                                             int frame_count) {
   KOMA_RETURN_IF_ERROR(ValidateSkeleton(skeleton));
   const std::vector<Joint>& joints = skeleton.joints;
   const int channel_count = ChannelCount(skeleton);
@@ -186,12 +186,12 @@ absl::StatusOr<std::vector<double>> ComputeWorldPositions(const Skeleton& skelet
                                                    frame_count, " frames x ", channel_count,
                                                    " channels), got ", values.size()));
   }
-  std::vector<double> positions(static_cast<size_t>(frame_count) * joints.size() * 3);
+  HugePageVector<double> positions(static_cast<size_t>(frame_count) * joints.size() * 3);
   FillWorldPositions(joints, values.data(), frame_count, channel_count, positions.data());
   return positions;
 }
 
-absl::StatusOr<std::vector<double>> ComputeWorldPositions(const SkeletalClip& clip) {
+absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const SkeletalClip& clip) {
   return ComputeWorldPositions(clip.skeleton, clip.values, clip.frame_count);
 }
 

@@ -6,11 +6,13 @@
 
 #include "absl/status/statusor.h"
 #include "absl/types/span.h"
+#include "core/huge_page_vector.h"
 #include "core/skeleton.h"
 
 namespace koma {
 
-// World positions of every joint in every frame, frame-major: frame_count x joints x 3.
+// World positions of every joint in every frame, frame-major: frame_count x joints x 3 (on
+// huge pages when large: core/huge_page_vector.h).
 //
 // Convention (the common BVH reading): a joint's local transform is
 //   T(offset) * T(position channels) * R(c1) * R(c2) * ...
@@ -19,13 +21,13 @@ namespace koma {
 // parent world * local; a joint's position is the translation of its world transform.
 // Requires ValidateSkeleton OK and values.size() == frame_count * ChannelCount.
 // INVALID_ARGUMENT if the sizes disagree.
-absl::StatusOr<std::vector<double>> ComputeWorldPositions(const SkeletalClip& clip);
+absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const SkeletalClip& clip);
 
 // The same over channel values held elsewhere (the server passes a view of the request's
 // packed field, so 77 MB of a 100k-frame clip are not copied first).
-absl::StatusOr<std::vector<double>> ComputeWorldPositions(const Skeleton& skeleton,
-                                                          absl::Span<const double> values,
-                                                          int frame_count);
+absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& skeleton,
+                                                             absl::Span<const double> values,
+                                                             int frame_count);
 
 }  // namespace koma
 

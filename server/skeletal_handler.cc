@@ -30,9 +30,9 @@ absl::Span<const double> SpanOf(const google::protobuf::RepeatedField<double>& f
 // own positions (no copy).
 absl::StatusOr<absl::Span<const double>> WorldPositions(const v1::SkeletalMotion& motion,
                                                         const SkeletalJob& job,
-                                                        std::vector<double>& storage) {
+                                                        HugePageVector<double>& storage) {
   if (!job.channel_form) return SpanOf(motion.positions().values());
-  absl::StatusOr<std::vector<double>> positions =
+  absl::StatusOr<HugePageVector<double>> positions =
       ComputeWorldPositions(job.skeleton, SpanOf(motion.channels().values()), job.frame_count);
   if (!positions.ok()) return positions.status();
   storage = *std::move(positions);
@@ -101,7 +101,7 @@ absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
     // In this scope FK's world positions (as large as the request) are alive; they are freed
     // before the response is built, so a large call never holds request, positions and
     // response at once (peak memory: measured in docs/benchmarks.md).
-    std::vector<double> computed_positions;
+    HugePageVector<double> computed_positions;
     KOMA_ASSIGN_OR_RETURN(const absl::Span<const double> positions,
                           WorldPositions(request.motion(), job, computed_positions));
     absl::StatusOr<FrameDistance> distance = FrameDistance::CreateView(

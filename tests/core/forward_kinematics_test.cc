@@ -26,7 +26,7 @@ constexpr double kTolerance = 1e-9;  // cos(90 deg) is 6e-17, not 0
 
 using C = ChannelKind;
 
-void ExpectPosition(const std::vector<double>& positions, int joint_count, int frame, int joint,
+void ExpectPosition(const HugePageVector<double>& positions, int joint_count, int frame, int joint,
                     Vec3 expected) {
   const size_t k = (static_cast<size_t>(frame) * joint_count + joint) * 3;
   ASSERT_LT(k + 2, positions.size());
@@ -55,7 +55,7 @@ SkeletalClip ChainClip() {
 }
 
 TEST(ForwardKinematicsTest, ChainWithRotationsInListedOrder) {
-  ASSERT_OK_AND_ASSIGN(const std::vector<double> p, ComputeWorldPositions(ChainClip()));
+  ASSERT_OK_AND_ASSIGN(const HugePageVector<double> p, ComputeWorldPositions(ChainClip()));
   ASSERT_EQ(p.size(), 2u * 3u * 3u);  // end sites are not joints
   // root = offset + position channels = (1, 2, 3) + (10, 20, 30).
   ExpectPosition(p, 3, 0, 0, {11, 22, 33});
@@ -68,7 +68,7 @@ TEST(ForwardKinematicsTest, ChainWithRotationsInListedOrder) {
 }
 
 TEST(ForwardKinematicsTest, RestPoseIsTheSumOfOffsets) {
-  ASSERT_OK_AND_ASSIGN(const std::vector<double> p, ComputeWorldPositions(ChainClip()));
+  ASSERT_OK_AND_ASSIGN(const HugePageVector<double> p, ComputeWorldPositions(ChainClip()));
   ExpectPosition(p, 3, 1, 0, {1, 2, 3});
   ExpectPosition(p, 3, 1, 1, {1, 4, 3});
   ExpectPosition(p, 3, 1, 2, {1, 4, 6});
@@ -88,7 +88,7 @@ TEST(ForwardKinematicsTest, ChildWithSixChannelsInMixedOrder) {
   };
   clip.frame_count = 1;
   clip.values = {90, /*six:*/ 90, 2, 0, 3, 0, 4};
-  ASSERT_OK_AND_ASSIGN(const std::vector<double> p, ComputeWorldPositions(clip));
+  ASSERT_OK_AND_ASSIGN(const HugePageVector<double> p, ComputeWorldPositions(clip));
   ExpectPosition(p, 3, 0, 0, {0, 0, 0});
   // six = Ry(90) * ((1, 0, 0) + (2, 3, 4)) = Ry(90) * (3, 3, 4) = (4, 3, -3).
   ExpectPosition(p, 3, 0, 1, {4, 3, -3});
@@ -102,7 +102,7 @@ TEST(ForwardKinematicsTest, SmallAngleMatchesTrigonometry) {
                           {"bone", 0, {2, 0, 0}, {}, {}}};
   clip.frame_count = 1;
   clip.values = {30};
-  ASSERT_OK_AND_ASSIGN(const std::vector<double> p, ComputeWorldPositions(clip));
+  ASSERT_OK_AND_ASSIGN(const HugePageVector<double> p, ComputeWorldPositions(clip));
   // 30 degrees about z: (2 cos 30, 2 sin 30, 0) = (sqrt(3), 1, 0).
   ExpectPosition(p, 2, 0, 1, {1.7320508075688772, 1, 0});
 }
@@ -126,7 +126,7 @@ TEST(ForwardKinematicsTest, ZeroFramesGiveNoPositions) {
   SkeletalClip clip = ChainClip();
   clip.frame_count = 0;
   clip.values.clear();
-  ASSERT_OK_AND_ASSIGN(const std::vector<double> p, ComputeWorldPositions(clip));
+  ASSERT_OK_AND_ASSIGN(const HugePageVector<double> p, ComputeWorldPositions(clip));
   EXPECT_TRUE(p.empty());
 }
 
@@ -226,7 +226,7 @@ TEST(ForwardKinematicsTest, FourFramesAtOnceEqualOneFrameAtATimeBitForBit) {
     for (double& v : values) {
       v = rng.OneIn(6) ? 90.0 * rng.Int(-8, 8) : (rng.Unit() - 0.5) * (rng.OneIn(3) ? 1e-6 : 2000);
     }
-    ASSERT_OK_AND_ASSIGN(const std::vector<double> fast,
+    ASSERT_OK_AND_ASSIGN(const HugePageVector<double> fast,
                          ComputeWorldPositions(skeleton, values, frames));
     const std::vector<double> want = ReferencePositions(skeleton, values, frames);
     ASSERT_EQ(fast.size(), want.size()) << "clip " << clip;
