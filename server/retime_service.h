@@ -18,9 +18,12 @@
 namespace koma::server {
 
 // RetimeSkeletal is a raw method (bytes in, bytes out): the service parses its request itself,
-// so the big value array is allocated once at its size (server/skeletal_parse.h).
+// so the big value array is allocated once at its size (server/skeletal_parse.h). RetimeCurves
+// is raw too, so its request size is the received length and its response is sized once
+// (ArenaBytesCall in retime_service.cc).
 class RetimeService final
-    : public v1::Retime::WithRawCallbackMethod_RetimeSkeletal<v1::Retime::CallbackService> {
+    : public v1::Retime::WithRawCallbackMethod_RetimeCurves<
+          v1::Retime::WithRawCallbackMethod_RetimeSkeletal<v1::Retime::CallbackService>> {
  public:
   // Requests of at most this many serialised bytes run on gRPC's callback thread itself.
   static constexpr int64_t kDefaultInlineMaxBytes = 256 * 1024;
@@ -31,7 +34,6 @@ class RetimeService final
   RetimeService(const RequestLimits& limits, WorkerPool* pool, const RpcMetrics* metrics = nullptr,
                 int64_t inline_max_bytes = kDefaultInlineMaxBytes)
       : limits_(limits), pool_(pool), metrics_(metrics), inline_max_bytes_(inline_max_bytes) {
-    SetMessageAllocatorFor_RetimeCurves(&curves_messages_);
     SetMessageAllocatorFor_LipBlink(&lip_blink_messages_);
   }
 
@@ -39,8 +41,8 @@ class RetimeService final
                                            const grpc::ByteBuffer* request,
                                            grpc::ByteBuffer* response) override;
   grpc::ServerUnaryReactor* RetimeCurves(grpc::CallbackServerContext* context,
-                                         const v1::RetimeCurvesRequest* request,
-                                         v1::RetimeCurvesResponse* response) override;
+                                         const grpc::ByteBuffer* request,
+                                         grpc::ByteBuffer* response) override;
   grpc::ServerUnaryReactor* LipBlink(grpc::CallbackServerContext* context,
                                      const v1::LipBlinkRequest* request,
                                      v1::LipBlinkResponse* response) override;
@@ -64,8 +66,8 @@ class RetimeService final
   WorkerPool* const pool_;
   const RpcMetrics* const metrics_;
   const int64_t inline_max_bytes_;
-  // Each call's request and response on protobuf arenas (server/arena_allocator.h).
-  ArenaMessageAllocator<v1::RetimeCurvesRequest, v1::RetimeCurvesResponse> curves_messages_;
+  // Each LipBlink call's request and response on protobuf arenas (server/arena_allocator.h);
+  // RetimeCurves makes its own (ArenaBytesCall).
   ArenaMessageAllocator<v1::LipBlinkRequest, v1::LipBlinkResponse> lip_blink_messages_;
 };
 

@@ -68,22 +68,22 @@ v1::RetimeCurvesRequest MixedRequest(int curves, int frames, uint64_t seed) {
   return request;
 }
 
-// The raw bytes the server answers for `request` (the call must succeed).
-std::string AnswerBytes(koma::testing::InProcessServer& server,
-                        const v1::RetimeCurvesRequest& request) {
+// Sends `request_bytes` to RetimeCurves as they are and returns the call's status; the raw
+// bytes of the answer go to `answer`.
+grpc::Status RawCall(koma::testing::InProcessServer& server, const std::string& request_bytes,
+                     std::string* answer) {
   grpc::GenericStub generic(server.server().InProcessChannel());
   grpc::ClientContext context;
   koma::testing::SetTestDeadline(context);
-  const std::string serialised = request.SerializeAsString();
-  grpc::Slice slice(serialised);
-  const grpc::ByteBuffer request_bytes(&slice, 1);
-  grpc::ByteBuffer response_bytes;
+  grpc::Slice slice(request_bytes);
+  const grpc::ByteBuffer request(&slice, 1);
+  grpc::ByteBuffer response;
   grpc::Status status;
   grpc::internal::Mutex mu;
   grpc::internal::CondVar cv;
   bool done = false;
-  generic.UnaryCall(&context, "/koma.v1.Retime/RetimeCurves", grpc::StubOptions(),
-                    &request_bytes, &response_bytes, [&](grpc::Status s) {
+  generic.UnaryCall(&context, "/koma.v1.Retime/RetimeCurves", grpc::StubOptions(), &request,
+                    &response, [&](grpc::Status s) {
                       grpc::internal::MutexLock lock(&mu);
                       status = std::move(s);
                       done = true;
@@ -93,13 +93,22 @@ std::string AnswerBytes(koma::testing::InProcessServer& server,
     grpc::internal::MutexLock lock(&mu);
     while (!done) cv.Wait(&mu);
   }
-  EXPECT_TRUE(status.ok()) << status.error_message();
+  answer->clear();
   std::vector<grpc::Slice> slices;
-  EXPECT_TRUE(response_bytes.Dump(&slices).ok());
-  std::string bytes;
-  for (const grpc::Slice& s : slices) {
-    bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
+  if (status.ok() && response.Dump(&slices).ok()) {
+    for (const grpc::Slice& s : slices) {
+      answer->append(reinterpret_cast<const char*>(s.begin()), s.size());
+    }
   }
+  return status;
+}
+
+// The raw bytes the server answers for `request` (the call must succeed).
+std::string AnswerBytes(koma::testing::InProcessServer& server,
+                        const v1::RetimeCurvesRequest& request) {
+  std::string bytes;
+  const grpc::Status status = RawCall(server, request.SerializeAsString(), &bytes);
+  EXPECT_TRUE(status.ok()) << status.error_message();
   return bytes;
 }
 
@@ -129,6 +138,18 @@ TEST(CurvesGoldenTest, OverridesTameAndTsumeAnswerTheSameBytes) {
   const std::string bytes = AnswerBytes(server, request);
   EXPECT_EQ(bytes.size(), 62813u);
   EXPECT_EQ(Fnv1a64(bytes), 126128801214034750ULL);
+}
+
+// RetimeCurves parses its own request (a raw method): bytes that are no request get
+// INVALID_ARGUMENT naming the message, and the server goes on answering.
+TEST(CurvesGoldenTest, GarbageBytesGetInvalidArgument) {
+  koma::testing::InProcessServer server;
+  std::string answer;
+  const grpc::Status status = RawCall(server, std::string(100, '\xff'), &answer);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(status.error_message().find("koma.v1.RetimeCurvesRequest"), std::string::npos)
+      << status.error_message();
+  EXPECT_FALSE(AnswerBytes(server, MixedRequest(2, 40, 3)).empty());
 }
 
 }  // namespace
