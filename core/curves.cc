@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <map>
 #include <string>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/string_view.h"
 #include "core/curve_cursor.h"
 #include "core/magnitude_scan.h"
 #include "core/status_macros.h"
@@ -74,26 +75,27 @@ absl::Status CheckSegment(const CurvePoint& from, const CurveSegment& segment, c
   return CheckBezierHandles(from, segment, path, beziers_restricted);
 }
 
-absl::Status CheckCurve(const Curve& curve, const std::string& path, int frame_count,
+template <typename PathFn>
+absl::Status CheckCurve(const Curve& curve, const PathFn& path, int frame_count,
                         bool beziers_restricted) {
   if (curve.dense()) {
     if (curve.samples.size() != static_cast<size_t>(frame_count)) {
-      return absl::InvalidArgumentError(absl::StrCat(path, ".samples: expected ", frame_count,
+      return absl::InvalidArgumentError(absl::StrCat(path(), ".samples: expected ", frame_count,
                                                      " values (frame_count), got ",
                                                      curve.samples.size()));
     }
     if (AllFinite(curve.samples)) return absl::OkStatus();  // one vectorised pass
     for (size_t k = 0; k < curve.samples.size(); ++k) {
       KOMA_RETURN_IF_ERROR(
-          CheckFinite(curve.samples[k], [&] { return absl::StrCat(path, ".samples[", k, "]"); }));
+          CheckFinite(curve.samples[k], [&] { return absl::StrCat(path(), ".samples[", k, "]"); }));
     }
     return absl::OkStatus();
   }
-  KOMA_RETURN_IF_ERROR(CheckPoint(curve.start, [&] { return absl::StrCat(path, ".start"); }));
+  KOMA_RETURN_IF_ERROR(CheckPoint(curve.start, [&] { return absl::StrCat(path(), ".start"); }));
   const CurvePoint* from = &curve.start;
   for (size_t s = 0; s < curve.segments.size(); ++s) {
     KOMA_RETURN_IF_ERROR(CheckSegment(
-        *from, curve.segments[s], [&] { return absl::StrCat(path, ".segments[", s, "]"); },
+        *from, curve.segments[s], [&] { return absl::StrCat(path(), ".segments[", s, "]"); },
         beziers_restricted));
     from = &curve.segments[s].end;
   }
@@ -179,15 +181,19 @@ absl::Status ValidateCurveSet(const CurveSet& set) {
         absl::StrCat("frame_count: ", set.frame_count, " must be >= 2 (a first and a last frame)"));
   }
   if (set.curves.empty()) return absl::InvalidArgumentError("curves: no curves");
-  std::map<std::string, size_t> first_with_id;
+  // Views of the ids (the set outlives the table), one allocation: a std::map copied every id
+  // into a node of its own (two mallocs per curve on every request). The path is formatted
+  // only for an error, like the values' paths.
+  absl::flat_hash_map<absl::string_view, size_t> first_with_id;
+  first_with_id.reserve(set.curves.size());
   for (size_t c = 0; c < set.curves.size(); ++c) {
-    const std::string path = absl::StrCat("curves[", c, "]");
+    const auto path = [c] { return absl::StrCat("curves[", c, "]"); };
     const Curve& curve = set.curves[c];
-    if (curve.id.empty()) return absl::InvalidArgumentError(absl::StrCat(path, ".id: is empty"));
+    if (curve.id.empty()) return absl::InvalidArgumentError(absl::StrCat(path(), ".id: is empty"));
     const auto [it, inserted] = first_with_id.emplace(curve.id, c);
     if (!inserted) {
       return absl::InvalidArgumentError(absl::StrCat(
-          path, ".id: \"", curve.id, "\" is already the id of curves[", it->second, "]"));
+          path(), ".id: \"", curve.id, "\" is already the id of curves[", it->second, "]"));
     }
     KOMA_RETURN_IF_ERROR(CheckCurve(curve, path, set.frame_count, set.beziers_restricted));
   }

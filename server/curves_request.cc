@@ -1,9 +1,10 @@
 #include "server/curves_request.h"
 
-#include <set>
 #include <string>
 
+#include "absl/container/flat_hash_set.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/string_view.h"
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
 
@@ -13,7 +14,10 @@ namespace {
 // CurveOverride entries -> curve id -> n, each id known and given once, n >= 1.
 absl::Status ConvertCurveOverrides(const v1::RetimeCurvesRequest& request, const CurveSet& set,
                                    KomaUchiOptions& options) {
-  std::set<std::string> ids;
+  // Most requests have no overrides: then no set of ids (a copy of every id) is made.
+  if (request.curve_overrides_size() == 0) return absl::OkStatus();
+  absl::flat_hash_set<absl::string_view> ids;  // views of set.curves' ids, which outlive it
+  ids.reserve(set.curves.size());
   for (const Curve& curve : set.curves) ids.insert(curve.id);
   for (int i = 0; i < request.curve_overrides_size(); ++i) {
     const v1::CurveOverride& o = request.curve_overrides(i);
