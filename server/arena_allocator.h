@@ -18,9 +18,22 @@
 #include <google/protobuf/arena.h>
 #include <grpcpp/support/message_allocator.h>
 
+#include <cstddef>
 #include <memory>
 
+#include "core/huge_page_vector.h"
+
 namespace koma::server {
+
+// Arena blocks of 4 MiB or more (a large call's big arrays, each in a block of its own) come
+// from huge pages (core/huge_page_vector.h): ~18,000 fewer page faults for a 100k-frame
+// clip's 74 MB response array. protobuf hands a block back with the size it asked for.
+inline void* AllocateArenaBlock(size_t bytes) {
+  return HugePageAllocator<char>().allocate(bytes);
+}
+inline void FreeArenaBlock(void* block, size_t bytes) {
+  HugePageAllocator<char>().deallocate(static_cast<char*>(block), bytes);
+}
 
 // Blocks grow from 8 KiB (a small call stays in one or two) to 1 MiB; a field larger than a
 // block gets a block of its own, so big packed arrays are not split.
@@ -28,6 +41,8 @@ inline google::protobuf::ArenaOptions CallArenaOptions() {
   google::protobuf::ArenaOptions options;
   options.start_block_size = 8 * 1024;
   options.max_block_size = 1024 * 1024;
+  options.block_alloc = AllocateArenaBlock;
+  options.block_dealloc = FreeArenaBlock;
   return options;
 }
 
