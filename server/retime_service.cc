@@ -59,6 +59,19 @@ void FinishAndLog(grpc::ServerUnaryReactor* reactor, grpc::Status status, Call& 
   reactor->Finish(std::move(status));
 }
 
+// For the raw methods: `response` serialised into the bytes gRPC sends; returns their length.
+template <typename Response>
+absl::StatusOr<int64_t> SerialiseInto(const Response& response, grpc::ByteBuffer* bytes) {
+  bool own_buffer = false;
+  const grpc::Status serialised =
+      grpc::GenericSerialize<grpc::ProtoBufferWriter, Response>(response, bytes, &own_buffer);
+  if (!serialised.ok()) {
+    return absl::InternalError(
+        absl::StrCat("response: cannot be serialised: ", serialised.error_message()));
+  }
+  return static_cast<int64_t>(bytes->Length());
+}
+
 // A call of the typed API: gRPC has parsed the request into a message from the method's
 // MessageAllocator and serialises `response` after Finish.
 template <typename Request, typename Response, typename Handler>
@@ -111,17 +124,7 @@ class SkeletalBytesCall {
     return ToGrpcStatus(HandleRetimeSkeletal(*request_, *limits_, response_));
   }
   void FreeRequest() { request_.reset(); }
-  absl::StatusOr<int64_t> Answer() {
-    bool own_buffer = false;
-    const grpc::Status serialised =
-        grpc::GenericSerialize<grpc::ProtoBufferWriter, v1::RetimeSkeletalResponse>(
-            *response_, response_bytes_, &own_buffer);
-    if (!serialised.ok()) {
-      return absl::InternalError(
-          absl::StrCat("response: cannot be serialised: ", serialised.error_message()));
-    }
-    return static_cast<int64_t>(response_bytes_->Length());
-  }
+  absl::StatusOr<int64_t> Answer() { return SerialiseInto(*response_, response_bytes_); }
   void DropAnswer() { response_bytes_->Clear(); }
 
  private:
@@ -167,10 +170,10 @@ class ArenaBytesCall {
     const grpc::Status parsed = grpc::GenericDeserialize<grpc::ProtoBufferReader, Request>(
         const_cast<grpc::ByteBuffer*>(request_bytes_), request_);
     if (!parsed.ok()) {
-      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                          absl::StrCat("request: the bytes are not a valid ",
-                                       Request::descriptor()->full_name(),
-                                       " (protobuf parse failed)"));
+      return grpc::Status(
+          grpc::StatusCode::INVALID_ARGUMENT,
+          absl::StrCat("request: the bytes are not a valid ", Request::descriptor()->full_name(),
+                       " (protobuf parse failed)"));
     }
     DescribeRequest(*request_, record);
     return ToGrpcStatus(handler_(*request_, response_));
@@ -181,16 +184,7 @@ class ArenaBytesCall {
     request_ = nullptr;
     request_arena_.reset();
   }
-  absl::StatusOr<int64_t> Answer() {
-    bool own_buffer = false;
-    const grpc::Status serialised = grpc::GenericSerialize<grpc::ProtoBufferWriter, Response>(
-        *response_, response_bytes_, &own_buffer);
-    if (!serialised.ok()) {
-      return absl::InternalError(
-          absl::StrCat("response: cannot be serialised: ", serialised.error_message()));
-    }
-    return static_cast<int64_t>(response_bytes_->Length());
-  }
+  absl::StatusOr<int64_t> Answer() { return SerialiseInto(*response_, response_bytes_); }
   void DropAnswer() { response_bytes_->Clear(); }
 
  private:

@@ -3,7 +3,6 @@
 // segment type, dense samples, curve and segment overrides, tame and tsume. A change that only
 // makes the server faster must leave these fingerprints as they are; a change that means to
 // alter the answer updates them and says so.
-#include <grpcpp/generic/generic_stub.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -68,39 +67,10 @@ v1::RetimeCurvesRequest MixedRequest(int curves, int frames, uint64_t seed) {
   return request;
 }
 
-// Sends `request_bytes` to RetimeCurves as they are and returns the call's status; the raw
-// bytes of the answer go to `answer`.
+// Sends `request_bytes` to RetimeCurves as they are (koma::testing::RawUnaryCall).
 grpc::Status RawCall(koma::testing::InProcessServer& server, const std::string& request_bytes,
                      std::string* answer) {
-  grpc::GenericStub generic(server.server().InProcessChannel());
-  grpc::ClientContext context;
-  koma::testing::SetTestDeadline(context);
-  grpc::Slice slice(request_bytes);
-  const grpc::ByteBuffer request(&slice, 1);
-  grpc::ByteBuffer response;
-  grpc::Status status;
-  grpc::internal::Mutex mu;
-  grpc::internal::CondVar cv;
-  bool done = false;
-  generic.UnaryCall(&context, "/koma.v1.Retime/RetimeCurves", grpc::StubOptions(), &request,
-                    &response, [&](grpc::Status s) {
-                      grpc::internal::MutexLock lock(&mu);
-                      status = std::move(s);
-                      done = true;
-                      cv.Signal();
-                    });
-  {
-    grpc::internal::MutexLock lock(&mu);
-    while (!done) cv.Wait(&mu);
-  }
-  answer->clear();
-  std::vector<grpc::Slice> slices;
-  if (status.ok() && response.Dump(&slices).ok()) {
-    for (const grpc::Slice& s : slices) {
-      answer->append(reinterpret_cast<const char*>(s.begin()), s.size());
-    }
-  }
-  return status;
+  return koma::testing::RawUnaryCall(server, "/koma.v1.Retime/RetimeCurves", request_bytes, answer);
 }
 
 // The raw bytes the server answers for `request` (the call must succeed).

@@ -2,8 +2,14 @@
 #ifndef KOMA_TESTS_SERVER_IN_PROCESS_SERVER_H_
 #define KOMA_TESTS_SERVER_IN_PROCESS_SERVER_H_
 
+#include <grpcpp/generic/generic_stub.h>
+#include <grpcpp/grpcpp.h>
+
 #include <chrono>
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
@@ -36,6 +42,42 @@ class InProcessServer {
 // Every test RPC gets a deadline, so a broken server fails a test instead of hanging it.
 inline void SetTestDeadline(grpc::ClientContext& context, int seconds = 30) {
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(seconds));
+}
+
+// Sends `request_bytes` to `method` ("/koma.v1.Retime/RetimeCurves") as they are, through a
+// generic stub (nothing parsed or serialised on the client), and returns the call's status;
+// the raw bytes of the answer go to `answer` (empty unless OK).
+inline grpc::Status RawUnaryCall(InProcessServer& server, const std::string& method,
+                                 const std::string& request_bytes, std::string* answer) {
+  grpc::GenericStub generic(server.server().InProcessChannel());
+  grpc::ClientContext context;
+  SetTestDeadline(context);
+  grpc::Slice slice(request_bytes);
+  const grpc::ByteBuffer request(&slice, 1);
+  grpc::ByteBuffer response;
+  grpc::Status status;
+  grpc::internal::Mutex mu;
+  grpc::internal::CondVar cv;
+  bool done = false;
+  generic.UnaryCall(&context, method, grpc::StubOptions(), &request, &response,
+                    [&](grpc::Status s) {
+                      grpc::internal::MutexLock lock(&mu);
+                      status = std::move(s);
+                      done = true;
+                      cv.Signal();
+                    });
+  {
+    grpc::internal::MutexLock lock(&mu);
+    while (!done) cv.Wait(&mu);
+  }
+  answer->clear();
+  std::vector<grpc::Slice> slices;
+  if (status.ok() && response.Dump(&slices).ok()) {
+    for (const grpc::Slice& s : slices) {
+      answer->append(reinterpret_cast<const char*>(s.begin()), s.size());
+    }
+  }
+  return status;
 }
 
 }  // namespace koma::testing

@@ -3,7 +3,6 @@
 #include "server/skeletal_parse.h"
 
 #include <gmock/gmock.h>
-#include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
@@ -107,27 +106,9 @@ TEST(SkeletalParseTest, MalformedBytesAreInvalidArgument) {
 // INVALID_ARGUMENT naming the message, and the server goes on answering.
 TEST(SkeletalParseTest, ServerAnswersGarbageBytesWithInvalidArgument) {
   koma::testing::InProcessServer server;
-  grpc::GenericStub generic(server.server().InProcessChannel());
-  grpc::ClientContext context;
-  koma::testing::SetTestDeadline(context);
-  const std::string garbage(100, '\xff');
-  const grpc::ByteBuffer request = Sliced(garbage, 10);
-  grpc::ByteBuffer response;
-  grpc::Status status;
-  grpc::internal::Mutex mu;
-  grpc::internal::CondVar cv;
-  bool done = false;
-  generic.UnaryCall(&context, "/koma.v1.Retime/RetimeSkeletal", grpc::StubOptions(), &request,
-                    &response, [&](grpc::Status s) {
-                      grpc::internal::MutexLock lock(&mu);
-                      status = std::move(s);
-                      done = true;
-                      cv.Signal();
-                    });
-  {
-    grpc::internal::MutexLock lock(&mu);
-    while (!done) cv.Wait(&mu);
-  }
+  std::string raw_answer;
+  const grpc::Status status = koma::testing::RawUnaryCall(server, "/koma.v1.Retime/RetimeSkeletal",
+                                                          std::string(100, '\xff'), &raw_answer);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_THAT(status.error_message(), HasSubstr("koma.v1.RetimeSkeletalRequest"));
 
