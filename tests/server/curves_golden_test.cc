@@ -13,19 +13,12 @@
 #include "core/split_mix64.h"
 #include "koma/v1/retime.pb.h"
 #include "tests/server/in_process_server.h"
+#include "tests/testing/fnv1a.h"
 
 namespace koma::server {
 namespace {
 
-// FNV-1a, 64 bits: a fingerprint of the answer's bytes.
-uint64_t Fnv1a64(const std::string& bytes) {
-  uint64_t hash = 0xcbf29ce484222325ULL;
-  for (unsigned char c : bytes) {
-    hash ^= c;
-    hash *= 0x100000001b3ULL;
-  }
-  return hash;
-}
+using ::koma::testing::Fnv1a64;
 
 void SetPoint(double frame, double value, v1::CurvePoint* point) {
   point->set_frame(frame);

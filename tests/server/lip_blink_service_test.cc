@@ -13,19 +13,12 @@
 #include "server/server.h"
 #include "tests/server/in_process_server.h"
 #include "tests/server/lip_blink_request_builder.h"
+#include "tests/testing/fnv1a.h"
 
 namespace koma::server {
 namespace {
 
-// FNV-1a, 64 bits: a fixed, portable digest of the response bytes.
-uint64_t Fnv1a64(const std::string& bytes) {
-  uint64_t hash = 0xcbf29ce484222325ULL;
-  for (unsigned char c : bytes) {
-    hash ^= c;
-    hash *= 0x100000001b3ULL;
-  }
-  return hash;
-}
+using ::koma::testing::Fnv1a64;
 
 grpc::Status Call(v1::Retime::Stub& stub, const v1::LipBlinkRequest& request,
                   v1::LipBlinkResponse* response) {
@@ -96,7 +89,8 @@ TEST(LipBlinkServiceTest, SameSeedSameBytesAcrossRunsAndThreadCounts) {
   for (const std::string& answer : answers) EXPECT_EQ(answer, answers.front());
   // Golden: computed once here and checked in. A machine, compiler or standard library that
   // answers differently fails this line, which is the point.
-  EXPECT_EQ(Fnv1a64(answers.front()), 0x4c543fd8830607b5ULL) << std::hex << Fnv1a64(answers.front());
+  EXPECT_EQ(Fnv1a64(answers.front()), 0x4c543fd8830607b5ULL)
+      << std::hex << Fnv1a64(answers.front());
 }
 
 TEST(LipBlinkServiceTest, AnotherSeedGivesAnotherMouth) {
@@ -109,7 +103,8 @@ TEST(LipBlinkServiceTest, AnotherSeedGivesAnotherMouth) {
     v1::LipBlinkResponse response;
     ASSERT_TRUE(Call(stub, request, &response).ok());
     std::string sequence;
-    for (const v1::MouthHold& hold : response.mouths(0).holds()) sequence += char('0' + hold.shape());
+    for (const v1::MouthHold& hold : response.mouths(0).holds())
+      sequence += char('0' + hold.shape());
     shapes.insert(sequence);
   }
   EXPECT_GT(shapes.size(), 1u);
