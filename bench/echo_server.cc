@@ -46,10 +46,13 @@ class EchoService final : public koma::v1::Retime::WithRawCallbackMethod_RetimeS
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
                                            const grpc::ByteBuffer* request_bytes,
                                            grpc::ByteBuffer* response_bytes) override {
-    // As koma_server's RetimeSkeletal (server/retime_service.cc): parse, free the received
-    // bytes, answer from an arena, serialise.
-    auto request = std::make_unique<koma::v1::RetimeSkeletalRequest>();
-    const absl::Status parsed = koma::server::ParseSkeletalRequest(*request_bytes, request.get());
+    // As koma_server's RetimeSkeletal (server/retime_service.cc): parse onto an arena, free the
+    // received bytes, answer from an arena, serialise.
+    auto request_arena =
+        std::make_unique<google::protobuf::Arena>(koma::server::CallArenaOptions());
+    auto* request = google::protobuf::Arena::CreateMessage<koma::v1::RetimeSkeletalRequest>(
+        request_arena.get());
+    const absl::Status parsed = koma::server::ParseSkeletalRequest(*request_bytes, request);
     const_cast<grpc::ByteBuffer*>(request_bytes)->Clear();
     grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
     if (!parsed.ok()) {
@@ -61,7 +64,7 @@ class EchoService final : public koma::v1::Retime::WithRawCallbackMethod_RetimeS
     using Response = koma::v1::RetimeSkeletalResponse;
     Response* response = google::protobuf::Arena::CreateMessage<Response>(&arena);
     koma::echo::SkeletalLookalike(*request, response);
-    request.reset();
+    request_arena.reset();
     bool own_buffer = false;
     reactor->Finish(grpc::GenericSerialize<grpc::ProtoBufferWriter, Response>(
         *response, response_bytes, &own_buffer));

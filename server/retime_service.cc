@@ -96,50 +96,33 @@ class TypedCall {
   Handler handler_;
 };
 
-// A RetimeSkeletal call on the raw method: the service parses the received bytes itself
-// (server/skeletal_parse.h: the big value array allocated once at its size) and serialises
-// the response into the bytes gRPC sends.
-class SkeletalBytesCall {
- public:
-  SkeletalBytesCall(const grpc::ByteBuffer* request_bytes, grpc::ByteBuffer* response_bytes,
-                    const RequestLimits* limits)
-      : request_bytes_(request_bytes),
-        response_bytes_(response_bytes),
-        limits_(limits),
-        request_(std::make_unique<v1::RetimeSkeletalRequest>()),
-        response_arena_(CallArenaOptions()),
-        response_(
-            google::protobuf::Arena::CreateMessage<v1::RetimeSkeletalResponse>(&response_arena_)) {}
-
-  int64_t BytesIn() const { return static_cast<int64_t>(request_bytes_->Length()); }
-
-  grpc::Status Run(RpcRecord& record) {
-    const absl::Status parsed = ParseSkeletalRequest(*request_bytes_, request_.get());
-    // The received bytes are not read again: free them now, as gRPC's own parse does. (The
-    // buffer belongs to the call; Clear() leaves it empty, which gRPC's cleanup accepts.)
-    const_cast<grpc::ByteBuffer*>(request_bytes_)->Clear();
-    if (!parsed.ok()) return ToGrpcStatus(parsed);
-    record.frames = request_->motion().frame_count();
-    record.joints = request_->motion().skeleton().joints_size();
-    return ToGrpcStatus(HandleRetimeSkeletal(*request_, *limits_, response_));
-  }
-  void FreeRequest() { request_.reset(); }
-  absl::StatusOr<int64_t> Answer() { return SerialiseInto(*response_, response_bytes_); }
-  void DropAnswer() { response_bytes_->Clear(); }
-
- private:
-  const grpc::ByteBuffer* request_bytes_;
-  grpc::ByteBuffer* response_bytes_;
-  const RequestLimits* limits_;
-  std::unique_ptr<v1::RetimeSkeletalRequest> request_;  // on the heap: see skeletal_parse.h
-  google::protobuf::Arena response_arena_;
-  v1::RetimeSkeletalResponse* response_;
-};
-
-// The request's frames and curves, for the call's log line and metrics.
+// The request's frames and joints or curves, for the call's log line and metrics.
+void DescribeRequest(const v1::RetimeSkeletalRequest& request, RpcRecord& record) {
+  record.frames = request.motion().frame_count();
+  record.joints = request.motion().skeleton().joints_size();
+}
 void DescribeRequest(const v1::RetimeCurvesRequest& request, RpcRecord& record) {
   record.frames = request.curves().frame_count();
   record.curves = request.curves().curves_size();
+}
+
+// Parses the received bytes into `request` and frees them (they are not read again; the
+// buffer belongs to the call, and Clear() leaves it empty, which gRPC's cleanup accepts).
+// As gRPC's own parse for a typed method:
+template <typename Request>
+absl::Status ParseRequest(const grpc::ByteBuffer* bytes, Request* request) {
+  const grpc::Status parsed = grpc::GenericDeserialize<grpc::ProtoBufferReader, Request>(
+      const_cast<grpc::ByteBuffer*>(bytes), request);  // it also Clear()s the bytes
+  if (parsed.ok()) return absl::OkStatus();
+  return absl::InvalidArgumentError(absl::StrCat("request: the bytes are not a valid ",
+                                                 Request::descriptor()->full_name(),
+                                                 " (protobuf parse failed)"));
+}
+// RetimeSkeletal: the big value array reserved once at its size (server/skeletal_parse.h).
+absl::Status ParseRequest(const grpc::ByteBuffer* bytes, v1::RetimeSkeletalRequest* request) {
+  const absl::Status parsed = ParseSkeletalRequest(*bytes, request);
+  const_cast<grpc::ByteBuffer*>(bytes)->Clear();
+  return parsed;
 }
 
 // A call on a raw method whose request and response are ordinary messages on per-call arenas
@@ -149,7 +132,8 @@ void DescribeRequest(const v1::RetimeCurvesRequest& request, RpcRecord& record) 
 // submessage), and the response's size was computed twice, once for the log before Finish and
 // again by gRPC when it serialised. Here the request's size is the received length and the
 // response is serialised before Finish with one ByteSizeLong: on RetimeCurves 60 x 300 (~8,000
-// submessages each way) the two walks were ~10 % of the server's CPU.
+// submessages each way) the two walks were ~10 % of the server's CPU. For RetimeSkeletal the
+// parse also reserves the big value array once at its size (ParseRequest above).
 template <typename Request, typename Response, typename Handler>
 class ArenaBytesCall {
  public:
@@ -166,15 +150,8 @@ class ArenaBytesCall {
   int64_t BytesIn() const { return static_cast<int64_t>(request_bytes_->Length()); }
 
   grpc::Status Run(RpcRecord& record) {
-    // As gRPC's own parse for a typed method; it also frees the received bytes (Clear()).
-    const grpc::Status parsed = grpc::GenericDeserialize<grpc::ProtoBufferReader, Request>(
-        const_cast<grpc::ByteBuffer*>(request_bytes_), request_);
-    if (!parsed.ok()) {
-      return grpc::Status(
-          grpc::StatusCode::INVALID_ARGUMENT,
-          absl::StrCat("request: the bytes are not a valid ", Request::descriptor()->full_name(),
-                       " (protobuf parse failed)"));
-    }
+    const absl::Status parsed = ParseRequest(request_bytes_, request_);
+    if (!parsed.ok()) return ToGrpcStatus(parsed);
     DescribeRequest(*request_, record);
     return ToGrpcStatus(handler_(*request_, response_));
   }
@@ -276,7 +253,12 @@ grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(grpc::CallbackServerCont
                                                         grpc::ByteBuffer* response) {
   RpcRecord record;
   record.method = "RetimeSkeletal";  // frames and joints are filled in once it is parsed
-  return Dispatch(context, std::make_shared<SkeletalBytesCall>(request, response, &limits_),
+  auto handler = [this](const v1::RetimeSkeletalRequest& in, v1::RetimeSkeletalResponse* out) {
+    return HandleRetimeSkeletal(in, limits_, out);
+  };
+  using Call =
+      ArenaBytesCall<v1::RetimeSkeletalRequest, v1::RetimeSkeletalResponse, decltype(handler)>;
+  return Dispatch(context, std::make_shared<Call>(request, response, std::move(handler)),
                   RpcMethod::kRetimeSkeletal, std::move(record));
 }
 
