@@ -6,16 +6,17 @@
 // at random, so they also miss the TLB. Arrays of at least kMinBytes are mapped 2 MiB-aligned
 // and marked MADV_HUGEPAGE: the kernel backs them with 2 MiB pages where it can (512x fewer
 // faults and TLB entries). Smaller arrays use operator new as usual. Where transparent huge
-// pages are off ("never"), madvise changes nothing and the arrays are plain pages.
+// pages are off ("never"), madvise changes nothing and the arrays are plain pages. Released
+// mappings go to a bounded cache for the next large array (core/huge_page_pool.h).
 #ifndef KOMA_CORE_HUGE_PAGE_VECTOR_H_
 #define KOMA_CORE_HUGE_PAGE_VECTOR_H_
-
-#include <sys/mman.h>
 
 #include <cstddef>
 #include <cstdint>
 #include <new>
 #include <vector>
+
+#include "core/huge_page_pool.h"
 
 namespace koma {
 
@@ -24,7 +25,7 @@ class HugePageAllocator {
  public:
   using value_type = T;
 
-  static constexpr size_t kHugePage = size_t{2} << 20;  // bytes (x86-64's 2 MiB pages)
+  static constexpr size_t kHugePage = kHugePageBytes;
   static constexpr size_t kMinBytes = size_t{4} << 20;  // smaller arrays: operator new
 
   HugePageAllocator() = default;
@@ -34,19 +35,7 @@ class HugePageAllocator {
   T* allocate(size_t n) {
     const size_t bytes = n * sizeof(T);
     if (bytes < kMinBytes) return static_cast<T*>(::operator new(bytes));
-    // Map a huge page more than needed, keep the 2 MiB-aligned middle, unmap the rest.
-    const size_t length = RoundUp(bytes);
-    void* mapped = mmap(nullptr, length + kHugePage, PROT_READ | PROT_WRITE,
-                        MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (mapped == MAP_FAILED) throw std::bad_alloc();
-    const uintptr_t start = reinterpret_cast<uintptr_t>(mapped);
-    const uintptr_t aligned = (start + kHugePage - 1) / kHugePage * kHugePage;
-    if (aligned > start) munmap(mapped, aligned - start);
-    const uintptr_t end = start + length + kHugePage;
-    if (end > aligned + length)
-      munmap(reinterpret_cast<void*>(aligned + length), end - aligned - length);
-    madvise(reinterpret_cast<void*>(aligned), length, MADV_HUGEPAGE);
-    return reinterpret_cast<T*>(aligned);
+    return static_cast<T*>(MapHugePages(RoundUp(bytes)));
   }
 
   void deallocate(T* p, size_t n) {
@@ -54,7 +43,7 @@ class HugePageAllocator {
     if (bytes < kMinBytes) {
       ::operator delete(p);
     } else {
-      munmap(p, RoundUp(bytes));
+      UnmapHugePages(p, RoundUp(bytes));
     }
   }
 
