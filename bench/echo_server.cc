@@ -28,6 +28,8 @@ ABSL_FLAG(std::string, address, "127.0.0.1:50052",
 ABSL_FLAG(std::string, port_file, "",
           "if set, write the bound port number to this file once the server is serving");
 ABSL_FLAG(int, max_message_bytes, 256 * 1024 * 1024, "largest request or response in bytes");
+ABSL_FLAG(int64_t, huge_page_cache_mb, 0,
+          "as koma_server's: MiB of released large-array memory kept for the next large call");
 
 namespace {
 
@@ -107,7 +109,8 @@ int Fail(const std::string& message) {
 int main(int argc, char** argv) {
   koma::server::TuneMallocForLargeMessages();
   absl::SetProgramUsageMessage(
-      "koma_echo_server [--address=HOST:PORT] [--port_file=F] [--max_message_bytes=N]: "
+      "koma_echo_server [--address=HOST:PORT] [--port_file=F] [--max_message_bytes=N] "
+      "[--huge_page_cache_mb=N]: "
       "koma.v1.Retime answering koma-sized responses without computing (load baseline)");
   absl::ParseCommandLine(argc, argv);
   koma::server::StopSignals stop_signals;  // as koma_server, before gRPC starts any thread
@@ -115,6 +118,8 @@ int main(int argc, char** argv) {
   const std::string address = absl::GetFlag(FLAGS_address);
   const int max_bytes = absl::GetFlag(FLAGS_max_message_bytes);
   if (max_bytes < 1024) return Fail("--max_message_bytes: below 1024");
+  if (absl::GetFlag(FLAGS_huge_page_cache_mb) < 0) return Fail("--huge_page_cache_mb: negative");
+  koma::server::SetHugePageCache(absl::GetFlag(FLAGS_huge_page_cache_mb));
   EchoService service;
   grpc::EnableDefaultHealthCheckService(true);
   grpc::ServerBuilder builder;

@@ -42,6 +42,9 @@ ABSL_FLAG(int64_t, inline_max_bytes, koma::server::RetimeService::kDefaultInline
           "requests of at most this many bytes are retimed on gRPC's callback thread instead "
           "of a worker (saves two thread hand-offs on small clips); 0 = every request on a "
           "worker");
+ABSL_FLAG(int64_t, huge_page_cache_mb, 0,
+          "MiB of released large-array memory kept mapped for the next large call (faster large "
+          "calls; resident memory may stay that much above what is in use); 0 = none");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn, error, critical or off");
 ABSL_FLAG(std::string, log_format, "text", "text, or json (one JSON object per line)");
 ABSL_FLAG(std::string, tls_cert, "", "PEM certificate chain file: serve TLS instead of plaintext");
@@ -64,11 +67,11 @@ ABSL_FLAG(std::string, metrics_port_file, "",
 namespace {
 
 constexpr const char* kEnvironmentFlags[] = {
-    "address",         "port_file",         "max_message_bytes", "max_values",
-    "max_joints",      "worker_threads",    "max_queued",        "log_level",
-    "log_format",      "shutdown_grace_ms", "tls_cert",          "tls_key",
-    "tls_client_ca",   "metrics_address",   "metrics_port_file", "shutdown_delay_ms",
-    "inline_max_bytes"};
+    "address",          "port_file",         "max_message_bytes", "max_values",
+    "max_joints",       "worker_threads",    "max_queued",        "log_level",
+    "log_format",       "shutdown_grace_ms", "tls_cert",          "tls_key",
+    "tls_client_ca",    "metrics_address",   "metrics_port_file", "shutdown_delay_ms",
+    "inline_max_bytes", "huge_page_cache_mb"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -155,6 +158,8 @@ int main(int argc, char** argv) {
     return Fail(std::string(s.message()));
   }
   koma::server::StopSignals stop_signals;  // before gRPC starts any thread
+  if (absl::GetFlag(FLAGS_huge_page_cache_mb) < 0) return Fail("--huge_page_cache_mb: negative");
+  koma::server::SetHugePageCache(absl::GetFlag(FLAGS_huge_page_cache_mb));
 
   koma::server::ServerConfig config = ConfigFromFlags();
   if (!ReadTls(config)) return 1;

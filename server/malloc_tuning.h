@@ -6,6 +6,10 @@
 
 #include <malloc.h>
 
+#include <cstdint>
+
+#include "core/huge_page_pool.h"
+
 namespace koma::server {
 
 // glibc raises its mmap threshold (up to 32 MiB) each time a large block is freed, after
@@ -20,6 +24,15 @@ namespace koma::server {
 inline void TuneMallocForLargeMessages() {
   mallopt(M_MMAP_THRESHOLD, 1024 * 1024);
   mallopt(M_TRIM_THRESHOLD, 16 * 1024 * 1024);
+}
+
+// Arrays of 4 MiB and more (a large call's request and response blocks, forward kinematics'
+// output, RetimeSkeletal's working arrays) are huge-page mappings; up to `megabytes` of released
+// ones stay mapped for the next large call, which then skips the page faults and the kernel's
+// page clearing (core/huge_page_pool.h). Resident memory can exceed what is in use by that
+// much. Both servers take it from --huge_page_cache_mb.
+inline void SetHugePageCache(int64_t megabytes) {
+  koma::SetHugePageCacheLimit(static_cast<size_t>(megabytes < 0 ? 0 : megabytes) << 20);
 }
 
 }  // namespace koma::server
