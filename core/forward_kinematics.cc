@@ -39,15 +39,6 @@ KOMA_FK_INLINE void Gather(const double* column, size_t stride, Lanes& out) {
   out = Lanes{column[0], column[stride], column[2 * stride], column[3 * stride]};
 }
 
-// out = a * b for row-major 3x3 matrices (out must not alias a or b).
-KOMA_FK_INLINE void Multiply3(const Lanes* a, const Lanes* b, Lanes* out) {
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      out[3 * r + c] = a[3 * r] * b[c] + a[3 * r + 1] * b[3 + c] + a[3 * r + 2] * b[6 + c];
-    }
-  }
-}
-
 // rotation := rotation * R_axis(degrees), the right-handed rotation about the channel's axis
 // (intrinsic: later channels multiply on the right). R_axis has only a 2x2 block, so each
 // row mixes two entries: 12 multiplications instead of a full 3x3 product's 27.
@@ -72,45 +63,53 @@ KOMA_FK_INLINE void RotateAbout(ChannelKind kind, const Lanes& s, const Lanes& c
   }
 }
 
-// T(offset) * T(position channels) * R(c1) * R(c2) * ... for one joint in four frames;
-// `values`, `sin` and `cos` point at the joint's first channel in the first frame (frames are
-// `stride` apart): the channel values, and their sines and cosines (as angles in degrees).
-// The rotation is only computed when `with_rotation` (a joint's own rotation moves its
+// The world transform of one joint in four frames: parent * T(offset) * T(position channels) *
+// R(c1) * R(c2) * ... (identity for the root's parent). `values`, `sin` and `cos` point at the
+// joint's first channel in the first frame (frames are `stride` apart): the channel values,
+// and their sines and cosines (as angles in degrees). The translation is the parent's
+// transform applied to the local one; the rotation starts as the parent's and each rotation
+// channel multiplies it on the right in place (12 multiplications each), so no 3x3 product
+// is needed. It is only computed when `with_rotation` (a joint's own rotation moves its
 // children, never itself).
-KOMA_FK_INLINE void LocalTransform(const Joint& joint, const double* values, const double* sin,
-                                   const double* cos, size_t stride, bool with_rotation,
-                                   LaneTransform& local) {
-  constexpr double kIdentity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  for (int e = 0; e < 9; ++e) Broadcast(kIdentity[e], local.rotation[e]);
-  Broadcast(joint.offset.x, local.translation[0]);
-  Broadcast(joint.offset.y, local.translation[1]);
-  Broadcast(joint.offset.z, local.translation[2]);
+KOMA_FK_INLINE void JointTransform(const Joint& joint, const LaneTransform* parent,
+                                   const double* values, const double* sin, const double* cos,
+                                   size_t stride, bool with_rotation, LaneTransform& world) {
+  Lanes local[3];  // the local translation
+  Broadcast(joint.offset.x, local[0]);
+  Broadcast(joint.offset.y, local[1]);
+  Broadcast(joint.offset.z, local[2]);
   for (size_t c = 0; c < joint.channels.size(); ++c) {
     const ChannelKind kind = joint.channels[c];
     if (kind == ChannelKind::kXPosition || kind == ChannelKind::kYPosition ||
         kind == ChannelKind::kZPosition) {
       Lanes value;
       Gather(values + c, stride, value);
-      local.translation[static_cast<int>(kind) - static_cast<int>(ChannelKind::kXPosition)] +=
-          value;
-    } else if (with_rotation) {
+      local[static_cast<int>(kind) - static_cast<int>(ChannelKind::kXPosition)] += value;
+    }
+  }
+  if (parent == nullptr) {
+    constexpr double kIdentity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    for (int r = 0; r < 3; ++r) world.translation[r] = local[r];
+    if (!with_rotation) return;
+    for (int e = 0; e < 9; ++e) Broadcast(kIdentity[e], world.rotation[e]);
+  } else {
+    for (int r = 0; r < 3; ++r) {
+      world.translation[r] = parent->translation[r] + parent->rotation[3 * r] * local[0] +
+                             parent->rotation[3 * r + 1] * local[1] +
+                             parent->rotation[3 * r + 2] * local[2];
+    }
+    if (!with_rotation) return;
+    for (int e = 0; e < 9; ++e) world.rotation[e] = parent->rotation[e];
+  }
+  for (size_t c = 0; c < joint.channels.size(); ++c) {
+    const ChannelKind kind = joint.channels[c];
+    if (kind == ChannelKind::kXRotation || kind == ChannelKind::kYRotation ||
+        kind == ChannelKind::kZRotation) {
       Lanes s, co;
       Gather(sin + c, stride, s);
       Gather(cos + c, stride, co);
-      RotateAbout(kind, s, co, local.rotation);
+      RotateAbout(kind, s, co, world.rotation);
     }
-  }
-}
-
-// world = parent * local; the rotation only `with_rotation` (a leaf's world rotation is never
-// used).
-KOMA_FK_INLINE void Compose(const LaneTransform& parent, const LaneTransform& local,
-                            bool with_rotation, LaneTransform& world) {
-  if (with_rotation) Multiply3(parent.rotation, local.rotation, world.rotation);
-  for (int r = 0; r < 3; ++r) {
-    world.translation[r] = parent.translation[r] + parent.rotation[3 * r] * local.translation[0] +
-                           parent.rotation[3 * r + 1] * local.translation[1] +
-                           parent.rotation[3 * r + 2] * local.translation[2];
   }
 }
 
@@ -150,15 +149,10 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
     for (size_t j = 0; j < joint_count; ++j) {
       const Joint& joint = joints[j];
       const size_t c = first_channel[j];
-      LaneTransform local;
-      LocalTransform(joint, group + c, sin.data() + c, cos.data() + c, stride, has_children[j],
-                     local);
       // Parents precede children (ValidateSkeleton rule 2), so world[parent] is ready.
-      if (joint.parent < 0) {
-        world[j] = local;
-      } else {
-        Compose(world[joint.parent], local, has_children[j], world[j]);
-      }
+      const LaneTransform* parent = joint.parent < 0 ? nullptr : &world[joint.parent];
+      JointTransform(joint, parent, group + c, sin.data() + c, cos.data() + c, stride,
+                     has_children[j], world[j]);
       for (int l = 0; l < frames; ++l) {
         double* out = positions + (static_cast<size_t>(f + l) * joint_count + j) * 3;
         for (int axis = 0; axis < 3; ++axis) out[axis] = world[j].translation[axis][l];

@@ -130,9 +130,9 @@ TEST(ForwardKinematicsTest, ZeroFramesGiveNoPositions) {
   EXPECT_TRUE(p.empty());
 }
 
-// The reference: one frame at a time, written as plainly as possible (the scalar form the
-// four-frames-per-lane ComputeWorldPositions replaced). Same operations in the same order, so
-// the fast form must match it bit for bit.
+// The reference: one frame at a time, written as plainly as possible. Same operations in the
+// same order as the four-frames-per-lane ComputeWorldPositions, so that must match it bit for
+// bit.
 std::vector<double> ReferencePositions(const Skeleton& skeleton, const std::vector<double>& values,
                                        int frame_count) {
   struct Transform {
@@ -148,49 +148,47 @@ std::vector<double> ReferencePositions(const Skeleton& skeleton, const std::vect
   std::vector<double> positions;
   std::vector<Transform> world(joints.size());
   for (int f = 0; f < frame_count; ++f) {
-    size_t channel = f * channel_count;
+    const double* frame = values.data() + f * channel_count;
+    size_t first_channel = 0;
     for (size_t j = 0; j < joints.size(); ++j) {
       const Joint& joint = joints[j];
-      Transform local;
-      local.translation[0] = joint.offset.x;
-      local.translation[1] = joint.offset.y;
-      local.translation[2] = joint.offset.z;
-      for (ChannelKind kind : joint.channels) {
-        const double value = values[channel++];
+      const double* channel = frame + first_channel;
+      first_channel += joint.channels.size();
+      double local[3] = {joint.offset.x, joint.offset.y, joint.offset.z};
+      for (size_t c = 0; c < joint.channels.size(); ++c) {
+        const ChannelKind kind = joint.channels[c];
         if (kind == C::kXPosition || kind == C::kYPosition || kind == C::kZPosition) {
-          local.translation[static_cast<int>(kind)] += value;
-          continue;
+          local[static_cast<int>(kind)] += channel[c];
         }
-        if (!has_children[j]) continue;
-        const SinCos sc = SinCosDegrees(value);
+      }
+      // world = parent * T(local) * R(c1) * R(c2) * ...: the rotation starts as the parent's
+      // (identity at the root) and each rotation channel multiplies it on the right.
+      Transform& out = world[j];
+      const Transform identity;
+      const Transform& parent = joint.parent < 0 ? identity : world[joint.parent];
+      for (int r = 0; r < 3; ++r) {
+        out.translation[r] = joint.parent < 0
+                                 ? local[r]
+                                 : parent.translation[r] + parent.rotation[3 * r] * local[0] +
+                                       parent.rotation[3 * r + 1] * local[1] +
+                                       parent.rotation[3 * r + 2] * local[2];
+      }
+      if (!has_children[j]) {
+        for (double t : out.translation) positions.push_back(t);
+        continue;
+      }
+      std::copy(std::begin(parent.rotation), std::end(parent.rotation), out.rotation);
+      for (size_t c = 0; c < joint.channels.size(); ++c) {
+        const ChannelKind kind = joint.channels[c];
+        if (kind == C::kXPosition || kind == C::kYPosition || kind == C::kZPosition) continue;
+        const SinCos sc = SinCosDegrees(channel[c]);
         const int i = kind == C::kXRotation ? 1 : kind == C::kYRotation ? 2 : 0;
         const int k = kind == C::kXRotation ? 2 : kind == C::kYRotation ? 0 : 1;
         for (int r = 0; r < 3; ++r) {
-          const double a = local.rotation[3 * r + i];
-          const double b = local.rotation[3 * r + k];
-          local.rotation[3 * r + i] = sc.cos * a + sc.sin * b;
-          local.rotation[3 * r + k] = sc.cos * b - sc.sin * a;
-        }
-      }
-      if (joint.parent < 0) {
-        world[j] = local;
-      } else {
-        const Transform& parent = world[joint.parent];
-        Transform& out = world[j];
-        if (has_children[j]) {
-          for (int r = 0; r < 3; ++r) {
-            for (int c = 0; c < 3; ++c) {
-              out.rotation[3 * r + c] = parent.rotation[3 * r] * local.rotation[c] +
-                                        parent.rotation[3 * r + 1] * local.rotation[3 + c] +
-                                        parent.rotation[3 * r + 2] * local.rotation[6 + c];
-            }
-          }
-        }
-        for (int r = 0; r < 3; ++r) {
-          out.translation[r] = parent.translation[r] +
-                               parent.rotation[3 * r] * local.translation[0] +
-                               parent.rotation[3 * r + 1] * local.translation[1] +
-                               parent.rotation[3 * r + 2] * local.translation[2];
+          const double a = out.rotation[3 * r + i];
+          const double b = out.rotation[3 * r + k];
+          out.rotation[3 * r + i] = sc.cos * a + sc.sin * b;
+          out.rotation[3 * r + k] = sc.cos * b - sc.sin * a;
         }
       }
       for (double t : world[j].translation) positions.push_back(t);
