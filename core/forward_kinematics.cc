@@ -63,10 +63,16 @@ KOMA_FK_INLINE void RotateAbout(ChannelKind kind, const Lanes& s, const Lanes& c
   }
 }
 
+KOMA_FK_INLINE bool IsRotation(ChannelKind kind) {
+  return kind == ChannelKind::kXRotation || kind == ChannelKind::kYRotation ||
+         kind == ChannelKind::kZRotation;
+}
+
 // The world transform of one joint in four frames: parent * T(offset) * T(position channels) *
-// R(c1) * R(c2) * ... (identity for the root's parent). `values`, `sin` and `cos` point at the
-// joint's first channel in the first frame (frames are `stride` apart): the channel values,
-// and their sines and cosines (as angles in degrees). The translation is the parent's
+// R(c1) * R(c2) * ... (identity for the root's parent). `values` points at the joint's first
+// channel in the first frame (frames are `stride` apart); `sin` and `cos` at the sines and
+// cosines of its rotation channels (angles in degrees), four frames' worth per channel, in
+// channel order (only read when `with_rotation`). The translation is the parent's
 // transform applied to the local one; the rotation starts as the parent's and each rotation
 // channel multiplies it on the right in place (12 multiplications each), so no 3x3 product
 // is needed. It is only computed when `with_rotation` (a joint's own rotation moves its
@@ -101,13 +107,13 @@ KOMA_FK_INLINE void JointTransform(const Joint& joint, const LaneTransform* pare
     if (!with_rotation) return;
     for (int e = 0; e < 9; ++e) world.rotation[e] = parent->rotation[e];
   }
-  for (size_t c = 0; c < joint.channels.size(); ++c) {
-    const ChannelKind kind = joint.channels[c];
-    if (kind == ChannelKind::kXRotation || kind == ChannelKind::kYRotation ||
-        kind == ChannelKind::kZRotation) {
+  for (const ChannelKind kind : joint.channels) {
+    if (IsRotation(kind)) {
       Lanes s, co;
-      Gather(sin + c, stride, s);
-      Gather(cos + c, stride, co);
+      __builtin_memcpy(&s, sin, sizeof s);
+      __builtin_memcpy(&co, cos, sizeof co);
+      sin += kLanes;
+      cos += kLanes;
       RotateAbout(kind, s, co, world.rotation);
     }
   }
@@ -122,20 +128,31 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
     double* positions) {
   const size_t joint_count = joints.size();
   std::vector<bool> has_children(joint_count, false);
+  for (const Joint& joint : joints) {
+    if (joint.parent >= 0) has_children[joint.parent] = true;
+  }
+  // The rotation channels whose angles are used: those of joints with children (a leaf's own
+  // rotation moves nothing), as channel indices within a frame, in joint and channel order.
   std::vector<size_t> first_channel(joint_count, 0);
+  std::vector<size_t> first_angle(joint_count, 0);  // the joint's first entry in angle_channels
+  std::vector<size_t> angle_channels;
   for (size_t j = 0, channel = 0; j < joint_count; ++j) {
-    if (joints[j].parent >= 0) has_children[joints[j].parent] = true;
     first_channel[j] = channel;
-    channel += joints[j].channels.size();
+    first_angle[j] = angle_channels.size();
+    for (const ChannelKind kind : joints[j].channels) {
+      if (has_children[j] && IsRotation(kind)) angle_channels.push_back(channel);
+      ++channel;
+    }
   }
   const size_t stride = static_cast<size_t>(channel_count);
   std::vector<LaneTransform> world(joint_count);  // this group's world transforms
-  // The group's channels' sines and cosines, all at once (a vectorised loop). Not std::sin
-  // and std::cos: their last bits differ between libms, and these bits reach the distances,
-  // the tie rules and the response. Position channels get one too, unused: cheaper than
-  // picking out the rotations.
-  std::vector<double> sin(kLanes * stride);
-  std::vector<double> cos(kLanes * stride);
+  // The group's used angles, channel by channel with the four frames side by side, and their
+  // sines and cosines, all at once (a vectorised loop). Not std::sin and std::cos: their last
+  // bits differ between libms, and these bits reach the distances, the tie rules and the
+  // response.
+  std::vector<double> angles(kLanes * angle_channels.size());
+  std::vector<double> sin(angles.size());
+  std::vector<double> cos(angles.size());
   std::vector<double> last_group;  // the last frames, padded with zeros to four
   for (int f = 0; f < frame_count; f += kLanes) {
     const int frames = std::min(kLanes, frame_count - f);
@@ -145,14 +162,18 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
       std::copy(group, group + frames * stride, last_group.begin());
       group = last_group.data();
     }
-    SinCosDegrees(group, static_cast<int>(kLanes * stride), sin.data(), cos.data());
+    for (size_t a = 0; a < angle_channels.size(); ++a) {
+      for (int l = 0; l < kLanes; ++l)
+        angles[kLanes * a + l] = group[l * stride + angle_channels[a]];
+    }
+    SinCosDegrees(angles.data(), static_cast<int>(angles.size()), sin.data(), cos.data());
     for (size_t j = 0; j < joint_count; ++j) {
       const Joint& joint = joints[j];
-      const size_t c = first_channel[j];
       // Parents precede children (ValidateSkeleton rule 2), so world[parent] is ready.
       const LaneTransform* parent = joint.parent < 0 ? nullptr : &world[joint.parent];
-      JointTransform(joint, parent, group + c, sin.data() + c, cos.data() + c, stride,
-                     has_children[j], world[j]);
+      const size_t angle = kLanes * first_angle[j];
+      JointTransform(joint, parent, group + first_channel[j], sin.data() + angle,
+                     cos.data() + angle, stride, has_children[j], world[j]);
       for (int l = 0; l < frames; ++l) {
         double* out = positions + (static_cast<size_t>(f + l) * joint_count + j) * 3;
         for (int axis = 0; axis < 3; ++axis) out[axis] = world[j].translation[axis][l];
