@@ -1,6 +1,7 @@
 #include "server/curves_request.h"
 
 #include <string>
+#include <utility>
 
 #include "absl/container/flat_hash_set.h"
 #include "absl/strings/str_cat.h"
@@ -27,8 +28,8 @@ absl::Status ConvertCurveOverrides(const v1::RetimeCurvesRequest& request, const
           absl::StrCat(path, ".curve_id: \"", o.curve_id(), "\" is not a curve of the request"));
     }
     if (o.frames_per_drawing() < 1) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          path, ".frames_per_drawing: ", o.frames_per_drawing(), " must be >= 1"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(path, ".frames_per_drawing: ", o.frames_per_drawing(), " must be >= 1"));
     }
     if (!options.curve_frames_per_drawing.emplace(o.curve_id(), o.frames_per_drawing()).second) {
       return absl::InvalidArgumentError(
@@ -63,26 +64,6 @@ void FillTiming(const DrawingTiming& timing, v1::DrawingTiming* out) {
   out->mutable_drawing_start()->Add(timing.drawing_start.begin(), timing.drawing_start.end());
 }
 
-void FillResponse(const CurveSet& set, const KomaUchiResult& result,
-                  v1::RetimeCurvesResponse* response) {
-  response->mutable_key_frames()->Add(result.key_frames.begin(), result.key_frames.end());
-  for (const DrawingTiming& timing : result.timings) FillTiming(timing, response->add_timings());
-  for (size_t c = 0; c < result.curves.size(); ++c) {
-    const RetimedCurve& in = result.curves[c];
-    v1::RetimedCurve* out = response->add_curves();
-    out->set_id(set.curves[c].id);
-    out->set_timing(in.timing);
-    out->mutable_values()->Add(in.values.begin(), in.values.end());
-    out->mutable_stepped()->set_id(set.curves[c].id);
-    SteppedKeyframesToProto(in.steps, out->mutable_stepped());
-    for (const auto& [length, drawings] : in.hold_histogram) {  // std::map: ascending
-      v1::HoldCount* count = out->add_hold_histogram();
-      count->set_length(length);
-      count->set_drawings(drawings);
-    }
-  }
-}
-
 absl::Status CheckFinite(const KomaUchiResult& result) {
   for (size_t c = 0; c < result.curves.size(); ++c) {
     KOMA_RETURN_IF_ERROR(CheckEvaluatedFinite(result.curves[c].values, static_cast<int>(c)));
@@ -103,12 +84,41 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
   return job;
 }
 
-absl::Status HandleRetimeCurves(const v1::RetimeCurvesRequest& request,
-                                const RequestLimits& limits, v1::RetimeCurvesResponse* response) {
-  KOMA_ASSIGN_OR_RETURN(const CurvesJob job, ValidateCurvesRequest(request, limits));
-  const KomaUchiResult result = RetimeCurves(job.set, job.options);
+absl::Status RetimeCurvesAnswer(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,
+                                CurvesAnswer* answer) {
+  KOMA_ASSIGN_OR_RETURN(CurvesJob job, ValidateCurvesRequest(request, limits));
+  KomaUchiResult result = RetimeCurves(job.set, job.options);
   KOMA_RETURN_IF_ERROR(CheckFinite(result));
-  FillResponse(job.set, result, response);
+  answer->set = std::move(job.set);
+  answer->result = std::move(result);
+  return absl::OkStatus();
+}
+
+void FillCurvesResponse(const CurveSet& set, const KomaUchiResult& result,
+                        v1::RetimeCurvesResponse* response) {
+  response->mutable_key_frames()->Add(result.key_frames.begin(), result.key_frames.end());
+  for (const DrawingTiming& timing : result.timings) FillTiming(timing, response->add_timings());
+  for (size_t c = 0; c < result.curves.size(); ++c) {
+    const RetimedCurve& in = result.curves[c];
+    v1::RetimedCurve* out = response->add_curves();
+    out->set_id(set.curves[c].id);
+    out->set_timing(in.timing);
+    out->mutable_values()->Add(in.values.begin(), in.values.end());
+    out->mutable_stepped()->set_id(set.curves[c].id);
+    SteppedKeyframesToProto(in.steps, out->mutable_stepped());
+    for (const auto& [length, drawings] : in.hold_histogram) {  // std::map: ascending
+      v1::HoldCount* count = out->add_hold_histogram();
+      count->set_length(length);
+      count->set_drawings(drawings);
+    }
+  }
+}
+
+absl::Status HandleRetimeCurves(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,
+                                v1::RetimeCurvesResponse* response) {
+  CurvesAnswer answer;
+  KOMA_RETURN_IF_ERROR(RetimeCurvesAnswer(request, limits, &answer));
+  FillCurvesResponse(answer.set, answer.result, response);
   return absl::OkStatus();
 }
 

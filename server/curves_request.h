@@ -21,8 +21,26 @@ struct CurvesJob {
 absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& request,
                                                 const RequestLimits& limits);
 
-absl::Status HandleRetimeCurves(const v1::RetimeCurvesRequest& request,
-                                const RequestLimits& limits, v1::RetimeCurvesResponse* response);
+// What a RetimeCurves call answers, before it is put in a response: the request's curves
+// (their ids name the answer's curves) and the core's result for them.
+struct CurvesAnswer {
+  CurveSet set;
+  KomaUchiResult result;
+};
+
+// Validates `request` and retimes it into `answer` (OUT_OF_RANGE when a curve evaluates to
+// inf or NaN). The service encodes the answer's wire bytes itself (server/curves_response.h).
+absl::Status RetimeCurvesAnswer(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,
+                                CurvesAnswer* answer);
+
+// The answer as a RetimeCurvesResponse message: the reference the wire encoder is tested
+// against, and the response of the typed-API benchmark servers.
+void FillCurvesResponse(const CurveSet& set, const KomaUchiResult& result,
+                        v1::RetimeCurvesResponse* response);
+
+// RetimeCurvesAnswer then FillCurvesResponse.
+absl::Status HandleRetimeCurves(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,
+                                v1::RetimeCurvesResponse* response);
 
 }  // namespace koma::server
 

@@ -6,14 +6,18 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "core/split_mix64.h"
 #include "server/curves_request.h"
+#include "server/curves_response.h"
 #include "server/lip_blink_request.h"
 #include "server/logging.h"
 #include "server/skeletal_parse.h"
@@ -72,6 +76,21 @@ absl::StatusOr<int64_t> SerialiseInto(const Response& response, grpc::ByteBuffer
   return static_cast<int64_t>(bytes->Length());
 }
 
+// RetimeCurves: the wire bytes encoded straight from the core's result into one buffer of
+// exactly their size (server/curves_response.h), no response messages in between.
+absl::StatusOr<int64_t> SerialiseInto(const CurvesAnswer& answer, grpc::ByteBuffer* bytes) {
+  const CurvesResponseEncoder encoder(answer.set, answer.result);
+  const size_t size = encoder.size();
+  if (size > static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
+    return absl::InternalError(absl::StrCat("response: cannot be serialised: ", size,
+                                            " bytes is over protobuf's 2 GiB message limit"));
+  }
+  grpc::Slice slice(size);  // uninitialised, ours alone until it is handed to `bytes`
+  encoder.WriteTo(const_cast<uint8_t*>(slice.begin()));
+  grpc::ByteBuffer(&slice, 1).Swap(bytes);
+  return static_cast<int64_t>(size);
+}
+
 // A call of the typed API: gRPC has parsed the request into a message from the method's
 // MessageAllocator and serialises `response` after Finish.
 template <typename Request, typename Response, typename Handler>
@@ -125,6 +144,29 @@ absl::Status ParseRequest(const grpc::ByteBuffer* bytes, v1::RetimeSkeletalReque
   return parsed;
 }
 
+// Where a raw call's answer waits to be serialised: a message on the call's own response
+// arena, or an answer type with its own SerialiseInto (CurvesAnswer), held as it is.
+template <typename Response, bool = std::is_base_of_v<google::protobuf::MessageLite, Response>>
+class AnswerSlot {
+ public:
+  AnswerSlot()
+      : arena_(CallArenaOptions()),
+        message_(google::protobuf::Arena::CreateMessage<Response>(&arena_)) {}
+  Response* get() { return message_; }
+
+ private:
+  google::protobuf::Arena arena_;
+  Response* message_;
+};
+template <typename Response>
+class AnswerSlot<Response, false> {
+ public:
+  Response* get() { return &answer_; }
+
+ private:
+  Response answer_;
+};
+
 // A call on a raw method whose request and response are ordinary messages on per-call arenas
 // (as the typed API with server/arena_allocator.h), parsed and serialised by the service
 // itself. The point is the sizes: the typed API gives the handler no received bytes, so the
@@ -133,7 +175,9 @@ absl::Status ParseRequest(const grpc::ByteBuffer* bytes, v1::RetimeSkeletalReque
 // again by gRPC when it serialised. Here the request's size is the received length and the
 // response is serialised before Finish with one ByteSizeLong: on RetimeCurves 60 x 300 (~8,000
 // submessages each way) the two walks were ~10 % of the server's CPU. For RetimeSkeletal the
-// parse also reserves the big value array once at its size (ParseRequest above).
+// parse also reserves the big value array once at its size (ParseRequest above). RetimeCurves'
+// answer is no message at all: its bytes are encoded from the core's result (AnswerSlot,
+// SerialiseInto(CurvesAnswer) above).
 template <typename Request, typename Response, typename Handler>
 class ArenaBytesCall {
  public:
@@ -143,9 +187,7 @@ class ArenaBytesCall {
         response_bytes_(response_bytes),
         handler_(std::move(handler)),
         request_arena_(std::make_unique<google::protobuf::Arena>(CallArenaOptions())),
-        response_arena_(CallArenaOptions()),
-        request_(google::protobuf::Arena::CreateMessage<Request>(request_arena_.get())),
-        response_(google::protobuf::Arena::CreateMessage<Response>(&response_arena_)) {}
+        request_(google::protobuf::Arena::CreateMessage<Request>(request_arena_.get())) {}
 
   int64_t BytesIn() const { return static_cast<int64_t>(request_bytes_->Length()); }
 
@@ -153,7 +195,7 @@ class ArenaBytesCall {
     const absl::Status parsed = ParseRequest(request_bytes_, request_);
     if (!parsed.ok()) return ToGrpcStatus(parsed);
     DescribeRequest(*request_, record);
-    return ToGrpcStatus(handler_(*request_, response_));
+    return ToGrpcStatus(handler_(*request_, response_.get()));
   }
   // The handler has read all it needs: drop the request's arena now rather than after the
   // response is sent.
@@ -161,7 +203,7 @@ class ArenaBytesCall {
     request_ = nullptr;
     request_arena_.reset();
   }
-  absl::StatusOr<int64_t> Answer() { return SerialiseInto(*response_, response_bytes_); }
+  absl::StatusOr<int64_t> Answer() { return SerialiseInto(*response_.get(), response_bytes_); }
   void DropAnswer() { response_bytes_->Clear(); }
 
  private:
@@ -169,9 +211,8 @@ class ArenaBytesCall {
   grpc::ByteBuffer* response_bytes_;
   Handler handler_;
   std::unique_ptr<google::protobuf::Arena> request_arena_;
-  google::protobuf::Arena response_arena_;
   Request* request_;
-  Response* response_;
+  AnswerSlot<Response> response_;
 };
 
 grpc::Status Busy(absl::string_view method) {
@@ -267,10 +308,10 @@ grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContex
                                                       grpc::ByteBuffer* response) {
   RpcRecord record;
   record.method = "RetimeCurves";  // frames and curves are filled in once it is parsed
-  auto handler = [this](const v1::RetimeCurvesRequest& in, v1::RetimeCurvesResponse* out) {
-    return HandleRetimeCurves(in, limits_, out);
+  auto handler = [this](const v1::RetimeCurvesRequest& in, CurvesAnswer* out) {
+    return RetimeCurvesAnswer(in, limits_, out);
   };
-  using Call = ArenaBytesCall<v1::RetimeCurvesRequest, v1::RetimeCurvesResponse, decltype(handler)>;
+  using Call = ArenaBytesCall<v1::RetimeCurvesRequest, CurvesAnswer, decltype(handler)>;
   return Dispatch(context, std::make_shared<Call>(request, response, std::move(handler)),
                   RpcMethod::kRetimeCurves, std::move(record));
 }

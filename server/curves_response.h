@@ -1,0 +1,53 @@
+// RetimeCurvesResponse wire bytes written straight from the core's result, without building
+// the response as protobuf messages first. A 60-curve x 300-frame answer has ~6,700 stepped
+// segments; as messages each was three arena objects, sized and then serialised one by one,
+// which perf put at about a third of the server's CPU on that call. The bytes are exactly what
+// FillCurvesResponse (server/curves_request.h) + SerializeToString give: fields in number
+// order, proto3 defaults (0, empty, +0.0) left out, repeated scalars packed, the stepped curve
+// always present (tests/server/curves_response_test.cc compares the two on random answers).
+#ifndef KOMA_SERVER_CURVES_RESPONSE_H_
+#define KOMA_SERVER_CURVES_RESPONSE_H_
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/curves.h"
+#include "core/koma_uchi.h"
+
+namespace koma::server {
+
+// Sizes the response once on construction; `set` and `result` must outlive the encoder and
+// stay unchanged. set.curves[c].id names result.curves[c].
+class CurvesResponseEncoder {
+ public:
+  CurvesResponseEncoder(const CurveSet& set, const KomaUchiResult& result);
+
+  // The serialised response's length in bytes.
+  size_t size() const { return size_; }
+
+  // Writes exactly size() bytes at `out`.
+  void WriteTo(uint8_t* out) const;
+
+ private:
+  struct TimingSizes {
+    size_t drawing_of_frame;  // packed varints, bytes
+    size_t drawing_start;
+    size_t body;  // the DrawingTiming message
+  };
+  struct CurveSizes {
+    size_t stepped;  // the Curve message
+    size_t body;     // the RetimedCurve message
+  };
+
+  const CurveSet& set_;
+  const KomaUchiResult& result_;
+  size_t key_frames_ = 0;  // packed varints, bytes
+  std::vector<TimingSizes> timings_;
+  std::vector<CurveSizes> curves_;
+  size_t size_ = 0;
+};
+
+}  // namespace koma::server
+
+#endif  // KOMA_SERVER_CURVES_RESPONSE_H_

@@ -1,0 +1,276 @@
+// The RetimeCurves wire encoder (server/curves_response.h) against the message path it
+// replaces: FillCurvesResponse + SerializeToString must give the very same bytes, on random
+// core results with every field's edge values (empty, zero, negative, -0.0, NaN, long ids,
+// lengths of several varint bytes) and on the answers to random valid requests (overrides,
+// per-curve n, tame and tsume, dense curves, large curves).
+#include "server/curves_response.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/split_mix64.h"
+#include "koma/v1/retime.pb.h"
+#include "server/curves_request.h"
+#include "server/request_limits.h"
+
+namespace koma::server {
+namespace {
+
+// The encoder's bytes, written into a buffer with guard bytes after size() to catch a write
+// past the end.
+std::string Encoded(const CurveSet& set, const KomaUchiResult& result) {
+  const CurvesResponseEncoder encoder(set, result);
+  constexpr size_t kGuard = 64;
+  std::string buffer(encoder.size() + kGuard, '\x5a');
+  encoder.WriteTo(reinterpret_cast<uint8_t*>(buffer.data()));
+  EXPECT_EQ(buffer.substr(encoder.size()), std::string(kGuard, '\x5a')) << "wrote past size()";
+  buffer.resize(encoder.size());
+  return buffer;
+}
+
+// The reference: the response as messages, serialised by protobuf.
+std::string Serialised(const CurveSet& set, const KomaUchiResult& result) {
+  v1::RetimeCurvesResponse response;
+  FillCurvesResponse(set, result, &response);
+  std::string bytes;
+  EXPECT_TRUE(response.SerializeToString(&bytes));
+  return bytes;
+}
+
+// An int32 drawn among the values whose encodings differ: 0, small, multi-byte varints,
+// negatives (ten bytes) and the extremes.
+int EdgeInt(SplitMix64& rng) {
+  switch (rng.Int(0, 7)) {
+    case 0:
+      return 0;
+    case 1:
+      return rng.Int(1, 127);
+    case 2:
+      return rng.Int(128, 16383);
+    case 3:
+      return rng.Int(16384, std::numeric_limits<int>::max());
+    case 4:
+      return -rng.Int(1, 1000);
+    case 5:
+      return std::numeric_limits<int>::min();
+    case 6:
+      return std::numeric_limits<int>::max();
+    default:
+      return rng.Int(0, 400);
+  }
+}
+
+// A double drawn among the values proto3 treats differently: +0.0 (left out), -0.0 (kept),
+// negatives, NaN, infinities, denormals, ordinary values.
+double EdgeDouble(SplitMix64& rng) {
+  switch (rng.Int(0, 7)) {
+    case 0:
+      return 0.0;
+    case 1:
+      return -0.0;
+    case 2:
+      return -rng.Unit() * 1e6;
+    case 3:
+      return std::numeric_limits<double>::quiet_NaN();
+    case 4:
+      return rng.OneIn(2) ? std::numeric_limits<double>::infinity()
+                          : -std::numeric_limits<double>::infinity();
+    case 5:
+      return std::numeric_limits<double>::denorm_min();
+    default:
+      return rng.Unit() * 300.0;
+  }
+}
+
+std::vector<int> EdgeInts(SplitMix64& rng, int count) {
+  std::vector<int> values(static_cast<size_t>(count));
+  for (int& v : values) v = EdgeInt(rng);
+  return values;
+}
+
+std::vector<double> EdgeDoubles(SplitMix64& rng, int count) {
+  std::vector<double> values(static_cast<size_t>(count));
+  for (double& v : values) v = EdgeDouble(rng);
+  return values;
+}
+
+// 0 most often, else up to `most` (a few large ones make lengths of three varint bytes).
+int EdgeCount(SplitMix64& rng, int most) {
+  if (rng.OneIn(4)) return 0;
+  return rng.OneIn(8) ? rng.Int(most / 2, most) : rng.Int(1, 40);
+}
+
+std::string EdgeId(SplitMix64& rng, int c) {
+  switch (rng.Int(0, 4)) {
+    case 0:
+      return "";
+    case 1:
+      return std::string(static_cast<size_t>(rng.Int(127, 300)), 'x');  // 2-byte length
+    case 2:
+      return "Param\xc3\xa9" + std::to_string(c);  // UTF-8
+    default:
+      return "P" + std::to_string(c);
+  }
+}
+
+// A core result with no regard for what the core could produce: the encoder must copy
+// whatever it is given.
+void RandomAnswer(SplitMix64& rng, CurveSet* set, KomaUchiResult* result) {
+  result->key_frames = EdgeInts(rng, EdgeCount(rng, 3000));
+  const int timings = rng.Int(0, 3);
+  for (int t = 0; t < timings; ++t) {
+    DrawingTiming timing;
+    timing.frames_per_drawing = EdgeInt(rng);
+    timing.drawing_of_frame = EdgeInts(rng, EdgeCount(rng, 5000));
+    timing.source_frame = EdgeDoubles(rng, EdgeCount(rng, 5000));
+    timing.drawing_start = EdgeInts(rng, EdgeCount(rng, 5000));
+    result->timings.push_back(timing);
+  }
+  const int curves = rng.Int(0, 6);
+  for (int c = 0; c < curves; ++c) {
+    Curve curve;
+    curve.id = EdgeId(rng, c);
+    set->curves.push_back(curve);
+    RetimedCurve out;
+    out.timing = EdgeInt(rng);
+    out.values = EdgeDoubles(rng, EdgeCount(rng, 20000));
+    const int steps = EdgeCount(rng, 8000);
+    for (int k = 0; k < steps; ++k) out.steps.push_back({EdgeDouble(rng), EdgeDouble(rng)});
+    const int holds = rng.Int(0, 4);
+    for (int h = 0; h < holds; ++h) out.hold_histogram[EdgeInt(rng)] = EdgeInt(rng);
+    result->curves.push_back(out);
+  }
+}
+
+TEST(CurvesResponseTest, EmptyAnswerIsNoBytes) {
+  const CurveSet set;
+  const KomaUchiResult result;
+  EXPECT_EQ(CurvesResponseEncoder(set, result).size(), 0u);
+  EXPECT_EQ(Encoded(set, result), Serialised(set, result));
+}
+
+// A curve with nothing in it still carries its (empty) stepped curve, as the message path
+// does: mutable_stepped() makes it present.
+TEST(CurvesResponseTest, EmptyCurveKeepsItsSteppedField) {
+  CurveSet set;
+  set.curves.emplace_back();
+  KomaUchiResult result;
+  result.curves.emplace_back();
+  EXPECT_EQ(Encoded(set, result), std::string("\x1a\x02\x22\x00", 4));
+  EXPECT_EQ(Encoded(set, result), Serialised(set, result));
+}
+
+TEST(CurvesResponseTest, RandomCoreResultsEncodeAsTheMessages) {
+  SplitMix64 rng(20240611);
+  for (int i = 0; i < 300; ++i) {
+    CurveSet set;
+    KomaUchiResult result;
+    RandomAnswer(rng, &set, &result);
+    ASSERT_EQ(Encoded(set, result), Serialised(set, result)) << "answer " << i;
+  }
+}
+
+void SetPoint(double frame, double value, v1::CurvePoint* point) {
+  point->set_frame(frame);
+  point->set_value(value);
+}
+
+// A keyframe curve over `frames` frames with all four segment types; values sometimes exactly
+// 0 or negative so steps carry +0.0 too.
+void AddKeyframeCurve(SplitMix64& rng, int frames, v1::Curve* curve) {
+  double frame = 0.0;
+  SetPoint(frame, rng.OneIn(3) ? 0.0 : rng.Unit() * 60.0 - 30.0, curve->mutable_start());
+  while (frame < frames - 1) {
+    const double next = std::min<double>(frames - 1, frame + rng.Int(1, 20));
+    v1::CurveSegment* segment = curve->add_segments();
+    const int type = rng.Int(1, 4);
+    segment->set_type(static_cast<v1::SegmentType>(type));
+    if (type == v1::SEGMENT_BEZIER) {
+      const double third = (next - frame) / 3.0;
+      SetPoint(frame + third, rng.Unit() * 60.0 - 30.0, segment->mutable_handle1());
+      SetPoint(next - third, rng.Unit() * 60.0 - 30.0, segment->mutable_handle2());
+    }
+    SetPoint(next, rng.OneIn(4) ? 0.0 : rng.Unit() * 60.0 - 30.0, segment->mutable_end());
+    frame = next;
+  }
+}
+
+// A valid request: keyframe and dense curves, sometimes explicit key frames, n, tame, tsume,
+// curve overrides and segment overrides with some fields unset.
+v1::RetimeCurvesRequest RandomRequest(SplitMix64& rng) {
+  v1::RetimeCurvesRequest request;
+  v1::CurveSet* set = request.mutable_curves();
+  const bool large = rng.OneIn(10);
+  const int frames = large ? rng.Int(2000, 6000) : rng.Int(2, 400);
+  const int curves = large ? rng.Int(1, 4) : rng.Int(1, 12);
+  set->set_fps(rng.OneIn(2) ? 30.0 : 24.0);
+  set->set_frame_count(frames);
+  set->set_beziers_restricted(true);
+  for (int c = 0; c < curves; ++c) {
+    v1::Curve* curve = set->add_curves();
+    curve->set_id(rng.OneIn(5)
+                      ? std::string(static_cast<size_t>(rng.Int(127, 200)), 'a') + std::to_string(c)
+                      : "P" + std::to_string(c));
+    if (rng.OneIn(4)) {
+      for (int f = 0; f < frames; ++f) curve->add_samples(rng.OneIn(5) ? 0.0 : rng.Unit() - 0.5);
+    } else {
+      AddKeyframeCurve(rng, frames, curve);
+    }
+  }
+  int key_poses = 0;  // 0: the default key poses (at least frames 0 and frames - 1)
+  if (rng.OneIn(2)) {
+    for (int f = 0; f < frames; ++f) {
+      if (f == 0 || f == frames - 1 || rng.OneIn(15)) {
+        request.add_key_frames(f);
+        ++key_poses;
+      }
+    }
+  }
+  if (rng.OneIn(2)) request.set_frames_per_drawing(rng.Int(1, 5));
+  if (rng.OneIn(3)) request.set_tame(1.0 + rng.Unit());
+  if (rng.OneIn(3)) request.set_tsume(1.0 + rng.Unit());
+  for (int c = 0; c < curves; ++c) {
+    if (!rng.OneIn(4)) continue;
+    v1::CurveOverride* own = request.add_curve_overrides();
+    own->set_curve_id(set->curves(c).id());
+    own->set_frames_per_drawing(rng.Int(1, 6));
+  }
+  const int segments = key_poses > 1 ? key_poses - 1 : 1;
+  for (int s = 0; s < segments; ++s) {
+    if (!rng.OneIn(3)) continue;
+    v1::SegmentOverride* o = request.add_segment_overrides();
+    o->set_segment(s);
+    if (rng.OneIn(2)) o->set_frames_per_drawing(rng.Int(1, 4));
+    if (rng.OneIn(2)) o->set_tame(1.0 + rng.Unit());
+    if (rng.OneIn(2)) o->set_tsume(1.0 + rng.Unit());
+  }
+  return request;
+}
+
+TEST(CurvesResponseTest, RandomRequestsAnswerTheMessagesBytes) {
+  SplitMix64 rng(7);
+  RequestLimits limits;
+  int distinct_timings = 0;
+  for (int i = 0; i < 200; ++i) {
+    const v1::RetimeCurvesRequest request = RandomRequest(rng);
+    CurvesAnswer answer;
+    const absl::Status status = RetimeCurvesAnswer(request, limits, &answer);
+    ASSERT_TRUE(status.ok()) << "request " << i << ": " << status;
+    if (answer.result.timings.size() > 1) ++distinct_timings;
+    const std::string encoded = Encoded(answer.set, answer.result);
+    ASSERT_EQ(encoded, Serialised(answer.set, answer.result)) << "request " << i;
+    // And as HandleRetimeCurves (the typed benchmark servers' path) answers it.
+    v1::RetimeCurvesResponse response;
+    ASSERT_TRUE(HandleRetimeCurves(request, limits, &response).ok());
+    ASSERT_EQ(encoded, response.SerializeAsString()) << "request " << i;
+  }
+  EXPECT_GT(distinct_timings, 10);  // the per-curve n overrides did make several timings
+}
+
+}  // namespace
+}  // namespace koma::server
