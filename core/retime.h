@@ -31,9 +31,9 @@ enum class StepOrder : uint8_t {
 };
 
 struct RetimeOptions {
-  int omissions = 4;  // Nio: delete steps to run (each may be followed by a duplicate)
-  int holds = 0;      // Nhf: hold steps to run; callers default it to frame_count / 3
-  int max_hold = 3;   // longest run of one drawing the algorithm may create, in frames
+  int omissions = 4;        // Nio: delete steps to run (each may be followed by a duplicate)
+  int holds = 0;            // Nhf: hold steps to run; callers default it to frame_count / 3
+  int max_hold = 3;         // longest run of one drawing the algorithm may create, in frames
   bool keep_length = true;  // re-insert a duplicate after each delete
   StepOrder order = StepOrder::kOmitThenHold;
 };
@@ -64,7 +64,11 @@ struct TimingMap {
 
 // Both require ValidateRetimeOptions(options, distance.frame_count()) to be OK.
 TimingMap RetimeNaive(const FrameDistance& distance, const RetimeOptions& options);
-TimingMap RetimeFast(const FrameDistance& distance, const RetimeOptions& options);
+// RetimeFast computes the input's per-frame SSD on the way; given `input_ssd`, it stores it
+// there (bit for bit distance.InputSsd()), so a caller that also reports it need not compute
+// it again.
+TimingMap RetimeFast(const FrameDistance& distance, const RetimeOptions& options,
+                     std::vector<double>* input_ssd = nullptr);
 
 }  // namespace koma
 

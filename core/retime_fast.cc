@@ -80,7 +80,10 @@ struct Run {
 
 class FastRetimer {
  public:
-  FastRetimer(const FrameDistance& distance, const RetimeOptions& options);
+  // Stores the input's per-frame SSD in `input_ssd` if not null. Tables for step B from
+  // `table_min_frames` frames on (kTableMinFrames but in tests).
+  FastRetimer(const FrameDistance& distance, const RetimeOptions& options,
+              std::vector<double>* input_ssd, int table_min_frames);
 
   void RunOmissions(TimingMap& map);
   void RunHolds(TimingMap& map);
@@ -196,7 +199,8 @@ class FastRetimer {
   SortedCandidateQueue hold_heap_;
 };
 
-FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& options)
+FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& options,
+                         std::vector<double>* input_ssd, int table_min_frames)
     : distance_(distance),
       options_(options),
       runs_(distance.frame_count()),
@@ -206,7 +210,7 @@ FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& opt
     runs_[v].prev = v - 1;
     runs_[v].next = v + 1 < n ? v + 1 : kNoRun;
   }
-  if (n >= kTableMinFrames && int64_t{4} * options.holds >= n) {
+  if (n >= table_min_frames && int64_t{4} * options.holds >= n) {
     // Step B usually unlinks a run v between v - 1 and v + 1 or v + 2: skip_ and skip2_ have
     // those distances, computed in the same streaming pass as the input SSD. They cost two
     // more distances per frame, so only where they replace enough random reads: many holds
@@ -214,8 +218,14 @@ FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& opt
     HugePageVector<double> ssd;
     distance_.AdjacentDistances(&ssd, &skip_, &skip2_);
     for (int32_t v = 1; v < n; ++v) runs_[v].head_ssd = ssd[v];
+    if (input_ssd != nullptr) input_ssd->assign(ssd.begin(), ssd.end());
   } else {
     for (int32_t v = 1; v < n; ++v) runs_[v].head_ssd = distance_(v - 1, v);
+    if (input_ssd != nullptr) {
+      input_ssd->resize(n);
+      (*input_ssd)[0] = 0.0;
+      for (int32_t v = 1; v < n; ++v) (*input_ssd)[v] = runs_[v].head_ssd;
+    }
   }
 }
 
@@ -391,8 +401,11 @@ void FastRetimer::Finish(TimingMap& map) const {
 
 }  // namespace
 
-TimingMap RetimeFast(const FrameDistance& distance, const RetimeOptions& options) {
-  FastRetimer retimer(distance, options);
+TimingMap retime_internal::RetimeFastWithTablesFrom(const FrameDistance& distance,
+                                                    const RetimeOptions& options,
+                                                    std::vector<double>* input_ssd,
+                                                    int table_min_frames) {
+  FastRetimer retimer(distance, options, input_ssd, table_min_frames);
   TimingMap map;
   for (Step step : retime_internal::StepsInOrder(options.order)) {
     if (step == Step::kOmit) retimer.RunOmissions(map);
@@ -400,6 +413,11 @@ TimingMap RetimeFast(const FrameDistance& distance, const RetimeOptions& options
   }
   retimer.Finish(map);
   return map;
+}
+
+TimingMap RetimeFast(const FrameDistance& distance, const RetimeOptions& options,
+                     std::vector<double>* input_ssd) {
+  return retime_internal::RetimeFastWithTablesFrom(distance, options, input_ssd, kTableMinFrames);
 }
 
 }  // namespace koma

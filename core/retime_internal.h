@@ -24,6 +24,12 @@ std::array<Step, 2> StepsInOrder(StepOrder order);
 // source order from `gone_in`, which has one entry per source frame.
 void FillGoneFrames(const std::vector<Step>& gone_in, TimingMap& map);
 
+// RetimeFast with the clip length from which it reads step B's unlink distances from tables
+// (kTableMinFrames, in core/retime_fast.cc), so tests can take that path on clips small
+// enough for RetimeNaive.
+TimingMap RetimeFastWithTablesFrom(const FrameDistance& distance, const RetimeOptions& options,
+                                   std::vector<double>* input_ssd, int table_min_frames);
+
 }  // namespace koma::retime_internal
 
 #endif  // KOMA_CORE_RETIME_INTERNAL_H_

@@ -112,8 +112,7 @@ absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
       return absl::Status(distance.status().code(),
                           absl::StrCat("motion: ", distance.status().message()));
     }
-    map = RetimeFast(*distance, job.retime_options);
-    input_ssd = distance->InputSsd();
+    map = RetimeFast(*distance, job.retime_options, &input_ssd);
   }
   FillResponse(request, job, map, input_ssd, response);
   return absl::OkStatus();

@@ -6,12 +6,14 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/distance.h"
 #include "core/retime.h"
+#include "core/retime_internal.h"
 #include "core/split_mix64.h"
 #include "tests/testing/status_matchers.h"
 
@@ -180,7 +182,16 @@ TEST(RetimePropertyTest, NaiveAndFastAgreeOnRandomClips) {
                          FrameDistance::Create(positions, frames, joints, distance_options));
     ASSERT_THAT(ValidateRetimeOptions(options, frames), testing::IsOk());
     const TimingMap naive = RetimeNaive(distance, options);
-    const TimingMap fast = RetimeFast(distance, options);
+    std::vector<double> input_ssd;
+    // Every other clip reads step B's unlink distances from the tables, as clips of
+    // kTableMinFrames and more do (when holds >= N / 4).
+    const TimingMap fast =
+        seed % 2 == 0 ? RetimeFast(distance, options, &input_ssd)
+                      : retime_internal::RetimeFastWithTablesFrom(distance, options, &input_ssd, 0);
+    const std::vector<double> want_ssd = distance.InputSsd();
+    ASSERT_EQ(input_ssd.size(), want_ssd.size());
+    ASSERT_EQ(std::memcmp(input_ssd.data(), want_ssd.data(), sizeof(double) * want_ssd.size()), 0)
+        << "RetimeFast's input_ssd differs from InputSsd()";
     const std::string context = "seed " + std::to_string(seed) + ": " + std::to_string(frames) +
                                 " frames, " + std::to_string(joints) + " joints, style " +
                                 std::to_string(static_cast<int>(style)) + ", " + Describe(options);
