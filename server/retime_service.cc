@@ -91,6 +91,14 @@ absl::StatusOr<int64_t> SerialiseInto(const CurvesAnswer& answer, grpc::ByteBuff
   return static_cast<int64_t>(size);
 }
 
+// RetimeSkeletal: the handler already wrote the bytes (server/skeletal_response.h).
+absl::StatusOr<int64_t> SerialiseInto(SkeletalAnswer& answer, grpc::ByteBuffer* bytes) {
+  const int64_t size = static_cast<int64_t>(answer.bytes.size());
+  grpc::ByteBuffer(&answer.bytes, 1).Swap(bytes);
+  answer.bytes = grpc::Slice();
+  return size;
+}
+
 // A call of the typed API: gRPC has parsed the request into a message from the method's
 // MessageAllocator and serialises `response` after Finish.
 template <typename Request, typename Response, typename Handler>
@@ -145,7 +153,8 @@ absl::Status ParseRequest(const grpc::ByteBuffer* bytes, v1::RetimeSkeletalReque
 }
 
 // Where a raw call's answer waits to be serialised: a message on the call's own response
-// arena, or an answer type with its own SerialiseInto (CurvesAnswer), held as it is.
+// arena, or an answer type with its own SerialiseInto (CurvesAnswer, SkeletalAnswer), held as
+// it is.
 template <typename Response, bool = std::is_base_of_v<google::protobuf::MessageLite, Response>>
 class AnswerSlot {
  public:
@@ -175,9 +184,10 @@ class AnswerSlot<Response, false> {
 // again by gRPC when it serialised. Here the request's size is the received length and the
 // response is serialised before Finish with one ByteSizeLong: on RetimeCurves 60 x 300 (~8,000
 // submessages each way) the two walks were ~10 % of the server's CPU. For RetimeSkeletal the
-// parse also reserves the big value array once at its size (ParseRequest above). RetimeCurves'
-// answer is no message at all: its bytes are encoded from the core's result (AnswerSlot,
-// SerialiseInto(CurvesAnswer) above).
+// parse also reserves the big value array once at its size (ParseRequest above). Neither
+// answer is a message at all: RetimeCurves' bytes are encoded from the core's result after the
+// handler (SerialiseInto(CurvesAnswer) above), RetimeSkeletal's by the handler itself, while
+// the request whose frames it copies is still alive (server/skeletal_response.h).
 template <typename Request, typename Response, typename Handler>
 class ArenaBytesCall {
  public:
@@ -294,11 +304,10 @@ grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(grpc::CallbackServerCont
                                                         grpc::ByteBuffer* response) {
   RpcRecord record;
   record.method = "RetimeSkeletal";  // frames and joints are filled in once it is parsed
-  auto handler = [this](const v1::RetimeSkeletalRequest& in, v1::RetimeSkeletalResponse* out) {
-    return HandleRetimeSkeletal(in, limits_, out);
+  auto handler = [this](const v1::RetimeSkeletalRequest& in, SkeletalAnswer* out) {
+    return RetimeSkeletalAnswer(in, limits_, out);
   };
-  using Call =
-      ArenaBytesCall<v1::RetimeSkeletalRequest, v1::RetimeSkeletalResponse, decltype(handler)>;
+  using Call = ArenaBytesCall<v1::RetimeSkeletalRequest, SkeletalAnswer, decltype(handler)>;
   return Dispatch(context, std::make_shared<Call>(request, response, std::move(handler)),
                   RpcMethod::kRetimeSkeletal, std::move(record));
 }

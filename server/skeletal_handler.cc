@@ -1,11 +1,13 @@
 // Run half of server/skeletal_request.h: validated request -> FK -> RetimeFast -> response.
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "core/forward_kinematics.h"
 #include "core/status_macros.h"
 #include "server/skeletal_request.h"
+#include "server/skeletal_response.h"
 
 namespace koma::server {
 namespace {
@@ -24,6 +26,11 @@ v1::FrameKind ToProto(FrameKind kind) {
 
 absl::Span<const double> SpanOf(const google::protobuf::RepeatedField<double>& field) {
   return absl::MakeConstSpan(field.data(), field.size());
+}
+
+int ValuesPerFrame(const SkeletalJob& job) {
+  return job.channel_form ? ChannelCount(job.skeleton)
+                          : 3 * static_cast<int>(job.skeleton.joints.size());
 }
 
 // World positions computed by FK (channel form) into `storage`, or a view of the request's
@@ -61,8 +68,7 @@ void FillMotion(const v1::SkeletalMotion& in, const SkeletalJob& job, const Timi
   *out->mutable_skeleton() = in.skeleton();
   out->set_frame_time(in.frame_time());
   out->set_frame_count(static_cast<int32_t>(map.source_frames.size()));
-  const int per_frame = job.channel_form ? ChannelCount(job.skeleton)
-                                         : 3 * static_cast<int>(job.skeleton.joints.size());
+  const int per_frame = ValuesPerFrame(job);
   if (job.channel_form) {
     CopyFrames(in.channels().values(), per_frame, map, out->mutable_channels()->mutable_values());
   } else {
@@ -70,9 +76,9 @@ void FillMotion(const v1::SkeletalMotion& in, const SkeletalJob& job, const Timi
   }
 }
 
-void FillResponse(const v1::RetimeSkeletalRequest& request, const SkeletalJob& job,
-                  const TimingMap& map, const std::vector<double>& input_ssd,
-                  v1::RetimeSkeletalResponse* response) {
+// Every response field but the motion.
+void FillHead(const SkeletalJob& job, const TimingMap& map, const std::vector<double>& input_ssd,
+              v1::RetimeSkeletalResponse* response) {
   response->mutable_source_frames()->Add(map.source_frames.begin(), map.source_frames.end());
   response->mutable_kinds()->Reserve(static_cast<int>(map.kinds.size()));
   for (FrameKind kind : map.kinds) response->add_kinds(ToProto(kind));
@@ -86,35 +92,66 @@ void FillResponse(const v1::RetimeSkeletalRequest& request, const SkeletalJob& j
   response->set_omissions_requested(job.retime_options.omissions);
   response->set_holds_requested(job.retime_options.holds);
   response->set_max_hold(job.retime_options.max_hold);
-  if (job.return_motion) FillMotion(request.motion(), job, map, response->mutable_motion());
+}
+
+struct Retimed {
+  SkeletalJob job;
+  TimingMap map;
+  std::vector<double> input_ssd;
+};
+
+// Validates, runs forward kinematics (channel form) and RetimeFast.
+absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
+                               const RequestLimits& limits) {
+  Retimed out;
+  KOMA_ASSIGN_OR_RETURN(out.job, ValidateSkeletalRequest(request, limits));
+  const SkeletalJob& job = out.job;
+  // In this function FK's world positions (as large as the request) are alive; they are freed
+  // before the response is built, so a large call never holds request, positions and
+  // response at once (peak memory: measured in docs/benchmarks.md).
+  HugePageVector<double> computed_positions;
+  KOMA_ASSIGN_OR_RETURN(const absl::Span<const double> positions,
+                        WorldPositions(request.motion(), job, computed_positions));
+  absl::StatusOr<FrameDistance> distance =
+      FrameDistance::CreateView(positions, job.frame_count,
+                                static_cast<int>(job.skeleton.joints.size()), job.distance_options);
+  if (!distance.ok()) {
+    // Inputs are finite here; what fails is their size after FK or the transforms.
+    return absl::Status(distance.status().code(),
+                        absl::StrCat("motion: ", distance.status().message()));
+  }
+  out.map = RetimeFast(*distance, job.retime_options, &out.input_ssd);
+  return out;
 }
 
 }  // namespace
 
+absl::Status RetimeSkeletalAnswer(const v1::RetimeSkeletalRequest& request,
+                                  const RequestLimits& limits, SkeletalAnswer* answer) {
+  KOMA_ASSIGN_OR_RETURN(const Retimed retimed, Retime(request, limits));
+  v1::RetimeSkeletalResponse head;
+  FillHead(retimed.job, retimed.map, retimed.input_ssd, &head);
+  const SkeletalResponseEncoder encoder(head, retimed.job.return_motion, request.motion(),
+                                        retimed.job.channel_form, ValuesPerFrame(retimed.job),
+                                        retimed.map.source_frames);
+  const size_t size = encoder.size();
+  if (size > static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "response: ", size, " bytes is over protobuf's 2 GiB message limit; send fewer frames"));
+  }
+  answer->bytes = grpc::Slice(size);  // uninitialised, ours alone until it is sent
+  encoder.WriteTo(const_cast<uint8_t*>(answer->bytes.begin()));
+  return absl::OkStatus();
+}
+
 absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
                                   const RequestLimits& limits,
                                   v1::RetimeSkeletalResponse* response) {
-  KOMA_ASSIGN_OR_RETURN(const SkeletalJob job, ValidateSkeletalRequest(request, limits));
-  TimingMap map;
-  std::vector<double> input_ssd;
-  {
-    // In this scope FK's world positions (as large as the request) are alive; they are freed
-    // before the response is built, so a large call never holds request, positions and
-    // response at once (peak memory: measured in docs/benchmarks.md).
-    HugePageVector<double> computed_positions;
-    KOMA_ASSIGN_OR_RETURN(const absl::Span<const double> positions,
-                          WorldPositions(request.motion(), job, computed_positions));
-    absl::StatusOr<FrameDistance> distance = FrameDistance::CreateView(
-        positions, job.frame_count, static_cast<int>(job.skeleton.joints.size()),
-        job.distance_options);
-    if (!distance.ok()) {
-      // Inputs are finite here; what fails is their size after FK or the transforms.
-      return absl::Status(distance.status().code(),
-                          absl::StrCat("motion: ", distance.status().message()));
-    }
-    map = RetimeFast(*distance, job.retime_options, &input_ssd);
+  KOMA_ASSIGN_OR_RETURN(const Retimed retimed, Retime(request, limits));
+  FillHead(retimed.job, retimed.map, retimed.input_ssd, response);
+  if (retimed.job.return_motion) {
+    FillMotion(request.motion(), retimed.job, retimed.map, response->mutable_motion());
   }
-  FillResponse(request, job, map, input_ssd, response);
   return absl::OkStatus();
 }
 

@@ -2,6 +2,8 @@
 #ifndef KOMA_SERVER_SKELETAL_REQUEST_H_
 #define KOMA_SERVER_SKELETAL_REQUEST_H_
 
+#include <grpcpp/support/slice.h>
+
 #include <optional>
 #include <vector>
 
@@ -30,7 +32,19 @@ struct SkeletalJob {
 absl::StatusOr<SkeletalJob> ValidateSkeletalRequest(const v1::RetimeSkeletalRequest& request,
                                                     const RequestLimits& limits);
 
-// Validates, runs forward kinematics (channel form) and RetimeFast, and fills `response`.
+// What a RetimeSkeletal call answers: the response's wire bytes (server/skeletal_response.h).
+struct SkeletalAnswer {
+  grpc::Slice bytes;
+};
+
+// Validates, runs forward kinematics (channel form) and RetimeFast, and encodes the response
+// into `answer`, the returned motion's frames copied from `request` straight into the bytes.
+// RESOURCE_EXHAUSTED if the response would pass protobuf's 2 GiB limit.
+absl::Status RetimeSkeletalAnswer(const v1::RetimeSkeletalRequest& request,
+                                  const RequestLimits& limits, SkeletalAnswer* answer);
+
+// The same answer as a RetimeSkeletalResponse message: the reference the wire encoder is tested
+// against, and the response of the typed-API benchmark servers.
 absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
                                   const RequestLimits& limits,
                                   v1::RetimeSkeletalResponse* response);
