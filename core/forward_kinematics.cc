@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <thread>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
@@ -188,7 +190,7 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
 
 absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& skeleton,
                                                              absl::Span<const double> values,
-                                                             int frame_count) {
+                                                             int frame_count, int threads) {
   KOMA_RETURN_IF_ERROR(ValidateSkeleton(skeleton));
   const std::vector<Joint>& joints = skeleton.joints;
   const int channel_count = ChannelCount(skeleton);
@@ -202,7 +204,20 @@ absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& ske
                                                    " channels), got ", values.size()));
   }
   HugePageVector<double> positions(static_cast<size_t>(frame_count) * joints.size() * 3);
-  FillWorldPositions(joints, values.data(), frame_count, channel_count, positions.data());
+  // Stretches of whole four-frame groups (the lanes), one per thread.
+  const int used = std::max(1, std::min(threads, frame_count / kFramesPerFkThread));
+  const int stretch = (frame_count / used + kLanes - 1) / kLanes * kLanes;
+  auto fill = [&](int first) {
+    const int count = std::min(stretch, frame_count - first);
+    FillWorldPositions(joints, values.data() + static_cast<size_t>(first) * channel_count, count,
+                       channel_count,
+                       positions.data() + static_cast<size_t>(first) * joints.size() * 3);
+  };
+  std::vector<std::thread> helpers;
+  for (int first = stretch; first < frame_count; first += stretch)
+    helpers.emplace_back(fill, first);
+  fill(0);
+  for (std::thread& helper : helpers) helper.join();
   return positions;
 }
 

@@ -24,10 +24,14 @@ namespace koma {
 absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const SkeletalClip& clip);
 
 // The same over channel values held elsewhere (the server passes a view of the request's
-// packed field, so 77 MB of a 100k-frame clip are not copied first).
+// packed field, so 77 MB of a 100k-frame clip are not copied first). Up to `threads` threads
+// share a long clip's frames, each a contiguous stretch of at least kFramesPerFkThread (the
+// calling thread takes the first); frames do not depend on each other, so the result is the
+// same, bit for bit, for any thread count.
+inline constexpr int kFramesPerFkThread = 16384;
 absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& skeleton,
                                                              absl::Span<const double> values,
-                                                             int frame_count);
+                                                             int frame_count, int threads = 1);
 
 }  // namespace koma
 

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
@@ -36,6 +37,9 @@ ABSL_FLAG(int64_t, max_values, 20'000'000,
           "3 x joints)); larger requests get RESOURCE_EXHAUSTED");
 ABSL_FLAG(int, max_joints, 4096, "largest skeleton in joints");
 ABSL_FLAG(int, worker_threads, 0, "threads that run retiming; 0 = one per core");
+ABSL_FLAG(int, threads_per_call, 0,
+          "threads one large RetimeSkeletal call's forward kinematics may use (clips of 32768 "
+          "frames and more); 0 = one per core, 1 = none besides the call's own");
 ABSL_FLAG(int, max_queued, 64,
           "requests that may wait for a worker; beyond that, RESOURCE_EXHAUSTED");
 ABSL_FLAG(int64_t, inline_max_bytes, koma::server::RetimeService::kDefaultInlineMaxBytes,
@@ -67,11 +71,11 @@ ABSL_FLAG(std::string, metrics_port_file, "",
 namespace {
 
 constexpr const char* kEnvironmentFlags[] = {
-    "address",          "port_file",         "max_message_bytes", "max_values",
-    "max_joints",       "worker_threads",    "max_queued",        "log_level",
-    "log_format",       "shutdown_grace_ms", "tls_cert",          "tls_key",
-    "tls_client_ca",    "metrics_address",   "metrics_port_file", "shutdown_delay_ms",
-    "inline_max_bytes", "huge_page_cache_mb"};
+    "address",          "port_file",          "max_message_bytes", "max_values",
+    "max_joints",       "worker_threads",     "max_queued",        "log_level",
+    "log_format",       "shutdown_grace_ms",  "tls_cert",          "tls_key",
+    "tls_client_ca",    "metrics_address",    "metrics_port_file", "shutdown_delay_ms",
+    "inline_max_bytes", "huge_page_cache_mb", "threads_per_call"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -117,6 +121,10 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.max_message_bytes = absl::GetFlag(FLAGS_max_message_bytes);
   config.limits.max_values = absl::GetFlag(FLAGS_max_values);
   config.limits.max_joints = absl::GetFlag(FLAGS_max_joints);
+  const int threads_per_call = absl::GetFlag(FLAGS_threads_per_call);
+  config.limits.threads_per_call =
+      threads_per_call > 0 ? threads_per_call
+                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   config.worker_threads = absl::GetFlag(FLAGS_worker_threads);
   config.max_queued = absl::GetFlag(FLAGS_max_queued);
   config.inline_max_bytes = absl::GetFlag(FLAGS_inline_max_bytes);
@@ -159,6 +167,7 @@ int main(int argc, char** argv) {
   }
   koma::server::StopSignals stop_signals;  // before gRPC starts any thread
   if (absl::GetFlag(FLAGS_huge_page_cache_mb) < 0) return Fail("--huge_page_cache_mb: negative");
+  if (absl::GetFlag(FLAGS_threads_per_call) < 0) return Fail("--threads_per_call: negative");
   koma::server::SetHugePageCache(absl::GetFlag(FLAGS_huge_page_cache_mb));
 
   koma::server::ServerConfig config = ConfigFromFlags();

@@ -13,6 +13,9 @@ struct RequestLimits {
   int64_t max_values = 20'000'000;
   // Largest skeleton, in joints.
   int32_t max_joints = 4096;
+  // Threads one RetimeSkeletal call's forward kinematics may use (a clip of at least
+  // 2 x kFramesPerFkThread frames, core/forward_kinematics.h); 1 = the calling thread only.
+  int threads_per_call = 1;
 };
 
 }  // namespace koma::server

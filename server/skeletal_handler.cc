@@ -36,11 +36,11 @@ int ValuesPerFrame(const SkeletalJob& job) {
 // World positions computed by FK (channel form) into `storage`, or a view of the request's
 // own positions (no copy).
 absl::StatusOr<absl::Span<const double>> WorldPositions(const v1::SkeletalMotion& motion,
-                                                        const SkeletalJob& job,
+                                                        const SkeletalJob& job, int threads,
                                                         HugePageVector<double>& storage) {
   if (!job.channel_form) return SpanOf(motion.positions().values());
-  absl::StatusOr<HugePageVector<double>> positions =
-      ComputeWorldPositions(job.skeleton, SpanOf(motion.channels().values()), job.frame_count);
+  absl::StatusOr<HugePageVector<double>> positions = ComputeWorldPositions(
+      job.skeleton, SpanOf(motion.channels().values()), job.frame_count, threads);
   if (!positions.ok()) return positions.status();
   storage = *std::move(positions);
   return absl::MakeConstSpan(storage);
@@ -110,8 +110,9 @@ absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
   // before the response is built, so a large call never holds request, positions and
   // response at once (peak memory: measured in docs/benchmarks.md).
   HugePageVector<double> computed_positions;
-  KOMA_ASSIGN_OR_RETURN(const absl::Span<const double> positions,
-                        WorldPositions(request.motion(), job, computed_positions));
+  KOMA_ASSIGN_OR_RETURN(
+      const absl::Span<const double> positions,
+      WorldPositions(request.motion(), job, limits.threads_per_call, computed_positions));
   absl::StatusOr<FrameDistance> distance =
       FrameDistance::CreateView(positions, job.frame_count,
                                 static_cast<int>(job.skeleton.joints.size()), job.distance_options);

@@ -235,5 +235,34 @@ TEST(ForwardKinematicsTest, FourFramesAtOnceEqualOneFrameAtATimeBitForBit) {
   }
 }
 
+// Long clips split over threads (stretches of whole four-frame groups, the last one shorter):
+// the same bits as one thread, whatever the count.
+TEST(ForwardKinematicsTest, ThreadsShareTheFramesWithTheSameBits) {
+  SplitMix64 rng(41);
+  Skeleton skeleton;
+  for (int j = 0; j < 5; ++j) {
+    Joint joint;
+    joint.name = "j" + std::to_string(j);
+    joint.parent = j - 1;
+    joint.offset = {1.0, 2.0 + j, -0.5};
+    joint.channels = {C::kZRotation, C::kXRotation, C::kYRotation};
+    if (j == 0) joint.channels.insert(joint.channels.begin(), C::kXPosition);
+    skeleton.joints.push_back(joint);
+  }
+  for (const int frames : {kFramesPerFkThread * 2 - 1, kFramesPerFkThread * 3 + 5}) {
+    std::vector<double> values(static_cast<size_t>(frames) * ChannelCount(skeleton));
+    for (double& v : values) v = (rng.Unit() - 0.5) * 720.0;
+    ASSERT_OK_AND_ASSIGN(const HugePageVector<double> one,
+                         ComputeWorldPositions(skeleton, values, frames, 1));
+    for (const int threads : {2, 3, 7}) {
+      ASSERT_OK_AND_ASSIGN(const HugePageVector<double> many,
+                           ComputeWorldPositions(skeleton, values, frames, threads));
+      ASSERT_EQ(many.size(), one.size());
+      EXPECT_EQ(std::memcmp(many.data(), one.data(), sizeof(double) * one.size()), 0)
+          << frames << " frames, " << threads << " threads";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace koma
