@@ -8,19 +8,20 @@
 
 #include "absl/base/config.h"
 #include "koma/v1/motion.pb.h"
+#include "server/wire_bytes.h"
 
 namespace koma::server {
 namespace {
 
-using google::protobuf::internal::WireFormatLite;
-using google::protobuf::io::CodedOutputStream;
-
-constexpr uint8_t Tag(int field, WireFormatLite::WireType type) {
-  return static_cast<uint8_t>(field << 3 | type);
-}
-constexpr WireFormatLite::WireType kVarint = WireFormatLite::WIRETYPE_VARINT;
-constexpr WireFormatLite::WireType kFixed64 = WireFormatLite::WIRETYPE_FIXED64;
-constexpr WireFormatLite::WireType kLength = WireFormatLite::WIRETYPE_LENGTH_DELIMITED;
+using wire::Bits;
+using wire::CodedOutputStream;
+using wire::kFixed64;
+using wire::kLength;
+using wire::kVarint;
+using wire::LengthField;
+using wire::Tag;
+using wire::WireFormatLite;
+using wire::WriteLength;
 
 // The field tags, all one byte (fields 1-15).
 namespace response {  // RetimeCurvesResponse
@@ -61,15 +62,6 @@ constexpr uint8_t kDrawings = Tag(2, kVarint);
 
 static_assert(v1::SEGMENT_STEPPED < 128, "the stepped type is a one-byte varint");
 
-uint64_t Bits(double value) {
-  uint64_t bits;
-  std::memcpy(&bits, &value, sizeof bits);
-  return bits;
-}
-
-// A length-delimited field of `body` bytes: tag, length, body.
-size_t LengthField(size_t body) { return 1 + CodedOutputStream::VarintSize64(body) + body; }
-
 // A singular int32 field: left out when 0; negatives are ten-byte varints.
 size_t Int32Field(int value) {
   return value == 0 ? 0 : 1 + WireFormatLite::Int32Size(static_cast<int32_t>(value));
@@ -98,11 +90,6 @@ size_t SteppedBody(const std::string& id, const std::vector<CurvePoint>& steps) 
   // Each segment: tag, length, type field (2), end field (2 + point); all lengths one byte.
   for (size_t k = 1; k < steps.size(); ++k) bytes += 6 + PointBody(steps[k]);
   return bytes;
-}
-
-uint8_t* WriteLength(uint8_t tag, size_t length, uint8_t* out) {
-  *out++ = tag;
-  return CodedOutputStream::WriteVarint64ToArray(length, out);
 }
 
 uint8_t* WriteInt32Field(uint8_t tag, int value, uint8_t* out) {

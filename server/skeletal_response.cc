@@ -1,42 +1,28 @@
 #include "server/skeletal_response.h"
 
-#include <google/protobuf/io/coded_stream.h>
-#include <google/protobuf/wire_format_lite.h>
-
 #include <cstring>
 
 #include "absl/base/config.h"
+#include "server/wire_bytes.h"
 
 namespace koma::server {
 namespace {
 
-using google::protobuf::internal::WireFormatLite;
-using google::protobuf::io::CodedOutputStream;
+using wire::CodedOutputStream;
+using wire::DoubleIsWritten;
+using wire::kLength;
+using wire::LengthField;
+using wire::Tag;
+using wire::WireFormatLite;
+using wire::WriteLength;
 
-constexpr uint8_t Tag(int field, WireFormatLite::WireType type) {
-  return static_cast<uint8_t>(field << 3 | type);
-}
-constexpr uint8_t kResponseMotion = Tag(13, WireFormatLite::WIRETYPE_LENGTH_DELIMITED);
+constexpr uint8_t kResponseMotion = Tag(13, kLength);
 // SkeletalMotion
-constexpr uint8_t kSkeleton = Tag(1, WireFormatLite::WIRETYPE_LENGTH_DELIMITED);
-constexpr uint8_t kFrameTime = Tag(2, WireFormatLite::WIRETYPE_FIXED64);
-constexpr uint8_t kFrameCount = Tag(3, WireFormatLite::WIRETYPE_VARINT);
+constexpr uint8_t kSkeleton = Tag(1, kLength);
+constexpr uint8_t kFrameTime = Tag(2, wire::kFixed64);
+constexpr uint8_t kFrameCount = Tag(3, wire::kVarint);
 // ChannelValues / JointPositions
-constexpr uint8_t kValues = Tag(1, WireFormatLite::WIRETYPE_LENGTH_DELIMITED);
-
-size_t VarintBytes(size_t value) { return CodedOutputStream::VarintSize64(value); }
-
-// proto3 leaves a double out when its bits are all zero (+0.0; -0.0 is written).
-bool WritesDouble(double value) {
-  uint64_t bits;
-  std::memcpy(&bits, &value, sizeof(bits));
-  return bits != 0;
-}
-
-uint8_t* WriteLengthPrefix(uint8_t tag, size_t length, uint8_t* out) {
-  *out++ = tag;
-  return CodedOutputStream::WriteVarint64ToArray(length, out);
-}
+constexpr uint8_t kValues = Tag(1, kLength);
 
 }  // namespace
 
@@ -57,23 +43,23 @@ SkeletalResponseEncoder::SkeletalResponseEncoder(const v1::RetimeSkeletalRespons
   if (!with_motion_) return;
   skeleton_bytes_ = source_.skeleton().ByteSizeLong();
   values_bytes_ = sizeof(double) * source_frames_.size() * static_cast<size_t>(per_frame_);
-  data_bytes_ = values_bytes_ == 0 ? 0 : 1 + VarintBytes(values_bytes_) + values_bytes_;
+  data_bytes_ = values_bytes_ == 0 ? 0 : LengthField(values_bytes_);  // packed: empty left out
   const int32_t frame_count = static_cast<int32_t>(source_frames_.size());
   motion_bytes_ =
-      1 + VarintBytes(skeleton_bytes_) + skeleton_bytes_ +
-      (WritesDouble(source_.frame_time()) ? 1 + sizeof(double) : 0) +
-      (frame_count != 0 ? 1 + CodedOutputStream::VarintSize32SignExtended(frame_count) : 0) + 1 +
-      VarintBytes(data_bytes_) + data_bytes_;
-  size_ += 1 + VarintBytes(motion_bytes_) + motion_bytes_;
+      LengthField(skeleton_bytes_) +
+      (DoubleIsWritten(source_.frame_time()) ? 1 + sizeof(double) : 0) +
+      (frame_count != 0 ? 1 + CodedOutputStream::VarintSize32SignExtended(frame_count) : 0) +
+      LengthField(data_bytes_);  // the oneof's message, present even when empty
+  size_ += LengthField(motion_bytes_);
 }
 
 void SkeletalResponseEncoder::WriteTo(uint8_t* out) const {
   out = head_.SerializeWithCachedSizesToArray(out);
   if (!with_motion_) return;
-  out = WriteLengthPrefix(kResponseMotion, motion_bytes_, out);
-  out = WriteLengthPrefix(kSkeleton, skeleton_bytes_, out);
+  out = WriteLength(kResponseMotion, motion_bytes_, out);
+  out = WriteLength(kSkeleton, skeleton_bytes_, out);
   out = source_.skeleton().SerializeWithCachedSizesToArray(out);
-  if (WritesDouble(source_.frame_time())) {
+  if (DoubleIsWritten(source_.frame_time())) {
     *out++ = kFrameTime;
     out = WireFormatLite::WriteDoubleNoTagToArray(source_.frame_time(), out);
   }
@@ -82,10 +68,9 @@ void SkeletalResponseEncoder::WriteTo(uint8_t* out) const {
     *out++ = kFrameCount;
     out = CodedOutputStream::WriteVarint32SignExtendedToArray(frame_count, out);
   }
-  out = WriteLengthPrefix(Tag(data_field_, WireFormatLite::WIRETYPE_LENGTH_DELIMITED), data_bytes_,
-                          out);
+  out = WriteLength(Tag(data_field_, WireFormatLite::WIRETYPE_LENGTH_DELIMITED), data_bytes_, out);
   if (values_bytes_ == 0) return;
-  out = WriteLengthPrefix(kValues, values_bytes_, out);
+  out = WriteLength(kValues, values_bytes_, out);
   const double* values = values_->data();
   for (const int32_t frame : source_frames_) {
 #ifdef ABSL_IS_LITTLE_ENDIAN

@@ -12,6 +12,7 @@
 
 #include "core/split_mix64.h"
 #include "koma/v1/retime.pb.h"
+#include "tests/server/curves_request_builder.h"
 #include "tests/server/in_process_server.h"
 #include "tests/testing/fnv1a.h"
 
@@ -19,11 +20,6 @@ namespace koma::server {
 namespace {
 
 using ::koma::testing::Fnv1a64;
-
-void SetPoint(double frame, double value, v1::CurvePoint* point) {
-  point->set_frame(frame);
-  point->set_value(value);
-}
 
 // `curves` keyframe curves over `frames` frames, keys every 5-14 frames, segment types drawn
 // from all four (Beziers with handles inside their segment), plus one dense curve; ids
@@ -38,21 +34,7 @@ v1::RetimeCurvesRequest MixedRequest(int curves, int frames, uint64_t seed) {
   for (int c = 0; c < curves; ++c) {
     v1::Curve* curve = set->add_curves();
     curve->set_id("P" + std::to_string(c));
-    double frame = 0.0;
-    SetPoint(frame, rng.Unit() * 60.0 - 30.0, curve->mutable_start());
-    while (frame < frames - 1) {
-      const double next = std::min<double>(frames - 1, frame + rng.Int(5, 14));
-      v1::CurveSegment* segment = curve->add_segments();
-      const int type = rng.Int(1, 4);
-      segment->set_type(static_cast<v1::SegmentType>(type));
-      if (type == v1::SEGMENT_BEZIER) {
-        const double third = (next - frame) / 3.0;
-        SetPoint(frame + third, rng.Unit() * 60.0 - 30.0, segment->mutable_handle1());
-        SetPoint(next - third, rng.Unit() * 60.0 - 30.0, segment->mutable_handle2());
-      }
-      SetPoint(next, rng.Unit() * 60.0 - 30.0, segment->mutable_end());
-      frame = next;
-    }
+    ::koma::testing::AddRandomKeyframes(rng, frames, 5, 14, 0, curve);
   }
   v1::Curve* dense = set->add_curves();
   dense->set_id("Dense");

@@ -2,9 +2,45 @@
 #ifndef KOMA_TESTS_SERVER_CURVES_REQUEST_BUILDER_H_
 #define KOMA_TESTS_SERVER_CURVES_REQUEST_BUILDER_H_
 
+#include <algorithm>
+
+#include "core/split_mix64.h"
 #include "koma/v1/retime.pb.h"
 
 namespace koma::testing {
+
+inline void SetPoint(double frame, double value, v1::CurvePoint* point) {
+  point->set_frame(frame);
+  point->set_value(value);
+}
+
+// A random keyframe curve over `frames` frames: a start, then keys every `min_step` to
+// `max_step` frames, segment types drawn from all four (Beziers with handles inside their
+// segment), values in [-30, 30). With zero_one_in > 0 the start and the keys are exactly 0
+// one time in zero_one_in (so steps carry +0.0 too); with 0 the generator makes no such draw.
+// (curves_golden_test pins the bytes of what this draws from given seeds: keep its sequence.)
+inline void AddRandomKeyframes(SplitMix64& rng, int frames, int min_step, int max_step,
+                               int zero_one_in, v1::Curve* curve) {
+  auto value = [&rng, zero_one_in] {
+    if (zero_one_in > 0 && rng.OneIn(zero_one_in)) return 0.0;
+    return rng.Unit() * 60.0 - 30.0;
+  };
+  double frame = 0.0;
+  SetPoint(frame, value(), curve->mutable_start());
+  while (frame < frames - 1) {
+    const double next = std::min<double>(frames - 1, frame + rng.Int(min_step, max_step));
+    v1::CurveSegment* segment = curve->add_segments();
+    const int type = rng.Int(1, 4);
+    segment->set_type(static_cast<v1::SegmentType>(type));
+    if (type == v1::SEGMENT_BEZIER) {
+      const double third = (next - frame) / 3.0;
+      SetPoint(frame + third, rng.Unit() * 60.0 - 30.0, segment->mutable_handle1());
+      SetPoint(next - third, rng.Unit() * 60.0 - 30.0, segment->mutable_handle2());
+    }
+    SetPoint(next, value(), segment->mutable_end());
+    frame = next;
+  }
+}
 
 // 31 frames at 30 fps: "ParamAngleX" linear 0 -> 30 over frames 0-10, a Bezier back to 0 at
 // frame 30; "ParamArm" dense samples 0, 1, 2, ...

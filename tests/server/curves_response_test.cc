@@ -17,6 +17,7 @@
 #include "koma/v1/retime.pb.h"
 #include "server/curves_request.h"
 #include "server/request_limits.h"
+#include "tests/server/curves_request_builder.h"
 
 namespace koma::server {
 namespace {
@@ -175,31 +176,6 @@ TEST(CurvesResponseTest, RandomCoreResultsEncodeAsTheMessages) {
   }
 }
 
-void SetPoint(double frame, double value, v1::CurvePoint* point) {
-  point->set_frame(frame);
-  point->set_value(value);
-}
-
-// A keyframe curve over `frames` frames with all four segment types; values sometimes exactly
-// 0 or negative so steps carry +0.0 too.
-void AddKeyframeCurve(SplitMix64& rng, int frames, v1::Curve* curve) {
-  double frame = 0.0;
-  SetPoint(frame, rng.OneIn(3) ? 0.0 : rng.Unit() * 60.0 - 30.0, curve->mutable_start());
-  while (frame < frames - 1) {
-    const double next = std::min<double>(frames - 1, frame + rng.Int(1, 20));
-    v1::CurveSegment* segment = curve->add_segments();
-    const int type = rng.Int(1, 4);
-    segment->set_type(static_cast<v1::SegmentType>(type));
-    if (type == v1::SEGMENT_BEZIER) {
-      const double third = (next - frame) / 3.0;
-      SetPoint(frame + third, rng.Unit() * 60.0 - 30.0, segment->mutable_handle1());
-      SetPoint(next - third, rng.Unit() * 60.0 - 30.0, segment->mutable_handle2());
-    }
-    SetPoint(next, rng.OneIn(4) ? 0.0 : rng.Unit() * 60.0 - 30.0, segment->mutable_end());
-    frame = next;
-  }
-}
-
 // A valid request: keyframe and dense curves, sometimes explicit key frames, n, tame, tsume,
 // curve overrides and segment overrides with some fields unset.
 v1::RetimeCurvesRequest RandomRequest(SplitMix64& rng) {
@@ -219,7 +195,7 @@ v1::RetimeCurvesRequest RandomRequest(SplitMix64& rng) {
     if (rng.OneIn(4)) {
       for (int f = 0; f < frames; ++f) curve->add_samples(rng.OneIn(5) ? 0.0 : rng.Unit() - 0.5);
     } else {
-      AddKeyframeCurve(rng, frames, curve);
+      ::koma::testing::AddRandomKeyframes(rng, frames, 1, 20, 4, curve);
     }
   }
   int key_poses = 0;  // 0: the default key poses (at least frames 0 and frames - 1)
