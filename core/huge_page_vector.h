@@ -12,7 +12,6 @@
 #define KOMA_CORE_HUGE_PAGE_VECTOR_H_
 
 #include <cstddef>
-#include <cstdint>
 #include <new>
 #include <vector>
 

@@ -299,17 +299,27 @@ grpc::ServerUnaryReactor* RetimeService::DispatchTyped(grpc::CallbackServerConte
                   method, std::move(record));
 }
 
+template <typename Request, typename Answer, typename Handler>
+grpc::ServerUnaryReactor* RetimeService::DispatchRaw(grpc::CallbackServerContext* context,
+                                                     const grpc::ByteBuffer* request,
+                                                     grpc::ByteBuffer* response, RpcMethod method,
+                                                     RpcRecord record, Handler handler) {
+  return Dispatch(context,
+                  std::make_shared<ArenaBytesCall<Request, Answer, Handler>>(request, response,
+                                                                             std::move(handler)),
+                  method, std::move(record));
+}
+
 grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(grpc::CallbackServerContext* context,
                                                         const grpc::ByteBuffer* request,
                                                         grpc::ByteBuffer* response) {
   RpcRecord record;
   record.method = "RetimeSkeletal";  // frames and joints are filled in once it is parsed
-  auto handler = [this](const v1::RetimeSkeletalRequest& in, SkeletalAnswer* out) {
-    return RetimeSkeletalAnswer(in, limits_, out);
-  };
-  using Call = ArenaBytesCall<v1::RetimeSkeletalRequest, SkeletalAnswer, decltype(handler)>;
-  return Dispatch(context, std::make_shared<Call>(request, response, std::move(handler)),
-                  RpcMethod::kRetimeSkeletal, std::move(record));
+  return DispatchRaw<v1::RetimeSkeletalRequest, SkeletalAnswer>(
+      context, request, response, RpcMethod::kRetimeSkeletal, std::move(record),
+      [this](const v1::RetimeSkeletalRequest& in, SkeletalAnswer* out) {
+        return RetimeSkeletalAnswer(in, limits_, out);
+      });
 }
 
 grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContext* context,
@@ -317,12 +327,11 @@ grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContex
                                                       grpc::ByteBuffer* response) {
   RpcRecord record;
   record.method = "RetimeCurves";  // frames and curves are filled in once it is parsed
-  auto handler = [this](const v1::RetimeCurvesRequest& in, CurvesAnswer* out) {
-    return RetimeCurvesAnswer(in, limits_, out);
-  };
-  using Call = ArenaBytesCall<v1::RetimeCurvesRequest, CurvesAnswer, decltype(handler)>;
-  return Dispatch(context, std::make_shared<Call>(request, response, std::move(handler)),
-                  RpcMethod::kRetimeCurves, std::move(record));
+  return DispatchRaw<v1::RetimeCurvesRequest, CurvesAnswer>(
+      context, request, response, RpcMethod::kRetimeCurves, std::move(record),
+      [this](const v1::RetimeCurvesRequest& in, CurvesAnswer* out) {
+        return RetimeCurvesAnswer(in, limits_, out);
+      });
 }
 
 grpc::ServerUnaryReactor* RetimeService::LipBlink(grpc::CallbackServerContext* context,

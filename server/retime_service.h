@@ -61,6 +61,13 @@ class RetimeService final
   grpc::ServerUnaryReactor* DispatchTyped(grpc::CallbackServerContext* context,
                                           const Request* request, Response* response,
                                           RpcMethod method, RpcRecord record, Handler handler);
+  // Dispatch for a raw method: the service parses the bytes into a Request on the call's
+  // arena, `handler(request, &answer)` returns absl::Status, and the Answer type serialises
+  // itself (ArenaBytesCall in retime_service.cc).
+  template <typename Request, typename Answer, typename Handler>
+  grpc::ServerUnaryReactor* DispatchRaw(grpc::CallbackServerContext* context,
+                                        const grpc::ByteBuffer* request, grpc::ByteBuffer* response,
+                                        RpcMethod method, RpcRecord record, Handler handler);
 
   const RequestLimits limits_;
   WorkerPool* const pool_;
