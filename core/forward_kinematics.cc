@@ -43,25 +43,34 @@ KOMA_FK_INLINE void Gather(const double* column, size_t stride, Lanes& out) {
 
 // rotation := rotation * R_axis(degrees), the right-handed rotation about the channel's axis
 // (intrinsic: later channels multiply on the right). R_axis has only a 2x2 block, so each
-// row mixes two entries: 12 multiplications instead of a full 3x3 product's 27.
-// `s` and `c` are the sine and cosine of the channel's angle.
-KOMA_FK_INLINE void RotateAbout(ChannelKind kind, const Lanes& s, const Lanes& c, Lanes* rotation) {
-  // Columns (i, k) of the block: X mixes y,z; Y mixes z,x; Z mixes x,y. In each case
-  // new_i = c * old_i + s * old_k and new_k = c * old_k - s * old_i.
-  int i = 0;
-  int k = 1;
-  if (kind == ChannelKind::kXRotation) {
-    i = 1;
-    k = 2;
-  } else if (kind == ChannelKind::kYRotation) {
-    i = 2;
-    k = 0;
-  }
+// row mixes two columns (i, k): 12 multiplications instead of a full 3x3 product's 27.
+// `s` and `c` are the sine and cosine of the channel's angle. The columns are template
+// arguments so that `rotation` (a local array) stays in registers: with indices known only at
+// run time it lived in memory, and each rotation waited on the stores of the one before.
+template <int i, int k>
+KOMA_FK_INLINE void RotateColumns(const Lanes& s, const Lanes& c, Lanes (&rotation)[9]) {
   for (int r = 0; r < 3; ++r) {
     const Lanes a = rotation[3 * r + i];
     const Lanes b = rotation[3 * r + k];
     rotation[3 * r + i] = c * a + s * b;
     rotation[3 * r + k] = c * b - s * a;
+  }
+}
+
+// Columns (i, k) of the block: X mixes y,z; Y mixes z,x; Z mixes x,y. In each case
+// new_i = c * old_i + s * old_k and new_k = c * old_k - s * old_i.
+KOMA_FK_INLINE void RotateAbout(ChannelKind kind, const Lanes& s, const Lanes& c,
+                                Lanes (&rotation)[9]) {
+  switch (kind) {
+    case ChannelKind::kXRotation:
+      RotateColumns<1, 2>(s, c, rotation);
+      break;
+    case ChannelKind::kYRotation:
+      RotateColumns<2, 0>(s, c, rotation);
+      break;
+    default:  // kZRotation
+      RotateColumns<0, 1>(s, c, rotation);
+      break;
   }
 }
 
@@ -95,11 +104,12 @@ KOMA_FK_INLINE void JointTransform(const Joint& joint, const LaneTransform* pare
       local[static_cast<int>(kind) - static_cast<int>(ChannelKind::kXPosition)] += value;
     }
   }
+  Lanes rotation[9] = {};  // the world rotation, in registers while the channels turn it
   if (parent == nullptr) {
     constexpr double kIdentity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     for (int r = 0; r < 3; ++r) world.translation[r] = local[r];
     if (!with_rotation) return;
-    for (int e = 0; e < 9; ++e) Broadcast(kIdentity[e], world.rotation[e]);
+    for (int e = 0; e < 9; ++e) Broadcast(kIdentity[e], rotation[e]);
   } else {
     for (int r = 0; r < 3; ++r) {
       world.translation[r] = parent->translation[r] + parent->rotation[3 * r] * local[0] +
@@ -107,7 +117,7 @@ KOMA_FK_INLINE void JointTransform(const Joint& joint, const LaneTransform* pare
                              parent->rotation[3 * r + 2] * local[2];
     }
     if (!with_rotation) return;
-    for (int e = 0; e < 9; ++e) world.rotation[e] = parent->rotation[e];
+    for (int e = 0; e < 9; ++e) rotation[e] = parent->rotation[e];
   }
   for (const ChannelKind kind : joint.channels) {
     if (IsRotation(kind)) {
@@ -116,9 +126,10 @@ KOMA_FK_INLINE void JointTransform(const Joint& joint, const LaneTransform* pare
       __builtin_memcpy(&co, cos, sizeof co);
       sin += kLanes;
       cos += kLanes;
-      RotateAbout(kind, s, co, world.rotation);
+      RotateAbout(kind, s, co, rotation);
     }
   }
+  for (int e = 0; e < 9; ++e) world.rotation[e] = rotation[e];
 }
 
 // The positions of every joint in every frame (see ComputeWorldPositions; the sizes are

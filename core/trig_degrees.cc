@@ -50,11 +50,16 @@ void SinCosDegrees(const double* degrees, int n, double* sin, double* cos) {
   // Reduce in degrees, where every step is exact: sin(-a) = -sin(a) and cos(-a) = cos(a)
   // take the sign off, fmod is exact by definition, and subtracting a multiple of 90 from a
   // value at most twice it is exact (Sterbenz). (Adding 360 to a negative angle would not be.)
-  // First pass: |degrees| within one turn, into sin[] as scratch. fmod returns its argument
-  // below 360, so the libm call is only made past a turn (rare: a separate, scalar loop).
+  // First pass: |degrees| into sin[] as scratch, counting those past a turn (a vectorised
+  // loop: a libm call inside it would make it scalar, about a sixth of the whole time). Those
+  // are rare, and only then does a second, scalar loop bring them within one turn, [0, 360).
+  int past_a_turn = 0;
   for (int i = 0; i < n; ++i) {
-    const double magnitude = std::fabs(degrees[i]);
-    sin[i] = magnitude < 360.0 ? magnitude : std::fmod(magnitude, 360.0);  // [0, 360)
+    sin[i] = std::fabs(degrees[i]);
+    past_a_turn += sin[i] >= 360.0;
+  }
+  if (past_a_turn > 0) {
+    for (int i = 0; i < n; ++i) sin[i] = sin[i] < 360.0 ? sin[i] : std::fmod(sin[i], 360.0);
   }
   // Second pass, branch-free (comparisons and selects only), so it vectorises.
   for (int i = 0; i < n; ++i) {
