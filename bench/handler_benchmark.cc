@@ -1,0 +1,77 @@
+// What a RetimeSkeletal call costs the server on top of gRPC: koma's handler (parse the received
+// bytes, validate, FK, RetimeFast, encode the response bytes) against the echo baseline's
+// (parse, build a response of the same shape, serialise it), on koma_load's synthetic requests.
+// The difference is the CPU that decides koma/echo throughput on the 2 cores once both servers
+// pay the same transport; measured here without the network's noise. Single-threaded.
+#include <benchmark/benchmark.h>
+
+#include <grpcpp/support/byte_buffer.h>
+#include <grpcpp/support/slice.h>
+
+#include <string>
+
+#include "bench/echo_shapes.h"
+#include "bench/load/load_request.h"
+#include "google/protobuf/arena.h"
+#include "server/malloc_tuning.h"
+#include "server/request_limits.h"
+#include "server/skeletal_parse.h"
+#include "server/skeletal_request.h"
+
+namespace koma {
+namespace {
+
+// The request as gRPC hands it to the server: its serialised bytes in a ByteBuffer.
+grpc::ByteBuffer RequestBytes(int frames, bool positions) {
+  const std::string bytes =
+      load::SyntheticSkeletal(frames, /*joints=*/31, positions, /*seed=*/1).SerializeAsString();
+  grpc::Slice slice(bytes.data(), bytes.size());
+  return grpc::ByteBuffer(&slice, 1);
+}
+
+void BM_KomaSkeletalHandler(benchmark::State& state) {
+  const grpc::ByteBuffer bytes = RequestBytes(static_cast<int>(state.range(0)), state.range(1));
+  server::RequestLimits limits;
+  limits.threads_per_call = 1;
+  for (auto _ : state) {
+    google::protobuf::Arena arena;
+    auto* request = google::protobuf::Arena::CreateMessage<v1::RetimeSkeletalRequest>(&arena);
+    if (!server::ParseSkeletalRequest(bytes, request).ok()) state.SkipWithError("parse");
+    server::SkeletalAnswer answer;
+    if (!server::RetimeSkeletalAnswer(*request, limits, &answer).ok()) state.SkipWithError("call");
+    benchmark::DoNotOptimize(answer.bytes.begin());
+  }
+}
+
+void BM_EchoSkeletalHandler(benchmark::State& state) {
+  const grpc::ByteBuffer bytes = RequestBytes(static_cast<int>(state.range(0)), state.range(1));
+  for (auto _ : state) {
+    google::protobuf::Arena arena;
+    auto* request = google::protobuf::Arena::CreateMessage<v1::RetimeSkeletalRequest>(&arena);
+    if (!server::ParseSkeletalRequest(bytes, request).ok()) state.SkipWithError("parse");
+    auto* response = google::protobuf::Arena::CreateMessage<v1::RetimeSkeletalResponse>(&arena);
+    echo::SkeletalLookalike(*request, response);
+    grpc::Slice out(response->ByteSizeLong());  // what gRPC's serialiser writes into
+    response->SerializeWithCachedSizesToArray(const_cast<uint8_t*>(out.begin()));
+    benchmark::DoNotOptimize(out.begin());
+  }
+}
+
+// Args: frames, positions (1) or BVH channels (0).
+BENCHMARK(BM_KomaSkeletalHandler)->Args({129, 0})->Args({129, 1})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_EchoSkeletalHandler)->Args({129, 0})->Args({129, 1})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_KomaSkeletalHandler)->Args({100000, 0})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EchoSkeletalHandler)->Args({100000, 0})->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace koma
+
+// As in both servers' main(): without it every 100 KB block is a fresh mmap, page faults and all.
+int main(int argc, char** argv) {
+  koma::server::TuneMallocForLargeMessages();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
