@@ -21,9 +21,20 @@ namespace koma::server {
 // pages every call. Measured (docs/benchmarks.md): 256 KiB / 1 MiB kept the 100k-frame peak
 // lowest but made LipBlink 3x100k ~1.7x slower (page faults); 2 MiB / 16 MiB and up made
 // it fastest but the 100k-frame peak ~1.6x higher.
+//
+// One malloc arena for all threads: by default glibc gives threads arenas of their own (up to 8
+// per core), and gRPC receives a large message's pieces on whichever thread reads the socket,
+// so a 73 MB request left up to ~130 MB of freed pieces resident across two or more arenas,
+// where the next call's pieces, read on another thread, did not reuse them. With one arena
+// the 100,000-frame RetimeSkeletal peak went from 320-380 to 240-255 MiB and stopped growing
+// from run to run; RetimeCurves 500 x 10k from 330-440 to ~215 MiB; LipBlink 3 x 100k at c=16
+// from ~195 to ~168 MiB. Throughput at Pitch size with 16 calls in flight was the same within
+// the noise (two cores, so little lock contention). Lower thresholds (512 or 256 KiB, trim at
+// 2-4 MiB) took LipBlink's peak down only 5-15 % more but cost it 30-40 % of its throughput.
 inline void TuneMallocForLargeMessages() {
   mallopt(M_MMAP_THRESHOLD, 1024 * 1024);
   mallopt(M_TRIM_THRESHOLD, 16 * 1024 * 1024);
+  mallopt(M_ARENA_MAX, 1);
 }
 
 // Arrays of 4 MiB and more (a large call's request and response blocks, forward kinematics'
