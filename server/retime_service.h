@@ -17,13 +17,13 @@
 
 namespace koma::server {
 
-// RetimeSkeletal is a raw method (bytes in, bytes out): the service parses its request itself,
-// so the big value array is allocated once at its size (server/skeletal_parse.h). RetimeCurves
-// is raw too, so its request size is the received length and its response is sized once
-// (ArenaBytesCall in retime_service.cc).
+// All three methods are raw (bytes in, bytes out): the service parses each request itself, so
+// RetimeSkeletal's big value array and LipBlink's sample arrays are allocated once at their
+// size (server/skeletal_parse.h, ParseRequest in retime_service.cc), each request's size is
+// its received length and each response is sized once (ArenaBytesCall in retime_service.cc).
 class RetimeService final
-    : public v1::Retime::WithRawCallbackMethod_RetimeCurves<
-          v1::Retime::WithRawCallbackMethod_RetimeSkeletal<v1::Retime::CallbackService>> {
+    : public v1::Retime::WithRawCallbackMethod_LipBlink<v1::Retime::WithRawCallbackMethod_RetimeCurves<
+          v1::Retime::WithRawCallbackMethod_RetimeSkeletal<v1::Retime::CallbackService>>> {
  public:
   // Requests of at most this many serialised bytes run on gRPC's callback thread itself.
   static constexpr int64_t kDefaultInlineMaxBytes = 256 * 1024;
@@ -33,9 +33,7 @@ class RetimeService final
   // rest on `pool` (see Dispatch).
   RetimeService(const RequestLimits& limits, WorkerPool* pool, const RpcMetrics* metrics = nullptr,
                 int64_t inline_max_bytes = kDefaultInlineMaxBytes)
-      : limits_(limits), pool_(pool), metrics_(metrics), inline_max_bytes_(inline_max_bytes) {
-    SetMessageAllocatorFor_LipBlink(&lip_blink_messages_);
-  }
+      : limits_(limits), pool_(pool), metrics_(metrics), inline_max_bytes_(inline_max_bytes) {}
 
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
                                            const grpc::ByteBuffer* request,
@@ -44,8 +42,8 @@ class RetimeService final
                                          const grpc::ByteBuffer* request,
                                          grpc::ByteBuffer* response) override;
   grpc::ServerUnaryReactor* LipBlink(grpc::CallbackServerContext* context,
-                                     const v1::LipBlinkRequest* request,
-                                     v1::LipBlinkResponse* response) override;
+                                     const grpc::ByteBuffer* request,
+                                     grpc::ByteBuffer* response) override;
 
  private:
   // Runs `call` (its Run, FreeRequest, then Answer or DropAnswer; see retime_service.cc):
@@ -56,11 +54,6 @@ class RetimeService final
   grpc::ServerUnaryReactor* Dispatch(grpc::CallbackServerContext* context,
                                      std::shared_ptr<Call> call, RpcMethod method,
                                      RpcRecord record);
-  // Dispatch for a typed method: `handler(*request, response)` returns absl::Status.
-  template <typename Request, typename Response, typename Handler>
-  grpc::ServerUnaryReactor* DispatchTyped(grpc::CallbackServerContext* context,
-                                          const Request* request, Response* response,
-                                          RpcMethod method, RpcRecord record, Handler handler);
   // Dispatch for a raw method: the service parses the bytes into a Request on the call's
   // arena, `handler(request, &answer)` returns absl::Status, and the Answer type serialises
   // itself (ArenaBytesCall in retime_service.cc).
@@ -73,9 +66,6 @@ class RetimeService final
   WorkerPool* const pool_;
   const RpcMetrics* const metrics_;
   const int64_t inline_max_bytes_;
-  // Each LipBlink call's request and response on protobuf arenas (server/arena_allocator.h);
-  // RetimeCurves makes its own (ArenaBytesCall).
-  ArenaMessageAllocator<v1::LipBlinkRequest, v1::LipBlinkResponse> lip_blink_messages_;
 };
 
 }  // namespace koma::server
