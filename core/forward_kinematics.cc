@@ -201,7 +201,8 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
 
 absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& skeleton,
                                                              absl::Span<const double> values,
-                                                             int frame_count, int threads) {
+                                                             int frame_count, int threads,
+                                                             size_t capacity_doubles) {
   KOMA_RETURN_IF_ERROR(ValidateSkeleton(skeleton));
   const std::vector<Joint>& joints = skeleton.joints;
   const int channel_count = ChannelCount(skeleton);
@@ -214,7 +215,10 @@ absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& ske
                                                    frame_count, " frames x ", channel_count,
                                                    " channels), got ", values.size()));
   }
-  HugePageVector<double> positions(static_cast<size_t>(frame_count) * joints.size() * 3);
+  const size_t doubles = static_cast<size_t>(frame_count) * joints.size() * 3;
+  HugePageVector<double> positions;
+  positions.reserve(std::max(doubles, capacity_doubles));
+  positions.resize(doubles);  // not zeroed (HugePageAllocator::construct)
   // Stretches of whole four-frame groups (the lanes), one per thread.
   const int used = std::max(1, std::min(threads, frame_count / kFramesPerFkThread));
   const int stretch = (frame_count / used + kLanes - 1) / kLanes * kLanes;

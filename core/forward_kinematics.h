@@ -27,11 +27,15 @@ absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const SkeletalClip&
 // packed field, so 77 MB of a 100k-frame clip are not copied first). Up to `threads` threads
 // share a long clip's frames, each a contiguous stretch of at least kFramesPerFkThread (the
 // calling thread takes the first); frames do not depend on each other, so the result is the
-// same, bit for bit, for any thread count.
+// same, bit for bit, for any thread count. The result's capacity is at least
+// `capacity_doubles`: a caller that needs an array of that size once the positions are freed
+// gets the same memory back from the huge-page cache (core/huge_page_pool.h) instead of
+// faulting in fresh pages.
 inline constexpr int kFramesPerFkThread = 16384;
 absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& skeleton,
                                                              absl::Span<const double> values,
-                                                             int frame_count, int threads = 1);
+                                                             int frame_count, int threads = 1,
+                                                             size_t capacity_doubles = 0);
 
 }  // namespace koma
 

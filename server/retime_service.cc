@@ -20,6 +20,7 @@
 #include "server/curves_response.h"
 #include "server/lip_blink_request.h"
 #include "server/logging.h"
+#include "server/response_slice.h"
 #include "server/skeletal_parse.h"
 #include "server/skeletal_request.h"
 #include "server/status_mapping.h"
@@ -85,7 +86,7 @@ absl::StatusOr<int64_t> SerialiseInto(const CurvesAnswer& answer, grpc::ByteBuff
     return absl::InternalError(absl::StrCat("response: cannot be serialised: ", size,
                                             " bytes is over protobuf's 2 GiB message limit"));
   }
-  grpc::Slice slice(size);  // uninitialised, ours alone until it is handed to `bytes`
+  grpc::Slice slice = UninitialisedSlice(size);
   encoder.WriteTo(const_cast<uint8_t*>(slice.begin()));
   grpc::ByteBuffer(&slice, 1).Swap(bytes);
   return static_cast<int64_t>(size);

@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "core/forward_kinematics.h"
 #include "core/status_macros.h"
+#include "server/response_slice.h"
 #include "server/skeletal_request.h"
 #include "server/skeletal_response.h"
 
@@ -39,8 +40,14 @@ absl::StatusOr<absl::Span<const double>> WorldPositions(const v1::SkeletalMotion
                                                         const SkeletalJob& job, int threads,
                                                         HugePageVector<double>& storage) {
   if (!job.channel_form) return SpanOf(motion.positions().values());
-  absl::StatusOr<HugePageVector<double>> positions = ComputeWorldPositions(
-      job.skeleton, SpanOf(motion.channels().values()), job.frame_count, threads);
+  // Room for the response as well (at most the request's values plus ~20 bytes a frame for the
+  // timing fields): freed before the response is encoded, these positions' memory is then
+  // exactly what UninitialisedSlice takes back from the huge-page cache (server/response_slice.h).
+  const size_t response_doubles =
+      static_cast<size_t>(motion.channels().values_size()) + 3 * static_cast<size_t>(job.frame_count) + 8192;
+  absl::StatusOr<HugePageVector<double>> positions =
+      ComputeWorldPositions(job.skeleton, SpanOf(motion.channels().values()), job.frame_count,
+                            threads, response_doubles);
   if (!positions.ok()) return positions.status();
   storage = *std::move(positions);
   return absl::MakeConstSpan(storage);
@@ -140,7 +147,7 @@ absl::Status RetimeSkeletalAnswer(const v1::RetimeSkeletalRequest& request,
     return absl::ResourceExhaustedError(absl::StrCat(
         "response: ", size, " bytes is over protobuf's 2 GiB message limit; send fewer frames"));
   }
-  answer->bytes = grpc::Slice(size);  // uninitialised, ours alone until it is sent
+  answer->bytes = UninitialisedSlice(size);
   encoder.WriteTo(const_cast<uint8_t*>(answer->bytes.begin()));
   return absl::OkStatus();
 }

@@ -261,6 +261,13 @@ TEST(ForwardKinematicsTest, ThreadsShareTheFramesWithTheSameBits) {
       EXPECT_EQ(std::memcmp(many.data(), one.data(), sizeof(double) * one.size()), 0)
           << frames << " frames, " << threads << " threads";
     }
+    // Extra capacity (room the server keeps for the response) changes nothing but capacity.
+    const size_t room = one.size() * 2 + 17;
+    ASSERT_OK_AND_ASSIGN(const HugePageVector<double> roomy,
+                         ComputeWorldPositions(skeleton, values, frames, 2, room));
+    ASSERT_EQ(roomy.size(), one.size());
+    EXPECT_GE(roomy.capacity(), room);
+    EXPECT_EQ(std::memcmp(roomy.data(), one.data(), sizeof(double) * one.size()), 0);
   }
 }
 
