@@ -67,6 +67,9 @@ class FrameDistance {
 
   // The per-frame SSD of the input: ssd[0] = 0, ssd[k] = dist(k - 1, k).
   std::vector<double> InputSsd() const;
+  // The same bits, four frames at a time: ~1.5x faster while the clip fits the caches
+  // (Pitch size 4.8 -> 3.1 us), ~3x slower on a clip of 100k frames or more (strided reads).
+  std::vector<double> InputSsdOfSmallClip() const;
 
   // One streaming pass for RetimeFast: ssd[k] = dist(k - 1, k) as InputSsd,
   // skip[k] = dist(k - 1, k + 1) for 1 <= k <= N - 2 and skip2[k] = dist(k - 1, k + 2) for

@@ -47,6 +47,7 @@
 //    operator()), not from two random 744-byte frames.
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/huge_page_vector.h"
@@ -220,12 +221,11 @@ FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& opt
     for (int32_t v = 1; v < n; ++v) runs_[v].head_ssd = ssd[v];
     if (input_ssd != nullptr) input_ssd->assign(ssd.begin(), ssd.end());
   } else {
-    for (int32_t v = 1; v < n; ++v) runs_[v].head_ssd = distance_(v - 1, v);
-    if (input_ssd != nullptr) {
-      input_ssd->resize(n);
-      (*input_ssd)[0] = 0.0;
-      for (int32_t v = 1; v < n; ++v) (*input_ssd)[v] = runs_[v].head_ssd;
-    }
+    // Below kTableMinFrames the clip fits the caches (see InputSsdOfSmallClip).
+    std::vector<double> ssd =
+        n < kTableMinFrames ? distance_.InputSsdOfSmallClip() : distance_.InputSsd();
+    for (int32_t v = 1; v < n; ++v) runs_[v].head_ssd = ssd[v];
+    if (input_ssd != nullptr) *input_ssd = std::move(ssd);
   }
 }
 

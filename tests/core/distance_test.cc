@@ -252,6 +252,13 @@ TEST(DistanceTest, AdjacentDistancesEqualOperatorBitForBit) {
       ASSERT_TRUE(bits_equal(skip[k], want_skip)) << "clip " << clip << " skip[" << k << "]";
       ASSERT_TRUE(bits_equal(skip2[k], want_skip2)) << "clip " << clip << " skip2[" << k << "]";
     }
+    // The four-lane pass for small clips, against the plain one (the same as operator()).
+    const std::vector<double> plain = d.InputSsd();
+    const std::vector<double> lanes = d.InputSsdOfSmallClip();
+    ASSERT_EQ(lanes.size(), plain.size());
+    for (int k = 0; k < frames; ++k) {
+      ASSERT_TRUE(bits_equal(lanes[k], plain[k])) << "clip " << clip << " lanes[" << k << "]";
+    }
   }
 }
 
