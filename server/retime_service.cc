@@ -118,13 +118,16 @@ void DescribeRequest(const v1::LipBlinkRequest& request, RpcRecord& record) {
 // buffer belongs to the call, and Clear() leaves it empty, which gRPC's cleanup accepts).
 // As gRPC's own parse for a typed method:
 template <typename Request>
-absl::Status ParseRequest(const grpc::ByteBuffer* bytes, Request* request) {
-  const grpc::Status parsed = grpc::GenericDeserialize<grpc::ProtoBufferReader, Request>(
-      const_cast<grpc::ByteBuffer*>(bytes), request);  // it also Clear()s the bytes
-  if (parsed.ok()) return absl::OkStatus();
+absl::Status NotA() {
   return absl::InvalidArgumentError(absl::StrCat("request: the bytes are not a valid ",
                                                  Request::descriptor()->full_name(),
                                                  " (protobuf parse failed)"));
+}
+template <typename Request>
+absl::Status ParseRequest(const grpc::ByteBuffer* bytes, Request* request) {
+  const grpc::Status parsed = grpc::GenericDeserialize<grpc::ProtoBufferReader, Request>(
+      const_cast<grpc::ByteBuffer*>(bytes), request);  // it also Clear()s the bytes
+  return parsed.ok() ? absl::OkStatus() : NotA<Request>();
 }
 // LipBlink: from one contiguous copy of the bytes when they are large. They arrive in many
 // slices, and protobuf grows each curve's packed samples slice by slice, doubling them; on the
@@ -139,11 +142,9 @@ absl::Status ParseRequest(const grpc::ByteBuffer* bytes, v1::LipBlinkRequest* re
   grpc::Slice contiguous;
   const bool copied = bytes->DumpToSingleSlice(&contiguous).ok();
   const_cast<grpc::ByteBuffer*>(bytes)->Clear();
-  if (copied && request->ParseFromArray(contiguous.begin(), static_cast<int>(contiguous.size()))) {
-    return absl::OkStatus();
-  }
-  return absl::InvalidArgumentError(
-      "request: the bytes are not a valid koma.v1.LipBlinkRequest (protobuf parse failed)");
+  const bool parsed =
+      copied && request->ParseFromArray(contiguous.begin(), static_cast<int>(contiguous.size()));
+  return parsed ? absl::OkStatus() : NotA<v1::LipBlinkRequest>();
 }
 
 // RetimeSkeletal: the big value array reserved once at its size (server/skeletal_parse.h).

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "koma/v1/retime.grpc.pb.h"
+#include "server/lip_blink_request.h"
+#include "server/request_limits.h"
 #include "server/server.h"
 #include "tests/server/in_process_server.h"
 #include "tests/server/lip_blink_request_builder.h"
@@ -108,6 +110,37 @@ TEST(LipBlinkServiceTest, AnotherSeedGivesAnotherMouth) {
     shapes.insert(sequence);
   }
   EXPECT_GT(shapes.size(), 1u);
+}
+
+// A request of 1 MiB or more is parsed from one contiguous copy of the received bytes
+// (retime_service.cc): the answer is the same as the handler's on the message itself, and
+// bytes of that size that are not a LipBlinkRequest are refused by name.
+TEST(LipBlinkServiceTest, LargeRequestParsedInOnePieceGivesTheHandlersAnswer) {
+  v1::LipBlinkRequest request = koma::testing::MakeLipBlinkRequest();
+  constexpr int kFrames = 60000;  // 4 curves x 60,000 samples x 8 bytes: ~1.9 MB
+  request.mutable_curves()->set_frame_count(kFrames);
+  for (v1::Curve& curve : *request.mutable_curves()->mutable_curves()) {
+    const std::vector<double> first(curve.samples().begin(), curve.samples().end());
+    curve.clear_samples();
+    for (int f = 0; f < kFrames; ++f) curve.add_samples(first[f % first.size()]);
+  }
+  ASSERT_GE(request.ByteSizeLong(), size_t{1} << 20);
+  v1::LipBlinkResponse expected;
+  ASSERT_TRUE(HandleLipBlink(request, RequestLimits(), &expected).ok());
+
+  koma::testing::InProcessServer server;
+  std::string answer;
+  ASSERT_TRUE(koma::testing::RawUnaryCall(server, "/koma.v1.Retime/LipBlink",
+                                          request.SerializeAsString(), &answer)
+                  .ok());
+  EXPECT_EQ(answer, expected.SerializeAsString());
+
+  const std::string garbage(size_t{3} << 19, '\xff');  // 1.5 MiB, no valid tag
+  const grpc::Status refused =
+      koma::testing::RawUnaryCall(server, "/koma.v1.Retime/LipBlink", garbage, &answer);
+  EXPECT_EQ(refused.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(refused.error_message(),
+              ::testing::HasSubstr("not a valid koma.v1.LipBlinkRequest"));
 }
 
 }  // namespace
