@@ -55,43 +55,44 @@ absl::Status ValidateSkeleton(const Skeleton& skeleton) {
   if (n == 0) return absl::InvalidArgumentError("joints: the skeleton has no joints");
   for (int i = 0; i < n; ++i) {
     const Joint& joint = skeleton.joints[i];
-    const std::string path = absl::StrCat("joints[", i, "]");
+    // Built only for an error message: this loop runs on every request.
+    const auto path = [i] { return absl::StrCat("joints[", i, "]"); };
     if (joint.parent < -1 || joint.parent >= n) {
       return absl::InvalidArgumentError(absl::StrCat(
-          path, ".parent: ", joint.parent, " is out of range (-1 for a root, or 0..", n - 1,
+          path(), ".parent: ", joint.parent, " is out of range (-1 for a root, or 0..", n - 1,
           ")"));
     }
     if (joint.parent >= i) {
       if (ParentChainLoops(skeleton, i)) {
         return absl::InvalidArgumentError(absl::StrCat(
-            path, ".parent: ", joint.parent, " forms a cycle (joint \"", joint.name,
+            path(), ".parent: ", joint.parent, " forms a cycle (joint \"", joint.name,
             "\" is its own ancestor)"));
       }
       return absl::InvalidArgumentError(absl::StrCat(
-          path, ".parent: ", joint.parent,
+          path(), ".parent: ", joint.parent,
           " must name an earlier joint (joints are listed parents first)"));
     }
     if (!IsFinite(joint.offset)) {
       return absl::InvalidArgumentError(
-          absl::StrCat(path, ".offset: ", Vec3String(joint.offset), " is not finite"));
+          absl::StrCat(path(), ".offset: ", Vec3String(joint.offset), " is not finite"));
     }
     for (size_t e = 0; e < joint.end_sites.size(); ++e) {
       if (!IsFinite(joint.end_sites[e])) {
-        return absl::InvalidArgumentError(absl::StrCat(path, ".end_sites[", e, "]: ",
+        return absl::InvalidArgumentError(absl::StrCat(path(), ".end_sites[", e, "]: ",
                                                        Vec3String(joint.end_sites[e]),
                                                        " is not finite"));
       }
     }
     if (joint.channels.size() > 6) {
       return absl::InvalidArgumentError(absl::StrCat(
-          path, ".channels: ", joint.channels.size(), " channels, at most 6 allowed"));
+          path(), ".channels: ", joint.channels.size(), " channels, at most 6 allowed"));
     }
     std::array<bool, 6> seen{};
     for (ChannelKind kind : joint.channels) {
       bool& was_seen = seen[static_cast<size_t>(kind)];
       if (was_seen) {
         return absl::InvalidArgumentError(
-            absl::StrCat(path, ".channels: ", std::string(ChannelName(kind)), " appears twice"));
+            absl::StrCat(path(), ".channels: ", std::string(ChannelName(kind)), " appears twice"));
       }
       was_seen = true;
     }

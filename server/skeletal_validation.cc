@@ -37,6 +37,7 @@ absl::StatusOr<Skeleton> ConvertSkeleton(const v1::Skeleton& proto, const Reques
     out.offset = {in.offset().x(), in.offset().y(), in.offset().z()};
     for (const v1::Vec3& site : in.end_sites())
       out.end_sites.push_back({site.x(), site.y(), site.z()});
+    out.channels.reserve(static_cast<size_t>(in.channels_size()));
     for (int c = 0; c < in.channels_size(); ++c) {
       absl::StatusOr<ChannelKind> kind = ParseChannelName(in.channels(c));
       if (!kind.ok()) {
@@ -63,9 +64,10 @@ absl::Status CheckTiming(const v1::SkeletalMotion& motion) {
 }
 
 // Size limit first, then the exact count, then every value finite.
+// `per_frame` is `count` `unit` (e.g. 31 " joints x 3 coordinates"), for the message.
 absl::Status CheckValues(const google::protobuf::RepeatedField<double>& values,
-                         absl::string_view field, int frame_count, int per_frame,
-                         absl::string_view breakdown, int64_t work_per_frame,
+                         absl::string_view field, int frame_count, int per_frame, int count,
+                         absl::string_view unit, int64_t work_per_frame,
                          const RequestLimits& limits) {
   const int64_t work = static_cast<int64_t>(frame_count) * work_per_frame;
   if (work > limits.max_values) {
@@ -76,8 +78,8 @@ absl::Status CheckValues(const google::protobuf::RepeatedField<double>& values,
   const int64_t expected = static_cast<int64_t>(frame_count) * per_frame;
   if (values.size() != expected) {
     return absl::InvalidArgumentError(absl::StrCat(field, ": expected ", expected, " values (",
-                                                   frame_count, " frames x ", breakdown, "), got ",
-                                                   values.size()));
+                                                   frame_count, " frames x ", count, unit,
+                                                   "), got ", values.size()));
   }
   if (AllFinite(absl::MakeConstSpan(values.data(), values.size()))) return absl::OkStatus();
   for (int i = 0; i < values.size(); ++i) {
@@ -99,14 +101,14 @@ absl::Status CheckMotionData(const v1::SkeletalMotion& motion, const Skeleton& s
       *channel_form = true;
       const int channels = ChannelCount(skeleton);
       return CheckValues(motion.channels().values(), "motion.channels.values", motion.frame_count(),
-                         channels, absl::StrCat(channels, " channels"),
+                         channels, channels, " channels",
                          std::max<int64_t>(channels, position_values), limits);
     }
     case v1::SkeletalMotion::kPositions:
       *channel_form = false;
       return CheckValues(motion.positions().values(), "motion.positions.values",
                          motion.frame_count(), 3 * joints,
-                         absl::StrCat(joints, " joints x 3 coordinates"), position_values, limits);
+                         joints, " joints x 3 coordinates", position_values, limits);
     default:
       return absl::InvalidArgumentError("motion.data: neither channels nor positions is set");
   }
