@@ -17,6 +17,11 @@
 namespace koma {
 
 inline constexpr size_t kHugePageBytes = size_t{2} << 20;  // x86-64's 2 MiB pages
+
+// `bytes` rounded up to whole huge pages: the length to map for an array of that size.
+inline constexpr size_t RoundUpToHugePages(size_t bytes) {
+  return (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
+}
 inline constexpr size_t kDefaultHugePageCacheBytes = size_t{256} << 20;
 
 // A readable, writable, 2 MiB-aligned mapping of `length` bytes (a multiple of

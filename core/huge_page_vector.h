@@ -36,7 +36,7 @@ class HugePageAllocator {
   T* allocate(size_t n) {
     const size_t bytes = n * sizeof(T);
     if (bytes < kMinBytes) return static_cast<T*>(::operator new(bytes));
-    return static_cast<T*>(MapHugePages(RoundUp(bytes)));
+    return static_cast<T*>(MapHugePages(RoundUpToHugePages(bytes)));
   }
 
   void deallocate(T* p, size_t n) {
@@ -44,7 +44,7 @@ class HugePageAllocator {
     if (bytes < kMinBytes) {
       ::operator delete(p);
     } else {
-      UnmapHugePages(p, RoundUp(bytes));
+      UnmapHugePages(p, RoundUpToHugePages(bytes));
     }
   }
 
@@ -70,8 +70,6 @@ class HugePageAllocator {
     return false;
   }
 
- private:
-  static size_t RoundUp(size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
 };
 
 template <typename T>

@@ -8,18 +8,14 @@
 namespace koma::server {
 namespace {
 
-size_t MappedLength(size_t bytes) {
-  return (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
-}
-
 // gRPC's destroy callback: any thread, once the last reference to the slice is gone.
-void ReturnMapping(void* start, size_t bytes) { UnmapHugePages(start, MappedLength(bytes)); }
+void ReturnMapping(void* start, size_t bytes) { UnmapHugePages(start, RoundUpToHugePages(bytes)); }
 
 }  // namespace
 
 grpc::Slice UninitialisedSlice(size_t bytes) {
   if (bytes < HugePageAllocator<char>::kMinBytes) return grpc::Slice(bytes);
-  void* start = MapHugePages(MappedLength(bytes));
+  void* start = MapHugePages(RoundUpToHugePages(bytes));
   return grpc::Slice(grpc_slice_new_with_len(start, bytes, ReturnMapping),
                      grpc::Slice::STEAL_REF);
 }

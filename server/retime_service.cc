@@ -16,6 +16,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "core/split_mix64.h"
+#include "server/arena_allocator.h"
 #include "server/curves_request.h"
 #include "server/curves_response.h"
 #include "server/lip_blink_request.h"

@@ -9,7 +9,6 @@
 #include <memory>
 
 #include "koma/v1/retime.grpc.pb.h"
-#include "server/arena_allocator.h"
 #include "server/logging.h"
 #include "server/metrics.h"
 #include "server/request_limits.h"
