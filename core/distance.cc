@@ -17,8 +17,11 @@ namespace {
 
 constexpr const char* kAxisNames[] = {"x", "y", "z"};
 
+// Also gives the bit pattern of the largest |coordinate| (core/magnitude_scan.h) in
+// `largest_bits`: the one scan of the positions serves both this check and the distance bound
+// when the distances read the positions as they are (CreateView).
 absl::Status ValidateSizes(absl::Span<const double> world_positions, int frame_count,
-                           int joint_count) {
+                           int joint_count, uint64_t& largest_bits) {
   if (frame_count < 1) {
     return absl::InvalidArgumentError(absl::StrCat("frame_count: ", frame_count, " must be >= 1"));
   }
@@ -31,7 +34,8 @@ absl::Status ValidateSizes(absl::Span<const double> world_positions, int frame_c
         absl::StrCat("world_positions: expected ", expected, " values (", frame_count, " frames x ",
                      joint_count, " joints x 3), got ", world_positions.size()));
   }
-  if (AllFinite(world_positions)) return absl::OkStatus();  // one vectorised pass
+  largest_bits = LargestMagnitudeBits(world_positions);  // one vectorised pass
+  if (largest_bits < kNonFiniteBits) return absl::OkStatus();
   for (size_t k = 0; k < world_positions.size(); ++k) {
     if (!std::isfinite(world_positions[k])) {
       const size_t point = k / 3;
@@ -98,11 +102,10 @@ absl::Status Project(const std::array<double, 16>& m, const double* p, int frame
 // Every dist(a, b) is at most sum(w) * dims * (2 * max|coordinate|)^2. Requiring that bound
 // to stay well below DBL_MAX (a factor 8 covers rounding in the summation order) keeps every
 // distance finite, so the candidate orderings never meet inf or NaN.
-absl::Status CheckDistanceBound(absl::Span<const double> points, const std::vector<double>& weights,
+// `largest_bits`: LargestMagnitudeBits of the points the distances read.
+absl::Status CheckDistanceBound(uint64_t largest_bits, const std::vector<double>& weights,
                                 int dims) {
-  // The largest |coordinate| (inf or NaN when one is not finite), in one vectorised pass.
-  const uint64_t largest_bits = LargestMagnitudeBits(points);
-  double largest;
+  double largest;  // the largest |coordinate| (inf or NaN when one is not finite)
   std::memcpy(&largest, &largest_bits, sizeof(largest));
   double total_weight = 0.0;
   for (double w : weights) total_weight += w;
@@ -231,7 +234,9 @@ __attribute__((target_clones("avx2", "default"))) int AdjacentSsdInLanes(const d
 absl::StatusOr<FrameDistance> FrameDistance::Create(absl::Span<const double> world_positions,
                                                     int frame_count, int joint_count,
                                                     const DistanceOptions& options) {
-  KOMA_RETURN_IF_ERROR(ValidateSizes(world_positions, frame_count, joint_count));
+  uint64_t input_largest_bits = 0;  // of the input; the transformed points are scanned below
+  KOMA_RETURN_IF_ERROR(
+      ValidateSizes(world_positions, frame_count, joint_count, input_largest_bits));
   FrameDistance distance;
   KOMA_ASSIGN_OR_RETURN(distance.weights_, CheckedWeights(options.weights, joint_count));
   if (options.camera.has_value()) KOMA_RETURN_IF_ERROR(CheckCameraEntries(*options.camera));
@@ -258,14 +263,16 @@ absl::StatusOr<FrameDistance> FrameDistance::Create(absl::Span<const double> wor
     }
   }
   distance.points_ = absl::MakeConstSpan(distance.owned_);
-  KOMA_RETURN_IF_ERROR(CheckDistanceBound(distance.points_, distance.weights_, dims));
+  KOMA_RETURN_IF_ERROR(
+      CheckDistanceBound(LargestMagnitudeBits(distance.points_), distance.weights_, dims));
   return distance;
 }
 
 absl::StatusOr<FrameDistance> FrameDistance::CreateView(absl::Span<const double> world_positions,
                                                         int frame_count, int joint_count,
                                                         const DistanceOptions& options) {
-  KOMA_RETURN_IF_ERROR(ValidateSizes(world_positions, frame_count, joint_count));
+  uint64_t largest_bits = 0;
+  KOMA_RETURN_IF_ERROR(ValidateSizes(world_positions, frame_count, joint_count, largest_bits));
   FrameDistance distance;
   KOMA_ASSIGN_OR_RETURN(distance.weights_, CheckedWeights(options.weights, joint_count));
   const bool identity = !options.root_relative && !options.camera.has_value() &&
@@ -276,7 +283,7 @@ absl::StatusOr<FrameDistance> FrameDistance::CreateView(absl::Span<const double>
   distance.joint_count_ = joint_count;
   distance.dims_ = 3;
   distance.points_ = world_positions;
-  KOMA_RETURN_IF_ERROR(CheckDistanceBound(distance.points_, distance.weights_, 3));
+  KOMA_RETURN_IF_ERROR(CheckDistanceBound(largest_bits, distance.weights_, 3));
   return distance;
 }
 
