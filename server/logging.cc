@@ -65,9 +65,18 @@ absl::Status ConfigureLogging(absl::string_view level, absl::string_view format)
   return absl::OkStatus();
 }
 
+namespace {
+spdlog::level::level_enum RpcLineLevel(grpc::StatusCode code) {
+  return code == grpc::StatusCode::INTERNAL ? spdlog::level::err : spdlog::level::info;
+}
+}  // namespace
+
+bool RpcLineLogged(grpc::StatusCode code) {
+  return spdlog::default_logger_raw()->should_log(RpcLineLevel(code));
+}
+
 void LogRpc(const RpcRecord& r) {
-  const spdlog::level::level_enum level =
-      r.code == grpc::StatusCode::INTERNAL ? spdlog::level::err : spdlog::level::info;
+  const spdlog::level::level_enum level = RpcLineLevel(r.code);
   // Nothing is formatted for a line the level filters out, and only the chosen format is
   // built: this runs once per call.
   if (!spdlog::default_logger_raw()->should_log(level)) return;

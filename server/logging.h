@@ -35,6 +35,9 @@ struct RpcRecord {
   double latency_ms = 0.0;  // from the handler's start to Finish
 };
 void LogRpc(const RpcRecord& record);
+// Whether LogRpc writes a line for a call that ended with `code` at the configured level:
+// what is only needed for the line (the peer's address) is looked up only then.
+bool RpcLineLogged(grpc::StatusCode code);
 
 // Lifecycle messages (listening, shutting down): info level, or warn when `warning`.
 void LogEvent(absl::string_view message, bool warning = false);

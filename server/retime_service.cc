@@ -14,7 +14,6 @@
 #include <utility>
 
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
 #include "core/split_mix64.h"
 #include "server/arena_allocator.h"
 #include "server/curves_request.h"
@@ -39,8 +38,9 @@ double MillisecondsSince(Clock::time_point start) {
 // `call.Answer(ok)` turns the outcome into the response to send and returns its size; on error
 // it sends nothing, so a failed call never carries a partial answer.
 template <typename Call>
-void FinishAndLog(grpc::ServerUnaryReactor* reactor, grpc::Status status, Call& call,
-                  RpcRecord record, Clock::time_point start, const CallMetrics* metrics) {
+void FinishAndLog(grpc::CallbackServerContext* context, grpc::ServerUnaryReactor* reactor,
+                  grpc::Status status, Call& call, RpcRecord record, Clock::time_point start,
+                  const CallMetrics* metrics) {
   if (status.ok()) {
     absl::StatusOr<int64_t> bytes_out = call.Answer();
     if (bytes_out.ok()) {
@@ -55,7 +55,12 @@ void FinishAndLog(grpc::ServerUnaryReactor* reactor, grpc::Status status, Call& 
   }
   record.code = status.error_code();
   record.latency_ms = MillisecondsSince(start);
-  LogRpc(record);
+  // The peer's address is a string gRPC builds on request: only for a line that is written
+  // (at the default level every call's; at warn, only an INTERNAL error's).
+  if (RpcLineLogged(record.code)) {
+    record.peer = context->peer();
+    LogRpc(record);
+  }
   if (metrics != nullptr) {
     // record.frames is the request's frame_count; on OK the handler validated it against
     // the data, so it is the number of frames retimed.
@@ -244,14 +249,14 @@ constexpr size_t kMaxRequestIdBytes = 128;
 // joined.
 std::string RequestId(const grpc::CallbackServerContext& context) {
   const auto& metadata = context.client_metadata();
-  const auto found = metadata.find(std::string(kRequestIdKey));
+  const auto found = metadata.find(grpc::string_ref(kRequestIdKey.data(), kRequestIdKey.size()));
   if (found != metadata.end() && found->second.size() > 0) {
     return std::string(found->second.data(), std::min(found->second.size(), kMaxRequestIdBytes));
   }
   static std::atomic<uint64_t> counter{
       static_cast<uint64_t>(std::chrono::system_clock::now().time_since_epoch().count())};
   SplitMix64 rng(counter.fetch_add(1));
-  return absl::StrFormat("%016x", rng.Next());
+  return absl::StrCat(absl::Hex(rng.Next(), absl::kZeroPad16));
 }
 
 }  // namespace
@@ -264,7 +269,6 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   const CallMetrics* metrics = metrics_ != nullptr ? &metrics_->ForMethod(method) : nullptr;
   if (metrics != nullptr) metrics->Start();
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  record.peer = context->peer();
   record.request_id = RequestId(*context);
   context->AddInitialMetadata(std::string(kRequestIdKey), record.request_id);
   record.bytes_in = call->BytesIn();
@@ -276,7 +280,7 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
       status = call->Run(record);
     }
     call->FreeRequest();
-    FinishAndLog(reactor, std::move(status), *call, record, start, metrics);
+    FinishAndLog(context, reactor, std::move(status), *call, record, start, metrics);
   };
   // A small call (a Pitch-size clip is ~100 KB and retimes in well under a millisecond) runs
   // right here: handing it to a worker and back costs a thread wake-up each way, which on 2
@@ -286,7 +290,7 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   if (record.bytes_in <= inline_max_bytes_) {
     run();
   } else if (!pool_->TrySubmit(run)) {
-    FinishAndLog(reactor, Busy(record.method), *call, record, start, metrics);
+    FinishAndLog(context, reactor, Busy(record.method), *call, record, start, metrics);
   }
   return reactor;
 }
