@@ -270,9 +270,7 @@ void FastRetimer::LoadOmitHeap(CandidateHeap& heap, bool duplicates, int64_t pop
   };
   heap.Clear();
   // Room for the pushes of step A after the load: three per delete and three per duplicate
-  // (RunOmissions). Reserved exactly rather than generously: a Pitch-size clip's heaps then
-  // take a few KB that malloc hands back still in the cache, where a spare 64 KB each cost
-  // ~3 us a call in cache misses on first touch (measured in koma_server with perf).
+  // (RunOmissions), so a Pitch-size clip's heaps take a few KB, not 64 KB each.
   const size_t pushes = 6 * static_cast<size_t>(std::max(options_.omissions, 0));
   bool bounded = false;
   constexpr size_t kSampleStride = 64;
