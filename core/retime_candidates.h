@@ -26,6 +26,17 @@ struct CandidateEntry {
   uint32_t unused = 0;
 };
 
+// entries.push_back(entry), field by field. A whole-entry copy compiles to one 16-byte load
+// of the entry the caller has just built with separate 8- and 4-byte stores, which the CPU
+// cannot forward from its store buffer: a stall of about 15 cycles on every push, half the
+// time of loading a Pitch-size clip's heaps (perf annotate).
+inline void AppendEntry(HugePageVector<CandidateEntry>& entries, const CandidateEntry& entry) {
+  entries.emplace_back();
+  CandidateEntry& slot = entries.back();
+  slot.ssd = entry.ssd;
+  slot.run = entry.run;
+}
+
 class CandidateHeap {
  public:
   // largest_ssd_first: delete candidates; otherwise smallest SSD first. Ties always go to
@@ -81,7 +92,7 @@ class CandidateHeap {
   // O(log size), or O(1) during a bulk load.
   void Push(const CandidateEntry& entry) {
     if (bulk_ && bounded_ && !Before(entry, bound_)) return;
-    entries_.push_back(entry);
+    AppendEntry(entries_, entry);
     if (!bulk_) SiftUp(entries_.size() - 1);
   }
 
@@ -166,7 +177,7 @@ class SortedCandidateQueue {
 
   void Push(const CandidateEntry& entry) {
     if (bulk_) {
-      sorted_.push_back(entry);
+      AppendEntry(sorted_, entry);
     } else {
       pushed_.Push(entry);
     }
