@@ -118,4 +118,3 @@ BENCHMARK(BM_EvaluateCurve)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond);
 }  // namespace
 }  // namespace koma
 
-BENCHMARK_MAIN();

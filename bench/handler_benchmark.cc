@@ -13,7 +13,6 @@
 #include "bench/echo_shapes.h"
 #include "bench/load/load_request.h"
 #include "google/protobuf/arena.h"
-#include "server/malloc_tuning.h"
 #include "server/request_limits.h"
 #include "server/skeletal_parse.h"
 #include "server/skeletal_request.h"
@@ -65,13 +64,3 @@ BENCHMARK(BM_EchoSkeletalHandler)->Args({100000, 0})->Unit(benchmark::kMilliseco
 
 }  // namespace
 }  // namespace koma
-
-// As in both servers' main(): without it every 100 KB block is a fresh mmap, page faults and all.
-int main(int argc, char** argv) {
-  koma::server::TuneMallocForLargeMessages();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}

@@ -77,4 +77,3 @@ BENCHMARK(BM_SinCosDegreesBatch);
 }  // namespace
 }  // namespace koma
 
-BENCHMARK_MAIN();

@@ -110,4 +110,3 @@ BENCHMARK(BM_OutputFloor)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 }  // namespace
 }  // namespace koma
 
-BENCHMARK_MAIN();

@@ -187,4 +187,3 @@ BENCHMARK(BM_AdjacentDistances)->Arg(1000000)->Unit(benchmark::kMillisecond)->It
 }  // namespace
 }  // namespace koma
 
-BENCHMARK_MAIN();
