@@ -49,6 +49,9 @@ ABSL_FLAG(int64_t, inline_max_bytes, koma::server::RetimeService::kDefaultInline
 ABSL_FLAG(int64_t, huge_page_cache_mb, 0,
           "MiB of released large-array memory kept mapped for the next large call (faster large "
           "calls; resident memory may stay that much above what is in use); 0 = none");
+ABSL_FLAG(int, idle_trim_ms, 1000,
+          "once no call has run for this long (after large calls), give the memory they left "
+          "in malloc's heap back to the system; 0 = never");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn, error, critical or off");
 ABSL_FLAG(std::string, log_format, "text", "text, or json (one JSON object per line)");
 ABSL_FLAG(std::string, tls_cert, "", "PEM certificate chain file: serve TLS instead of plaintext");
@@ -75,7 +78,7 @@ constexpr const char* kEnvironmentFlags[] = {
     "max_joints",       "worker_threads",     "max_queued",        "log_level",
     "log_format",       "shutdown_grace_ms",  "tls_cert",          "tls_key",
     "tls_client_ca",    "metrics_address",    "metrics_port_file", "shutdown_delay_ms",
-    "inline_max_bytes", "huge_page_cache_mb", "threads_per_call"};
+    "inline_max_bytes", "huge_page_cache_mb", "threads_per_call", "idle_trim_ms"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -128,6 +131,7 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.worker_threads = absl::GetFlag(FLAGS_worker_threads);
   config.max_queued = absl::GetFlag(FLAGS_max_queued);
   config.inline_max_bytes = absl::GetFlag(FLAGS_inline_max_bytes);
+  config.idle_trim = absl::Milliseconds(absl::GetFlag(FLAGS_idle_trim_ms));
   config.metrics_address = absl::GetFlag(FLAGS_metrics_address);
   return config;
 }

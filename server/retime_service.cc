@@ -272,7 +272,9 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   record.request_id = RequestId(*context);
   context->AddInitialMetadata(std::string(kRequestIdKey), record.request_id);
   record.bytes_in = call->BytesIn();
-  auto run = [context, call, reactor, record, start, metrics]() mutable {
+  IdleTrimmer* const trimmer = trimmer_;
+  if (trimmer != nullptr) trimmer->CallStarted(record.bytes_in);
+  auto run = [context, call, reactor, record, start, metrics, trimmer]() mutable {
     grpc::Status status;
     if (context->IsCancelled()) {
       status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it started");
@@ -281,6 +283,7 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
     }
     call->FreeRequest();
     FinishAndLog(context, reactor, std::move(status), *call, record, start, metrics);
+    if (trimmer != nullptr) trimmer->CallFinished();
   };
   // A small call (a Pitch-size clip is ~100 KB and retimes in well under a millisecond) runs
   // right here: handing it to a worker and back costs a thread wake-up each way, which on 2
@@ -291,6 +294,7 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
     run();
   } else if (!pool_->TrySubmit(run)) {
     FinishAndLog(context, reactor, Busy(record.method), *call, record, start, metrics);
+    if (trimmer != nullptr) trimmer->CallFinished();
   }
   return reactor;
 }

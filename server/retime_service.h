@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "koma/v1/retime.grpc.pb.h"
+#include "server/idle_trim.h"
 #include "server/logging.h"
 #include "server/metrics.h"
 #include "server/request_limits.h"
@@ -27,12 +28,16 @@ class RetimeService final
   // Requests of at most this many serialised bytes run on gRPC's callback thread itself.
   static constexpr int64_t kDefaultInlineMaxBytes = 256 * 1024;
 
-  // `pool` must outlive the service and every call it accepted; so must `metrics`, which may
-  // be null (no metrics). Calls whose request is at most `inline_max_bytes` run inline, the
-  // rest on `pool` (see Dispatch).
+  // `pool` must outlive the service and every call it accepted; so must `metrics` and
+  // `trimmer`, which may be null (no metrics, no trimming when idle). Calls whose request is
+  // at most `inline_max_bytes` run inline, the rest on `pool` (see Dispatch).
   RetimeService(const RequestLimits& limits, WorkerPool* pool, const RpcMetrics* metrics = nullptr,
-                int64_t inline_max_bytes = kDefaultInlineMaxBytes)
-      : limits_(limits), pool_(pool), metrics_(metrics), inline_max_bytes_(inline_max_bytes) {}
+                int64_t inline_max_bytes = kDefaultInlineMaxBytes, IdleTrimmer* trimmer = nullptr)
+      : limits_(limits),
+        pool_(pool),
+        metrics_(metrics),
+        inline_max_bytes_(inline_max_bytes),
+        trimmer_(trimmer) {}
 
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
                                            const grpc::ByteBuffer* request,
@@ -65,6 +70,7 @@ class RetimeService final
   WorkerPool* const pool_;
   const RpcMetrics* const metrics_;
   const int64_t inline_max_bytes_;
+  IdleTrimmer* const trimmer_;
 };
 
 }  // namespace koma::server

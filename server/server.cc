@@ -44,6 +44,11 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
   if (config.max_queued < 0 || config.worker_threads < 0) {
     return absl::InvalidArgumentError("--max_queued and --worker_threads must be >= 0");
   }
+  if (config.idle_trim < absl::ZeroDuration() || config.idle_trim_min_request_bytes < 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("--idle_trim_ms: ", absl::ToInt64Milliseconds(config.idle_trim),
+                     " must be >= 0 (0 = never give memory back when idle)"));
+  }
   if (config.inline_max_bytes < 0) {
     return absl::InvalidArgumentError(
         absl::StrCat("--inline_max_bytes: ", config.inline_max_bytes,
@@ -53,9 +58,12 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
   // The metrics port first: a bad --metrics_address fails before any gRPC port is bound.
   if (absl::Status s = server->StartMetrics(config); !s.ok()) return s;
   const int threads = config.worker_threads > 0 ? config.worker_threads : DefaultWorkerThreads();
+  server->trimmer_ =
+      std::make_unique<IdleTrimmer>(config.idle_trim, config.idle_trim_min_request_bytes);
   server->pool_ = std::make_unique<WorkerPool>(threads, static_cast<size_t>(config.max_queued));
-  server->service_ = std::make_unique<RetimeService>(
-      config.limits, server->pool_.get(), server->metrics_.get(), config.inline_max_bytes);
+  server->service_ =
+      std::make_unique<RetimeService>(config.limits, server->pool_.get(), server->metrics_.get(),
+                                      config.inline_max_bytes, server->trimmer_.get());
   server->max_message_bytes_ = config.max_message_bytes;
 
   grpc::EnableDefaultHealthCheckService(true);

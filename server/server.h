@@ -11,6 +11,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/time/time.h"
+#include "server/idle_trim.h"
 #include "server/metrics.h"
 #include "server/metrics_endpoint.h"
 #include "server/request_limits.h"
@@ -33,6 +34,11 @@ struct ServerConfig {
   int max_queued = 64;
   // Requests of at most this many bytes run on gRPC's callback thread, not the pool.
   int64_t inline_max_bytes = RetimeService::kDefaultInlineMaxBytes;
+  // Once no call has run for this long, and at least idle_trim_min_request_bytes of requests
+  // arrived since the last time, the memory large calls left in malloc's heap goes back to
+  // the system (server/idle_trim.h). Zero: never.
+  absl::Duration idle_trim = absl::Seconds(1);
+  int64_t idle_trim_min_request_bytes = 16 << 20;
   // TLS, as PEM text: both empty = plaintext. With a client CA, clients must present a
   // certificate that CA signed (mutual TLS).
   std::string tls_cert_pem;
@@ -53,6 +59,8 @@ class KomaServer {
 
   // The bound port (the chosen one when the address asked for port 0); 0 without a port.
   int port() const { return port_; }
+  // How many times the memory of large calls was given back while idle (server/idle_trim.h).
+  int64_t idle_trims() const { return trimmer_->trims(); }
   // The bound metrics port; 0 without a metrics endpoint.
   int metrics_port() const { return metrics_endpoint_ ? metrics_endpoint_->port() : 0; }
   // A channel to this server that bypasses the network (tests), with the same size limits.
@@ -77,6 +85,7 @@ class KomaServer {
   std::shared_ptr<prometheus::Registry> metrics_registry_;
   std::unique_ptr<RpcMetrics> metrics_;
   std::unique_ptr<MetricsEndpoint> metrics_endpoint_;
+  std::unique_ptr<IdleTrimmer> trimmer_;
   std::unique_ptr<WorkerPool> pool_;
   std::unique_ptr<RetimeService> service_;
   std::unique_ptr<grpc::Server> server_;
