@@ -44,10 +44,15 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
   if (config.max_queued < 0 || config.worker_threads < 0) {
     return absl::InvalidArgumentError("--max_queued and --worker_threads must be >= 0");
   }
-  if (config.idle_trim < absl::ZeroDuration() || config.idle_trim_min_request_bytes < 0) {
+  if (config.idle_trim < absl::ZeroDuration()) {
     return absl::InvalidArgumentError(
         absl::StrCat("--idle_trim_ms: ", absl::ToInt64Milliseconds(config.idle_trim),
                      " must be >= 0 (0 = never give memory back when idle)"));
+  }
+  if (config.idle_trim_min_request_bytes < 0) {
+    return absl::InvalidArgumentError(absl::StrCat("idle_trim_min_request_bytes: ",
+                                                   config.idle_trim_min_request_bytes,
+                                                   " must be >= 0"));
   }
   if (config.inline_max_bytes < 0) {
     return absl::InvalidArgumentError(
