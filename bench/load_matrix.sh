@@ -20,33 +20,8 @@ if [ -z "${SKIP_BUILD:-}" ]; then
   cmake --build "$build" -j2 --target koma_server koma_echo_server koma_load >/dev/null
 fi
 load=$build/bench/koma_load
-work=$(mktemp -d)
-pid=""
-cleanup() {
-  if [ -n "$pid" ] && kill -0 "$pid" 2>/dev/null; then kill -KILL "$pid"; fi
-  rm -rf "$work"
-}
-trap cleanup EXIT
-
-# start BINARY [FLAGS...]: a server on a free loopback port; sets $pid and $port.
-start() {
-  rm -f "$work/port"
-  "$@" --address=127.0.0.1:0 --port_file="$work/port" 2>>"$work/server.log" &
-  pid=$!
-  for _ in $(seq 100); do [ -s "$work/port" ] && break; sleep 0.1; done
-  [ -s "$work/port" ] || { echo "server did not start: $*" >&2; cat "$work/server.log" >&2; exit 1; }
-  port=$(cat "$work/port")
-}
-
-# peak: the server's peak RSS so far (VmHWM), MiB.
-peak() { awk '/VmHWM/ { printf "%.0f", $2 / 1024 }' "/proc/$pid/status"; }
-
-# stop: SIGTERM and wait (must exit 0).
-stop() {
-  kill -TERM "$pid"
-  wait "$pid" || { echo "server exited $? after SIGTERM" >&2; exit 1; }
-  pid=""
-}
+# shellcheck source=bench/loopback_server.sh
+source "$root/bench/loopback_server.sh"  # $work, start, stop, peak
 
 # measure NAME RUNS SERVER_BIN [SERVER FLAGS] -- LOAD ARGS: RUNS identical runs on one server
 # process; prints "rps|p50|p99|request bytes|response bytes|peak RSS after each run|errors"

@@ -21,30 +21,19 @@ warmup=${WARMUP:-1}      # seconds per run left out of the statistics
 server_a=${A:-$build/server/koma_server --log_level=warn}
 server_b=${B:-$build/bench/koma_echo_server}
 load=$build/bench/koma_load
-work=$(mktemp -d)
-pid=""
-cleanup() {
-  if [ -n "$pid" ] && kill -0 "$pid" 2>/dev/null; then kill -KILL "$pid"; fi
-  rm -rf "$work"
-}
-trap cleanup EXIT
+# shellcheck source=bench/loopback_server.sh
+source "$root/bench/loopback_server.sh"  # $work, start, stop
 
 # run NAME SERVER_COMMAND -- LOAD ARGS: one server, one koma_load run; writes "rps p50" to
 # $work/NAME.result. Runs in this shell (not in $(...)), so the EXIT trap knows the server.
 run() {
   local name=$1 command=$2
   shift 3
-  rm -f "$work/port"
   # shellcheck disable=SC2086  # the server command is a word list (binary and flags)
-  $command --address=127.0.0.1:0 --port_file="$work/port" 2>>"$work/$name.log" &
-  pid=$!
-  for _ in $(seq 100); do [ -s "$work/port" ] && break; sleep 0.1; done
-  [ -s "$work/port" ] || { echo "server did not start: $command" >&2; cat "$work/$name.log" >&2; exit 1; }
-  "$load" --target "127.0.0.1:$(cat "$work/port")" --duration "$duration" --warmup "$warmup" \
+  start $command
+  "$load" --target "127.0.0.1:$port" --duration "$duration" --warmup "$warmup" \
     --deadline 60 --quiet --fail-on-error --json "$work/$name.json" "$@"
-  kill -TERM "$pid"
-  wait "$pid" || { echo "server exited $? after SIGTERM: $command" >&2; exit 1; }
-  pid=""
+  stop
   python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))
 print("%.1f %.3f" % (r["rps"], r["latency_ms"]["p50"]))' "$work/$name.json" >"$work/$name.result"
 }
