@@ -20,8 +20,11 @@ if [ -z "${SKIP_BUILD:-}" ]; then
   cmake --build "$build" -j2 --target koma_server koma_echo_server koma_load >/dev/null
 fi
 load=$build/bench/koma_load
-# shellcheck source=bench/loopback_server.sh
-source "$root/bench/loopback_server.sh"  # $work, start, stop, peak
+# shellcheck source=tests/e2e/lib.sh
+source "$root/tests/e2e/lib.sh"  # $work, start_server ($server_pid, $target), stop_server
+
+# peak: the server's peak RSS so far (VmHWM), MiB.
+peak() { awk '/VmHWM/ { printf "%.0f", $2 / 1024 }' "/proc/$server_pid/status"; }
 
 # measure NAME RUNS SERVER_BIN [SERVER FLAGS] -- LOAD ARGS: RUNS identical runs on one server
 # process; prints "rps|p50|p99|request bytes|response bytes|peak RSS after each run|errors"
@@ -30,13 +33,13 @@ measure() {
   local name=$1 runs=$2 server_args=() peaks=""
   shift 2
   while [ "$1" != "--" ]; do server_args+=("$1"); shift; done; shift
-  start "${server_args[@]}"
+  start_server "${server_args[@]}"
   for run in $(seq "$runs"); do
-    "$load" --target "127.0.0.1:$port" --duration "$run_s" --warmup "$warm_s" \
+    "$load" --target "$target" --duration "$run_s" --warmup "$warm_s" \
       --deadline 60 --quiet --json "$work/$name.$run.json" "$@"
     peaks="$peaks${peaks:+ / }$(peak)"
   done
-  stop
+  stop_server
   python3 - "$work/$name.1.json" "$peaks" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))

@@ -21,8 +21,8 @@ warmup=${WARMUP:-1}      # seconds per run left out of the statistics
 server_a=${A:-$build/server/koma_server --log_level=warn}
 server_b=${B:-$build/bench/koma_echo_server}
 load=$build/bench/koma_load
-# shellcheck source=bench/loopback_server.sh
-source "$root/bench/loopback_server.sh"  # $work, start, stop
+# shellcheck source=tests/e2e/lib.sh
+source "$root/tests/e2e/lib.sh"  # $work, start_server ($server_pid, $target), stop_server
 
 # run NAME SERVER_COMMAND -- LOAD ARGS: one server, one koma_load run; writes "rps p50" to
 # $work/NAME.result. Runs in this shell (not in $(...)), so the EXIT trap knows the server.
@@ -30,10 +30,10 @@ run() {
   local name=$1 command=$2
   shift 3
   # shellcheck disable=SC2086  # the server command is a word list (binary and flags)
-  start $command
-  "$load" --target "127.0.0.1:$port" --duration "$duration" --warmup "$warmup" \
+  start_server $command
+  "$load" --target "$target" --duration "$duration" --warmup "$warmup" \
     --deadline 60 --quiet --fail-on-error --json "$work/$name.json" "$@"
-  stop
+  stop_server
   python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))
 print("%.1f %.3f" % (r["rps"], r["latency_ms"]["p50"]))' "$work/$name.json" >"$work/$name.result"
 }

@@ -1,6 +1,9 @@
-# Shared by the end-to-end scripts (sourced, not run). Gives each test a scratch directory
-# `$work`, a `fail` that prints the server log, and a koma_server on a free loopback port.
-#   start_server KOMA_SERVER [FLAGS...]   sets $server_pid and $target (127.0.0.1:PORT)
+# shellcheck shell=bash
+# Shared by the end-to-end scripts and bench/load_matrix.sh and bench/load_pairs.sh (sourced,
+# not run). Gives each a scratch directory `$work`, a `fail` that prints the server log, and
+# a server (koma_server, or any with --address and --port_file) on a free loopback port,
+# killed on any exit.
+#   start_server SERVER [FLAGS...]        sets $server_pid and $target (127.0.0.1:PORT)
 #   stop_server                           SIGTERM, and fails unless the server exits 0
 
 work=$(mktemp -d)
@@ -21,10 +24,12 @@ fail() {
 start_server() {
   local server_bin=$1
   shift
+  rm -f "$work/port"  # a previous server's, when a script starts several in turn
   "$server_bin" --address=127.0.0.1:0 --port_file="$work/port" "$@" 2>"$work/server.log" &
   server_pid=$!
   for _ in $(seq 100); do [ -s "$work/port" ] && break; sleep 0.1; done
   [ -s "$work/port" ] || fail "server did not write its port within 10 s"
+  # shellcheck disable=SC2034  # read by the scripts that source this file
   target="127.0.0.1:$(cat "$work/port")"
 }
 
