@@ -28,12 +28,6 @@ constexpr int kLanes = 4;
 // has a different ABI in the AVX2 and the plain build.
 #define KOMA_FK_INLINE __attribute__((always_inline)) inline
 
-// A rigid transform of four frames: x' = rotation * x + translation. rotation is row-major 3x3.
-struct LaneTransform {
-  Lanes rotation[9];
-  Lanes translation[3];
-};
-
 KOMA_FK_INLINE void Broadcast(double value, Lanes& out) { out = Lanes{value, value, value, value}; }
 
 // Lane l = column[l * stride]: one channel's entry in four consecutive frames.
@@ -79,91 +73,123 @@ KOMA_FK_INLINE bool IsRotation(ChannelKind kind) {
          kind == ChannelKind::kZRotation;
 }
 
+// What the frame loop needs of a joint, worked out once per call so that the loop does not
+// walk each joint's channel list (and test each channel's kind) in every group of frames.
+// ValidateSkeleton allows at most 6 channels per joint, none repeated: at most three
+// position and three rotation channels.
+struct JointPlan {
+  int parent = -1;
+  double offset[3] = {};     // x, y, z
+  size_t first_channel = 0;  // the joint's first channel within a frame
+  size_t first_angle = 0;    // its first rotation channel among the angles used
+  bool with_rotation = false;  // it has children, so its rotation is used
+  int position_count = 0;
+  size_t position_channel[3] = {};  // within the joint, in channel order
+  int position_axis[3] = {};        // 0 x, 1 y, 2 z
+  int rotation_count = 0;
+  ChannelKind rotation_axis[3] = {};  // in channel order
+};
+
 // The world transform of one joint in four frames: parent * T(offset) * T(position channels) *
 // R(c1) * R(c2) * ... (identity for the root's parent). `values` points at the joint's first
 // channel in the first frame (frames are `stride` apart); `sin` and `cos` at the sines and
 // cosines of its rotation channels (angles in degrees), four frames' worth per channel, in
-// channel order (only read when `with_rotation`). The translation is the parent's
-// transform applied to the local one; the rotation starts as the parent's and each rotation
-// channel multiplies it on the right in place (12 multiplications each), so no 3x3 product
-// is needed. It is only computed when `with_rotation` (a joint's own rotation moves its
-// children, never itself).
-KOMA_FK_INLINE void JointTransform(const Joint& joint, const LaneTransform* parent,
-                                   const double* values, const double* sin, const double* cos,
-                                   size_t stride, bool with_rotation, LaneTransform& world) {
+// channel order (only read when the joint's rotation is used). The translation is the
+// parent's transform applied to the local one; the rotation starts as the parent's and each
+// rotation channel multiplies it on the right in place (12 multiplications each), so no 3x3
+// product is needed. It is only computed for a joint with children (a joint's own rotation
+// moves its children, never itself). `rotations` and `translations` hold every joint's world
+// transform in this group: 9 and 3 Lanes per joint, row-major rotation.
+KOMA_FK_INLINE void JointTransform(const JointPlan& plan, size_t index, const double* values,
+                                   const double* sin, const double* cos, size_t stride,
+                                   Lanes* rotations, Lanes* translations) {
   Lanes local[3];  // the local translation
-  Broadcast(joint.offset.x, local[0]);
-  Broadcast(joint.offset.y, local[1]);
-  Broadcast(joint.offset.z, local[2]);
-  for (size_t c = 0; c < joint.channels.size(); ++c) {
-    const ChannelKind kind = joint.channels[c];
-    if (kind == ChannelKind::kXPosition || kind == ChannelKind::kYPosition ||
-        kind == ChannelKind::kZPosition) {
-      Lanes value;
-      Gather(values + c, stride, value);
-      local[static_cast<int>(kind) - static_cast<int>(ChannelKind::kXPosition)] += value;
-    }
+  for (int axis = 0; axis < 3; ++axis) Broadcast(plan.offset[axis], local[axis]);
+  for (int p = 0; p < plan.position_count; ++p) {
+    Lanes value;
+    Gather(values + plan.position_channel[p], stride, value);
+    local[plan.position_axis[p]] += value;
   }
+  Lanes* translation = translations + 3 * index;
   Lanes rotation[9] = {};  // the world rotation, in registers while the channels turn it
-  if (parent == nullptr) {
+  if (plan.parent < 0) {
     constexpr double kIdentity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    for (int r = 0; r < 3; ++r) world.translation[r] = local[r];
-    if (!with_rotation) return;
+    for (int r = 0; r < 3; ++r) translation[r] = local[r];
+    if (!plan.with_rotation) return;
     for (int e = 0; e < 9; ++e) Broadcast(kIdentity[e], rotation[e]);
   } else {
+    const Lanes* parent_rotation = rotations + 9 * plan.parent;
+    const Lanes* parent_translation = translations + 3 * plan.parent;
     for (int r = 0; r < 3; ++r) {
-      world.translation[r] = parent->translation[r] + parent->rotation[3 * r] * local[0] +
-                             parent->rotation[3 * r + 1] * local[1] +
-                             parent->rotation[3 * r + 2] * local[2];
+      translation[r] = parent_translation[r] + parent_rotation[3 * r] * local[0] +
+                       parent_rotation[3 * r + 1] * local[1] +
+                       parent_rotation[3 * r + 2] * local[2];
     }
-    if (!with_rotation) return;
-    for (int e = 0; e < 9; ++e) rotation[e] = parent->rotation[e];
+    if (!plan.with_rotation) return;
+    for (int e = 0; e < 9; ++e) rotation[e] = parent_rotation[e];
   }
-  for (const ChannelKind kind : joint.channels) {
-    if (IsRotation(kind)) {
-      Lanes s, co;
-      __builtin_memcpy(&s, sin, sizeof s);
-      __builtin_memcpy(&co, cos, sizeof co);
-      sin += kLanes;
-      cos += kLanes;
-      RotateAbout(kind, s, co, rotation);
-    }
+  for (int a = 0; a < plan.rotation_count; ++a) {
+    Lanes s, co;
+    __builtin_memcpy(&s, sin + kLanes * a, sizeof s);
+    __builtin_memcpy(&co, cos + kLanes * a, sizeof co);
+    RotateAbout(plan.rotation_axis[a], s, co, rotation);
   }
-  for (int e = 0; e < 9; ++e) world.rotation[e] = rotation[e];
+  for (int e = 0; e < 9; ++e) rotations[9 * index + e] = rotation[e];
+}
+
+// to[l * to_stride + k] = from[k * from_stride + l] for k, l < 4: a 4 x 4 block of doubles
+// transposed with four loads, eight shuffles and four stores (instead of sixteen single loads
+// and stores, which were ~13 % of forward kinematics where the angles are read and ~10 %
+// where the positions are written).
+KOMA_FK_INLINE void Transpose4x4(const double* from, size_t from_stride, double* to,
+                                 size_t to_stride) {
+  typedef long long Mask __attribute__((vector_size(32)));
+  // Separate variables, not arrays: GCC kept arrays of vectors on the stack.
+  Lanes r0, r1, r2, r3;
+  __builtin_memcpy(&r0, from, sizeof r0);
+  __builtin_memcpy(&r1, from + from_stride, sizeof r1);
+  __builtin_memcpy(&r2, from + 2 * from_stride, sizeof r2);
+  __builtin_memcpy(&r3, from + 3 * from_stride, sizeof r3);
+  const Lanes t0 = __builtin_shuffle(r0, r1, Mask{0, 4, 2, 6});
+  const Lanes t1 = __builtin_shuffle(r0, r1, Mask{1, 5, 3, 7});
+  const Lanes t2 = __builtin_shuffle(r2, r3, Mask{0, 4, 2, 6});
+  const Lanes t3 = __builtin_shuffle(r2, r3, Mask{1, 5, 3, 7});
+  const Lanes c0 = __builtin_shuffle(t0, t2, Mask{0, 1, 4, 5});
+  const Lanes c1 = __builtin_shuffle(t1, t3, Mask{0, 1, 4, 5});
+  const Lanes c2 = __builtin_shuffle(t0, t2, Mask{2, 3, 6, 7});
+  const Lanes c3 = __builtin_shuffle(t1, t3, Mask{2, 3, 6, 7});
+  __builtin_memcpy(to, &c0, sizeof c0);
+  __builtin_memcpy(to + to_stride, &c1, sizeof c1);
+  __builtin_memcpy(to + 2 * to_stride, &c2, sizeof c2);
+  __builtin_memcpy(to + 3 * to_stride, &c3, sizeof c3);
 }
 
 // out[kLanes * k + l] = rows[l * stride + channel + k] for k < length and each lane l: a run
 // of consecutive channels of four frames, channel by channel with the frames side by side.
-// Four channels at a time are four loads, a 4 x 4 transpose in registers and four stores,
-// instead of sixteen single loads and stores (which were ~13 % of forward kinematics).
 KOMA_FK_INLINE void TransposeRun(const double* rows, size_t stride, size_t channel, size_t length,
                                  double* out) {
-  typedef long long Mask __attribute__((vector_size(32)));
   size_t k = 0;
   for (; k + kLanes <= length; k += kLanes) {
-    // Separate variables, not arrays: GCC kept arrays of vectors on the stack.
-    Lanes r0, r1, r2, r3;
-    const double* first = rows + channel + k;
-    __builtin_memcpy(&r0, first, sizeof r0);
-    __builtin_memcpy(&r1, first + stride, sizeof r1);
-    __builtin_memcpy(&r2, first + 2 * stride, sizeof r2);
-    __builtin_memcpy(&r3, first + 3 * stride, sizeof r3);
-    const Lanes t0 = __builtin_shuffle(r0, r1, Mask{0, 4, 2, 6});
-    const Lanes t1 = __builtin_shuffle(r0, r1, Mask{1, 5, 3, 7});
-    const Lanes t2 = __builtin_shuffle(r2, r3, Mask{0, 4, 2, 6});
-    const Lanes t3 = __builtin_shuffle(r2, r3, Mask{1, 5, 3, 7});
-    const Lanes c0 = __builtin_shuffle(t0, t2, Mask{0, 1, 4, 5});
-    const Lanes c1 = __builtin_shuffle(t1, t3, Mask{0, 1, 4, 5});
-    const Lanes c2 = __builtin_shuffle(t0, t2, Mask{2, 3, 6, 7});
-    const Lanes c3 = __builtin_shuffle(t1, t3, Mask{2, 3, 6, 7});
-    double* to = out + kLanes * k;
-    __builtin_memcpy(to, &c0, sizeof c0);
-    __builtin_memcpy(to + kLanes, &c1, sizeof c1);
-    __builtin_memcpy(to + 2 * kLanes, &c2, sizeof c2);
-    __builtin_memcpy(to + 3 * kLanes, &c3, sizeof c3);
+    Transpose4x4(rows + channel + k, stride, out + kLanes * k, kLanes);
   }
   for (; k < length; ++k) {
     for (int l = 0; l < kLanes; ++l) out[kLanes * k + l] = rows[l * stride + channel + k];
+  }
+}
+
+// The inverse for the positions: rows[l * stride + k] = lanes[kLanes * k + l] for k < length
+// and l < frames (four frames' rows of `length` doubles, `stride` apart, from values held
+// lane by lane).
+KOMA_FK_INLINE void UntransposeRows(const double* lanes, size_t length, int frames, size_t stride,
+                                    double* rows) {
+  size_t k = 0;
+  if (frames == kLanes) {
+    for (; k + kLanes <= length; k += kLanes) {
+      Transpose4x4(lanes + kLanes * k, kLanes, rows + k, stride);
+    }
+  }
+  for (; k < length; ++k) {
+    for (int l = 0; l < frames; ++l) rows[l * stride + k] = lanes[kLanes * k + l];
   }
 }
 
@@ -175,21 +201,31 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
     const std::vector<Joint>& joints, const double* values, int frame_count, int channel_count,
     double* positions) {
   const size_t joint_count = joints.size();
-  std::vector<bool> has_children(joint_count, false);
-  for (const Joint& joint : joints) {
-    if (joint.parent >= 0) has_children[joint.parent] = true;
+  std::vector<JointPlan> plans(joint_count);
+  for (size_t j = 0; j < joint_count; ++j) {
+    plans[j].parent = joints[j].parent;
+    plans[j].offset[0] = joints[j].offset.x;
+    plans[j].offset[1] = joints[j].offset.y;
+    plans[j].offset[2] = joints[j].offset.z;
+    if (joints[j].parent >= 0) plans[joints[j].parent].with_rotation = true;
   }
   // The rotation channels whose angles are used: those of joints with children (a leaf's own
   // rotation moves nothing), as channel indices within a frame, in joint and channel order.
-  std::vector<size_t> first_channel(joint_count, 0);
-  std::vector<size_t> first_angle(joint_count, 0);  // the joint's first entry in angle_channels
   std::vector<size_t> angle_channels;
   for (size_t j = 0, channel = 0; j < joint_count; ++j) {
-    first_channel[j] = channel;
-    first_angle[j] = angle_channels.size();
-    for (const ChannelKind kind : joints[j].channels) {
-      if (has_children[j] && IsRotation(kind)) angle_channels.push_back(channel);
-      ++channel;
+    JointPlan& plan = plans[j];
+    plan.first_channel = channel;
+    plan.first_angle = angle_channels.size();
+    for (size_t c = 0; c < joints[j].channels.size(); ++c, ++channel) {
+      const ChannelKind kind = joints[j].channels[c];
+      if (!IsRotation(kind)) {
+        plan.position_channel[plan.position_count] = c;
+        plan.position_axis[plan.position_count++] =
+            static_cast<int>(kind) - static_cast<int>(ChannelKind::kXPosition);
+      } else if (plan.with_rotation) {
+        plan.rotation_axis[plan.rotation_count++] = kind;
+        angle_channels.push_back(channel);
+      }
     }
   }
   // The same channels as runs of consecutive ones (a joint's rotation channels usually are):
@@ -206,7 +242,14 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
     }
   }
   const size_t stride = static_cast<size_t>(channel_count);
-  std::vector<LaneTransform> world(joint_count);  // this group's world transforms
+  // This group's world transforms; the translations of all joints side by side are the
+  // group's positions, lane by lane.
+  // Held as doubles (std::vector would drop Lanes' alignment attribute); GCC lets a vector
+  // type alias its element type.
+  std::vector<double> rotation_storage(kLanes * 9 * joint_count);
+  std::vector<double> translation_storage(kLanes * 3 * joint_count);
+  Lanes* const rotations = reinterpret_cast<Lanes*>(rotation_storage.data());
+  Lanes* const translations = reinterpret_cast<Lanes*>(translation_storage.data());
   // The group's used angles, channel by channel with the four frames side by side, and their
   // sines and cosines, all at once (a vectorised loop). Not std::sin and std::cos: their last
   // bits differ between libms, and these bits reach the distances, the tie rules and the
@@ -215,6 +258,7 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
   std::vector<double> sin(angles.size());
   std::vector<double> cos(angles.size());
   std::vector<double> last_group;  // the last frames, padded with zeros to four
+  const size_t row = 3 * joint_count;  // doubles of positions per frame
   for (int f = 0; f < frame_count; f += kLanes) {
     const int frames = std::min(kLanes, frame_count - f);
     const double* group = values + static_cast<size_t>(f) * stride;
@@ -228,17 +272,14 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
     }
     SinCosDegrees(angles.data(), static_cast<int>(angles.size()), sin.data(), cos.data());
     for (size_t j = 0; j < joint_count; ++j) {
-      const Joint& joint = joints[j];
-      // Parents precede children (ValidateSkeleton rule 2), so world[parent] is ready.
-      const LaneTransform* parent = joint.parent < 0 ? nullptr : &world[joint.parent];
-      const size_t angle = kLanes * first_angle[j];
-      JointTransform(joint, parent, group + first_channel[j], sin.data() + angle,
-                     cos.data() + angle, stride, has_children[j], world[j]);
-      for (int l = 0; l < frames; ++l) {
-        double* out = positions + (static_cast<size_t>(f + l) * joint_count + j) * 3;
-        for (int axis = 0; axis < 3; ++axis) out[axis] = world[j].translation[axis][l];
-      }
+      // Parents precede children (ValidateSkeleton rule 2), so their transforms are ready.
+      const JointPlan& plan = plans[j];
+      const size_t angle = kLanes * plan.first_angle;
+      JointTransform(plan, j, group + plan.first_channel, sin.data() + angle,
+                     cos.data() + angle, stride, rotations, translations);
     }
+    UntransposeRows(translation_storage.data(), row, frames, row,
+                    positions + static_cast<size_t>(f) * row);
   }
 }
 
