@@ -8,6 +8,7 @@
 
 #include "absl/base/config.h"
 #include "koma/v1/motion.pb.h"
+#include "server/response_slice.h"
 #include "server/wire_bytes.h"
 
 namespace koma::server {
@@ -174,6 +175,7 @@ CurvesResponseEncoder::CurvesResponseEncoder(const CurveSet& set, const KomaUchi
     size_ += LengthField(sizes.body);
     timings_.push_back(sizes);
   }
+  head_size_ = size_;
   curves_.reserve(result.curves.size());
   for (size_t c = 0; c < result.curves.size(); ++c) {
     const RetimedCurve& in = result.curves[c];
@@ -185,12 +187,18 @@ CurvesResponseEncoder::CurvesResponseEncoder(const CurveSet& set, const KomaUchi
     for (const auto& [length, drawings] : in.hold_histogram) {
       sizes.body += LengthField(HoldBody(length, drawings));
     }
-    size_ += LengthField(sizes.body);
+    sizes.field = LengthField(sizes.body);
+    size_ += sizes.field;
     curves_.push_back(sizes);
   }
 }
 
 void CurvesResponseEncoder::WriteTo(uint8_t* out) const {
+  out = WriteHead(out);
+  for (size_t c = 0; c < curves_.size(); ++c) out = WriteCurve(c, out);
+}
+
+uint8_t* CurvesResponseEncoder::WriteHead(uint8_t* out) const {
   out = WritePackedInt32(response::kKeyFrames, key_frames_, result_.key_frames, out);
   for (size_t i = 0; i < timings_.size(); ++i) {
     const DrawingTiming& t = result_.timings[i];
@@ -202,21 +210,47 @@ void CurvesResponseEncoder::WriteTo(uint8_t* out) const {
     out = WritePackedDouble(timing::kSourceFrame, t.source_frame, out);
     out = WritePackedInt32(timing::kDrawingStart, sizes.drawing_start, t.drawing_start, out);
   }
-  for (size_t c = 0; c < curves_.size(); ++c) {
-    const RetimedCurve& in = result_.curves[c];
-    const std::string& id = set_.curves[c].id;
-    out = WriteLength(response::kCurves, curves_[c].body, out);
-    out = WriteString(retimed::kId, id, out);
-    out = WriteInt32Field(retimed::kTiming, in.timing, out);
-    out = WritePackedDouble(retimed::kValues, in.values, out);
-    out = WriteLength(retimed::kStepped, curves_[c].stepped, out);
-    out = WriteStepped(id, in.steps, out);
-    for (const auto& [length, drawings] : in.hold_histogram) {
-      out = WriteLength(retimed::kHoldHistogram, HoldBody(length, drawings), out);
-      out = WriteInt32Field(hold::kLength, length, out);
-      out = WriteInt32Field(hold::kDrawings, drawings, out);
-    }
+  return out;
+}
+
+uint8_t* CurvesResponseEncoder::WriteCurve(size_t c, uint8_t* out) const {
+  const RetimedCurve& in = result_.curves[c];
+  const std::string& id = set_.curves[c].id;
+  out = WriteLength(response::kCurves, curves_[c].body, out);
+  out = WriteString(retimed::kId, id, out);
+  out = WriteInt32Field(retimed::kTiming, in.timing, out);
+  out = WritePackedDouble(retimed::kValues, in.values, out);
+  out = WriteLength(retimed::kStepped, curves_[c].stepped, out);
+  out = WriteStepped(id, in.steps, out);
+  for (const auto& [length, drawings] : in.hold_histogram) {
+    out = WriteLength(retimed::kHoldHistogram, HoldBody(length, drawings), out);
+    out = WriteInt32Field(hold::kLength, length, out);
+    out = WriteInt32Field(hold::kDrawings, drawings, out);
   }
+  return out;
+}
+
+std::vector<grpc::Slice> EncodeInSlices(const CurvesResponseEncoder& encoder,
+                                        KomaUchiResult& result, size_t slice_bytes) {
+  std::vector<grpc::Slice> slices;
+  size_t next = 0;  // the first curve not yet written
+  do {
+    const bool head = slices.empty();
+    size_t bytes = head ? encoder.head_size() : 0;
+    size_t end = next;
+    while (end < encoder.curve_count() && (bytes < slice_bytes || bytes == 0)) {
+      bytes += encoder.curve_size(end++);
+    }
+    grpc::Slice slice = UninitialisedSlice(bytes);
+    uint8_t* out = const_cast<uint8_t*>(slice.begin());
+    if (head) out = encoder.WriteHead(out);
+    for (; next < end; ++next) {
+      out = encoder.WriteCurve(next, out);
+      result.curves[next] = RetimedCurve();  // frees its memory
+    }
+    slices.push_back(std::move(slice));
+  } while (next < encoder.curve_count());
+  return slices;
 }
 
 }  // namespace koma::server

@@ -8,6 +8,8 @@
 #ifndef KOMA_SERVER_CURVES_RESPONSE_H_
 #define KOMA_SERVER_CURVES_RESPONSE_H_
 
+#include <grpcpp/support/slice.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -29,6 +31,16 @@ class CurvesResponseEncoder {
   // Writes exactly size() bytes at `out`.
   void WriteTo(uint8_t* out) const;
 
+  // The same bytes in parts, for a response written into several buffers: the head (key
+  // frames and timings), then one field per curve, in order. Each Write returns the end of
+  // what it wrote. Curve c's part reads only result.curves[c], so the caller may free that
+  // once it is written.
+  size_t head_size() const { return head_size_; }
+  size_t curve_count() const { return curves_.size(); }
+  size_t curve_size(size_t c) const { return curves_[c].field; }
+  uint8_t* WriteHead(uint8_t* out) const;
+  uint8_t* WriteCurve(size_t c, uint8_t* out) const;
+
  private:
   struct TimingSizes {
     size_t drawing_of_frame;  // packed varints, bytes
@@ -38,15 +50,26 @@ class CurvesResponseEncoder {
   struct CurveSizes {
     size_t stepped;  // the Curve message
     size_t body;     // the RetimedCurve message
+    size_t field;    // the response's field holding it: tag, length, body
   };
 
   const CurveSet& set_;
   const KomaUchiResult& result_;
   size_t key_frames_ = 0;  // packed varints, bytes
+  size_t head_size_ = 0;
   std::vector<TimingSizes> timings_;
   std::vector<CurveSizes> curves_;
   size_t size_ = 0;
 };
+
+// The bytes `encoder` gives, in slices of whole parts (the head, then curves), each slice
+// closed once it holds `slice_bytes` or more; one slice when the whole response is smaller.
+// `result` must be the encoder's own result: each of its curves (values, steps, histogram) is
+// freed as soon as its bytes are written, so a large result and its response are never both
+// held in full (for 500 curves x 10k frames each is ~80 MiB). Its key frames and timings are
+// left as they were.
+std::vector<grpc::Slice> EncodeInSlices(const CurvesResponseEncoder& encoder,
+                                        KomaUchiResult& result, size_t slice_bytes);
 
 }  // namespace koma::server
 

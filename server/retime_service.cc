@@ -83,18 +83,21 @@ absl::StatusOr<int64_t> SerialiseInto(const Response& response, grpc::ByteBuffer
   return static_cast<int64_t>(bytes->Length());
 }
 
-// RetimeCurves: the wire bytes encoded straight from the core's result into one buffer of
-// exactly their size (server/curves_response.h), no response messages in between.
-absl::StatusOr<int64_t> SerialiseInto(const CurvesAnswer& answer, grpc::ByteBuffer* bytes) {
+// RetimeCurves: the wire bytes encoded straight from the core's result, no response messages
+// in between (server/curves_response.h). A large response goes out in slices of about
+// kCurvesSliceBytes, below the 1 MiB from which malloc maps blocks of their own
+// (server/malloc_tuning.h), so each slice reuses the heap memory of the curves written before
+// it, which are freed as they are written.
+constexpr size_t kCurvesSliceBytes = 512 * 1024;
+absl::StatusOr<int64_t> SerialiseInto(CurvesAnswer& answer, grpc::ByteBuffer* bytes) {
   const CurvesResponseEncoder encoder(answer.set, answer.result);
   const size_t size = encoder.size();
   if (size > static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
     return absl::InternalError(absl::StrCat("response: cannot be serialised: ", size,
                                             " bytes is over protobuf's 2 GiB message limit"));
   }
-  grpc::Slice slice = UninitialisedSlice(size);
-  encoder.WriteTo(const_cast<uint8_t*>(slice.begin()));
-  grpc::ByteBuffer(&slice, 1).Swap(bytes);
+  std::vector<grpc::Slice> slices = EncodeInSlices(encoder, answer.result, kCurvesSliceBytes);
+  grpc::ByteBuffer(slices.data(), slices.size()).Swap(bytes);
   return static_cast<int64_t>(size);
 }
 

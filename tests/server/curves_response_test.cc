@@ -176,6 +176,48 @@ TEST(CurvesResponseTest, RandomCoreResultsEncodeAsTheMessages) {
   }
 }
 
+// The slices EncodeInSlices writes, joined, are the bytes WriteTo writes; every slice but the
+// last holds at least `slice_bytes` (whole parts only), and each curve's result is freed.
+TEST(CurvesResponseTest, SlicesJoinToTheSameBytesAndFreeTheCurves) {
+  SplitMix64 rng(99);
+  for (int i = 0; i < 100; ++i) {
+    CurveSet set;
+    KomaUchiResult result;
+    RandomAnswer(rng, &set, &result);
+    const std::string want = Encoded(set, result);
+    const KomaUchiResult before = result;
+    const size_t slice_bytes = rng.OneIn(4) ? 0 : static_cast<size_t>(rng.Int(1, 400000));
+    const CurvesResponseEncoder encoder(set, result);
+    const std::vector<grpc::Slice> slices = EncodeInSlices(encoder, result, slice_bytes);
+    std::string joined;
+    for (size_t k = 0; k < slices.size(); ++k) {
+      joined.append(reinterpret_cast<const char*>(slices[k].begin()), slices[k].size());
+      if (k + 1 < slices.size()) {
+        EXPECT_GE(slices[k].size(), slice_bytes) << "answer " << i << ", slice " << k;
+      }
+    }
+    ASSERT_EQ(joined, want) << "answer " << i << ", " << slices.size() << " slices";
+    // A slice is closed as soon as it holds slice_bytes, and never empty while parts remain.
+    size_t want_slices = 1;
+    size_t open_bytes = encoder.head_size();
+    for (size_t c = 0; c < encoder.curve_count(); ++c) {
+      if (open_bytes > 0 && open_bytes >= slice_bytes) {
+        ++want_slices;
+        open_bytes = 0;
+      }
+      open_bytes += encoder.curve_size(c);
+    }
+    EXPECT_EQ(slices.size(), want_slices) << "answer " << i;
+    for (const RetimedCurve& curve : result.curves) {
+      EXPECT_EQ(curve.values.capacity(), 0u);
+      EXPECT_EQ(curve.steps.capacity(), 0u);
+      EXPECT_TRUE(curve.hold_histogram.empty());
+    }
+    EXPECT_EQ(result.key_frames, before.key_frames);
+    EXPECT_EQ(result.timings.size(), before.timings.size());
+  }
+}
+
 // A valid request: keyframe and dense curves, sometimes explicit key frames, n, tame, tsume,
 // curve overrides and segment overrides with some fields unset.
 v1::RetimeCurvesRequest RandomRequest(SplitMix64& rng) {
