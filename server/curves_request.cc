@@ -84,14 +84,23 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
   return job;
 }
 
+absl::Status PrepareCurvesAnswer(const v1::RetimeCurvesRequest& request,
+                                 const RequestLimits& limits, CurvesAnswer* answer) {
+  KOMA_ASSIGN_OR_RETURN(CurvesJob job, ValidateCurvesRequest(request, limits));
+  answer->set = std::move(job.set);
+  answer->options = std::move(job.options);
+  return absl::OkStatus();
+}
+
+absl::Status CompleteCurvesAnswer(CurvesAnswer* answer) {
+  answer->result = RetimeCurves(answer->set, answer->options);
+  return CheckFinite(answer->result);
+}
+
 absl::Status RetimeCurvesAnswer(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,
                                 CurvesAnswer* answer) {
-  KOMA_ASSIGN_OR_RETURN(CurvesJob job, ValidateCurvesRequest(request, limits));
-  KomaUchiResult result = RetimeCurves(job.set, job.options);
-  KOMA_RETURN_IF_ERROR(CheckFinite(result));
-  answer->set = std::move(job.set);
-  answer->result = std::move(result);
-  return absl::OkStatus();
+  KOMA_RETURN_IF_ERROR(PrepareCurvesAnswer(request, limits, answer));
+  return CompleteCurvesAnswer(answer);
 }
 
 void FillCurvesResponse(const CurveSet& set, const KomaUchiResult& result,

@@ -22,14 +22,24 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
                                                 const RequestLimits& limits);
 
 // What a RetimeCurves call answers, before it is put in a response: the request's curves
-// (their ids name the answer's curves) and the core's result for them.
+// (their ids name the answer's curves) and options, and the core's result for them.
 struct CurvesAnswer {
   CurveSet set;
+  KomaUchiOptions options;
   KomaUchiResult result;
 };
 
-// Validates `request` and retimes it into `answer` (OUT_OF_RANGE when a curve evaluates to
-// inf or NaN). The service encodes the answer's wire bytes itself (server/curves_response.h).
+// Validates `request` into the answer's set and options: everything the call reads of the
+// request, so the service can free the request (~30 MB of messages at 500 curves x 10k
+// frames) before the retiming builds the result.
+absl::Status PrepareCurvesAnswer(const v1::RetimeCurvesRequest& request,
+                                 const RequestLimits& limits, CurvesAnswer* answer);
+
+// Retimes a prepared answer into its result (OUT_OF_RANGE when a curve evaluates to inf or
+// NaN). The service encodes the answer's wire bytes itself (server/curves_response.h).
+absl::Status CompleteCurvesAnswer(CurvesAnswer* answer);
+
+// PrepareCurvesAnswer then CompleteCurvesAnswer.
 absl::Status RetimeCurvesAnswer(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,
                                 CurvesAnswer* answer);
 

@@ -109,6 +109,15 @@ absl::StatusOr<int64_t> SerialiseInto(SkeletalAnswer& answer, grpc::ByteBuffer* 
   return size;
 }
 
+// The work left once the handler has read the request and it is freed: RetimeCurves' handler
+// only validates (PrepareCurvesAnswer), so its parsed request is gone before the retiming
+// builds the result. The other answers are complete when their handler returns.
+absl::Status CompleteAnswer(CurvesAnswer& answer) { return CompleteCurvesAnswer(&answer); }
+template <typename Answer>
+absl::Status CompleteAnswer(Answer&) {
+  return absl::OkStatus();
+}
+
 // The request's frames and joints or curves, for the call's log line and metrics.
 void DescribeRequest(const v1::RetimeSkeletalRequest& request, RpcRecord& record) {
   record.frames = request.motion().frame_count();
@@ -196,9 +205,11 @@ class AnswerSlot<Response, false> {
 // response is serialised before Finish with one ByteSizeLong: on RetimeCurves 60 x 300 (~8,000
 // submessages each way) the two walks were ~10 % of the server's CPU. For RetimeSkeletal and
 // LipBlink the parse also allocates the big arrays once at their size (ParseRequest above).
-// LipBlink's answer is a message; the other two are not messages at all: RetimeCurves' bytes are encoded from the core's result after the
-// handler (SerialiseInto(CurvesAnswer) above), RetimeSkeletal's by the handler itself, while
-// the request whose frames it copies is still alive (server/skeletal_response.h).
+// LipBlink's answer is a message; the other two are not messages at all. RetimeCurves' handler
+// only validates: the retiming runs once the request is freed (CompleteAnswer), and the bytes
+// are encoded from the core's result after that (SerialiseInto(CurvesAnswer) above).
+// RetimeSkeletal's bytes are written by the handler itself, while the request whose frames it
+// copies is still alive (server/skeletal_response.h).
 template <typename Request, typename Response, typename Handler>
 class ArenaBytesCall {
  public:
@@ -216,10 +227,13 @@ class ArenaBytesCall {
     const absl::Status parsed = ParseRequest(request_bytes_, request_);
     if (!parsed.ok()) return ToGrpcStatus(parsed);
     DescribeRequest(*request_, record);
-    return ToGrpcStatus(handler_(*request_, response_.get()));
+    absl::Status handled = handler_(*request_, response_.get());
+    FreeRequest();
+    if (handled.ok()) handled = CompleteAnswer(*response_.get());
+    return ToGrpcStatus(handled);
   }
   // The handler has read all it needs: drop the request's arena now rather than after the
-  // response is sent.
+  // response is sent. (Again harmless.)
   void FreeRequest() {
     request_ = nullptr;
     request_arena_.reset();
@@ -333,7 +347,7 @@ grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContex
   return DispatchRaw<v1::RetimeCurvesRequest, CurvesAnswer>(
       context, request, response, RpcMethod::kRetimeCurves, std::move(record),
       [this](const v1::RetimeCurvesRequest& in, CurvesAnswer* out) {
-        return RetimeCurvesAnswer(in, limits_, out);
+        return PrepareCurvesAnswer(in, limits_, out);
       });
 }
 
