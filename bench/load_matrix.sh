@@ -7,13 +7,18 @@
 #   SMALL_ONLY=1 leaves out the large payloads, STRICT=1 fails on any failed call (the ctest
 #   smoke, bench.matrix_smoke, runs with both)
 # Each cell restarts both servers, so "peak RSS" (VmHWM) is that cell's alone; koma runs the
-# cell twice on the same process and reports its peak after each run (growth check).
+# cell twice on the same process and reports each run's own peak (growth check): VmHWM is
+# reset before each run (/proc/PID/clear_refs), and the second run starts after the server has
+# been idle for REST seconds (default 2, past koma_server's 1 s --idle_trim_ms), so both runs
+# start from a server at rest. Memory a run leaked would still be held then; freed memory the
+# heap kept from the first run would not.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD_DIR:-$root/build-release}
 duration=${DURATION:-3}      # measured seconds per run
 warmup=${WARMUP:-0.5}        # seconds per run left out of the statistics
 concurrencies=${CONCURRENCIES:-"1 4 16"}
+rest=${REST:-2}              # idle seconds before a cell's second koma run
 
 if [ -z "${SKIP_BUILD:-}" ]; then
   cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -23,11 +28,15 @@ load=$build/bench/koma_load
 # shellcheck source=tests/e2e/lib.sh
 source "$root/tests/e2e/lib.sh"  # $work, start_server ($server_pid, $target), stop_server
 
-# peak: the server's peak RSS so far (VmHWM), MiB.
+# peak: the server's peak RSS since the last reset_peak (VmHWM), MiB.
 peak() { awk '/VmHWM/ { printf "%.0f", $2 / 1024 }' "/proc/$server_pid/status"; }
+# reset_peak: VmHWM back to the current RSS ("5" in clear_refs, Linux 4.0 and later).
+reset_peak() {
+  echo 5 >"/proc/$server_pid/clear_refs" || { echo "cannot reset the peak RSS" >&2; exit 1; }
+}
 
 # measure NAME RUNS SERVER_BIN [SERVER FLAGS] -- LOAD ARGS: RUNS identical runs on one server
-# process; prints "rps|p50|p99|request bytes|response bytes|peak RSS after each run|errors"
+# process; prints "rps|p50|p99|request bytes|response bytes|each run's peak RSS|errors"
 # for the first run.
 measure() {
   local name=$1 runs=$2 server_args=() peaks=""
@@ -35,6 +44,8 @@ measure() {
   while [ "$1" != "--" ]; do server_args+=("$1"); shift; done; shift
   start_server "${server_args[@]}"
   for run in $(seq "$runs"); do
+    if [ "$run" -gt 1 ]; then sleep "$rest"; fi
+    reset_peak
     "$load" --target "$target" --duration "$run_s" --warmup "$warm_s" \
       --deadline 60 --quiet --json "$work/$name.$run.json" "$@"
     peaks="$peaks${peaks:+ / }$(peak)"
@@ -53,7 +64,7 @@ PY
 
 mib() { python3 -c "print('%.1f' % ($1 / 1048576))"; }
 
-echo "| RPC | size | c | koma RPS | echo RPS | koma/echo | koma p50 / p99 ms | echo p50 / p99 ms | request MiB | response MiB koma / echo | koma peak RSS MiB, run 1 / run 2 | RSS budget MiB |"
+echo "| RPC | size | c | koma RPS | echo RPS | koma/echo | koma p50 / p99 ms | echo p50 / p99 ms | request MiB | response MiB koma / echo | koma peak RSS MiB, run 1 / run 2 (each its own) | RSS budget MiB |"
 echo "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|"
 # RPC|size label|big (no warmup, twice the time: calls take up to seconds)|koma_load flags
 cases=(
