@@ -4,13 +4,15 @@
 # Prints a markdown table (docs/benchmarks.md, "End to end over loopback").
 #   bench/load_matrix.sh                 build Release into build-release, run everything
 #   BUILD_DIR=build-x SKIP_BUILD=1 DURATION=2 bench/load_matrix.sh
+#   RUNS=6 ONLY="skeletal 100k.*channels" CONCURRENCIES=16 bench/load_matrix.sh   one cell, six
+#     koma runs on one server (their peaks side by side tell a leak from run-to-run spread)
 #   SMALL_ONLY=1 leaves out the large payloads, STRICT=1 fails on any failed call (the ctest
 #   smoke, bench.matrix_smoke, runs with both)
 # Each cell restarts both servers, so "peak RSS" (VmHWM) is that cell's alone; koma runs the
-# cell twice on the same process and reports each run's own peak (growth check): VmHWM is
-# reset before each run (/proc/PID/clear_refs), and the second run starts after the server has
-# been idle for REST seconds (default 2, past koma_server's 1 s --idle_trim_ms), so both runs
-# start from a server at rest. Memory a run leaked would still be held then; freed memory the
+# cell RUNS times (default 2) on the same process and reports each run's own peak (growth
+# check): VmHWM is reset before each run (/proc/PID/clear_refs), and each run after the first
+# starts once the server has been idle for REST seconds (default 2, past koma_server's 1 s
+# --idle_trim_ms), so every run starts from a server at rest. Memory a run leaked would still be held then; freed memory the
 # heap kept from the first run would not.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -18,7 +20,9 @@ build=${BUILD_DIR:-$root/build-release}
 duration=${DURATION:-3}      # measured seconds per run
 warmup=${WARMUP:-0.5}        # seconds per run left out of the statistics
 concurrencies=${CONCURRENCIES:-"1 4 16"}
-rest=${REST:-2}              # idle seconds before a cell's second koma run
+rest=${REST:-2}              # idle seconds before each of a cell's later koma runs
+koma_runs=${RUNS:-2}         # koma runs per cell (the echo runs once)
+only=${ONLY:-}               # a bash regex: only the rows whose "RPC size" matches
 
 if [ -z "${SKIP_BUILD:-}" ]; then
   cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -64,7 +68,7 @@ PY
 
 mib() { python3 -c "print('%.1f' % ($1 / 1048576))"; }
 
-echo "| RPC | size | c | koma RPS | echo RPS | koma/echo | koma p50 / p99 ms | echo p50 / p99 ms | request MiB | response MiB koma / echo | koma peak RSS MiB, run 1 / run 2 (each its own) | RSS budget MiB |"
+echo "| RPC | size | c | koma RPS | echo RPS | koma/echo | koma p50 / p99 ms | echo p50 / p99 ms | request MiB | response MiB koma / echo | koma peak RSS MiB, each run's own | RSS budget MiB |"
 echo "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|"
 # RPC|size label|big (no warmup, twice the time: calls take up to seconds)|koma_load flags
 cases=(
@@ -79,6 +83,7 @@ cases=(
 for case in "${cases[@]}"; do
   IFS='|' read -r rpc size big flags <<<"$case"
   if [ "$big" = 1 ] && [ -n "${SMALL_ONLY:-}" ]; then continue; fi
+  if [ -n "$only" ] && ! [[ "$rpc $size" =~ $only ]]; then continue; fi
   if [ "$big" = 1 ]; then
     run_s=$(python3 -c "print(2 * $duration)"); warm_s=0
   else
@@ -87,7 +92,7 @@ for case in "${cases[@]}"; do
   for c in $concurrencies; do
     channels=$(( c < 4 ? c : 4 ))
     # shellcheck disable=SC2086  # $flags is a word list
-    IFS='|' read -r k_rps k_p50 k_p99 k_req k_resp k_peaks k_note <<<"$(measure koma 2 "$build/server/koma_server" --log_level=warn -- $flags --concurrency "$c" --channels "$channels")"
+    IFS='|' read -r k_rps k_p50 k_p99 k_req k_resp k_peaks k_note <<<"$(measure koma "$koma_runs" "$build/server/koma_server" --log_level=warn -- $flags --concurrency "$c" --channels "$channels")"
     # shellcheck disable=SC2086
     IFS='|' read -r e_rps e_p50 e_p99 _ e_resp _ e_note <<<"$(measure echo 1 "$build/bench/koma_echo_server" -- $flags --concurrency "$c" --channels "$channels")"
     if [ -n "${STRICT:-}" ] && [ -n "$k_note$e_note" ]; then
