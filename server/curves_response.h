@@ -20,7 +20,8 @@
 namespace koma::server {
 
 // Sizes the response once on construction; `set` and `result` must outlive the encoder and
-// stay unchanged. set.curves[c].id names result.curves[c].
+// stay unchanged, except that a curve whose part is written may be freed (EncodeInSlices).
+// set.curves[c].id names result.curves[c].
 class CurvesResponseEncoder {
  public:
   CurvesResponseEncoder(const CurveSet& set, const KomaUchiResult& result);

@@ -20,7 +20,6 @@
 #include "server/curves_response.h"
 #include "server/lip_blink_request.h"
 #include "server/logging.h"
-#include "server/response_slice.h"
 #include "server/skeletal_parse.h"
 #include "server/skeletal_request.h"
 #include "server/status_mapping.h"
