@@ -41,7 +41,8 @@ ABSL_FLAG(int, threads_per_call, 0,
           "threads one large RetimeSkeletal call's forward kinematics may use (clips of 32768 "
           "frames and more); 0 = one per core, 1 = none besides the call's own");
 ABSL_FLAG(int, max_queued, 64,
-          "requests that may wait for a worker; beyond that, RESOURCE_EXHAUSTED");
+          "requests that may wait for a worker; beyond that, RESOURCE_EXHAUSTED (0: none wait, a "
+          "large call runs only on an idle worker)");
 ABSL_FLAG(int64_t, inline_max_bytes, koma::server::RetimeService::kDefaultInlineMaxBytes,
           "requests of at most this many bytes are retimed on gRPC's callback thread instead "
           "of a worker (saves two thread hand-offs on small clips); 0 = every request on a "

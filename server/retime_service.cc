@@ -249,7 +249,12 @@ class ArenaBytesCall {
   AnswerSlot<Response> response_;
 };
 
-grpc::Status Busy(absl::string_view method) {
+// Why the pool refused a call.
+grpc::Status Refused(absl::string_view method, WorkerPool::Submission submission) {
+  if (submission == WorkerPool::Submission::kStopping) {
+    return grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                        absl::StrCat(method, ": the server is shutting down"));
+  }
   return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
                       absl::StrCat(method,
                                    ": server busy, the request queue is full "
@@ -308,8 +313,10 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   // and the bounded queue still applies to them.
   if (record.bytes_in <= inline_max_bytes_) {
     run();
-  } else if (!pool_->TrySubmit(run)) {
-    FinishAndLog(context, reactor, Busy(record.method), *call, record, start, metrics);
+  } else if (const WorkerPool::Submission submission = pool_->TrySubmit(run);
+             submission != WorkerPool::Submission::kAccepted) {
+    FinishAndLog(context, reactor, Refused(record.method, submission), *call, record, start,
+                 metrics);
     if (trimmer != nullptr) trimmer->CallFinished();
   }
   return reactor;

@@ -19,14 +19,18 @@ WorkerPool::~WorkerPool() {
   for (std::thread& thread : threads_) thread.join();
 }
 
-bool WorkerPool::TrySubmit(std::function<void()> task) {
+WorkerPool::Submission WorkerPool::TrySubmit(std::function<void()> task) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (stopping_ || queue_.size() >= max_queued_) return false;
+    if (stopping_) return Submission::kStopping;
+    // The first idle_ tasks of the queue are (about to be) taken by the idle workers; the
+    // rest wait, and this one would be the next of those.
+    const size_t waiting = queue_.size() > idle_ ? queue_.size() - idle_ : 0;
+    if (queue_.size() >= idle_ && waiting >= max_queued_) return Submission::kQueueFull;
     queue_.push_back(std::move(task));
   }
   ready_.notify_one();
-  return true;
+  return Submission::kAccepted;
 }
 
 void WorkerPool::Loop() {
@@ -34,7 +38,9 @@ void WorkerPool::Loop() {
     std::function<void()> task;
     {
       std::unique_lock<std::mutex> lock(mutex_);
+      ++idle_;
       ready_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      --idle_;
       if (queue_.empty()) return;  // stopping and drained
       task = std::move(queue_.front());
       queue_.pop_front();

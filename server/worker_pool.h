@@ -15,7 +15,8 @@ namespace koma::server {
 
 class WorkerPool {
  public:
-  // `threads` >= 1 workers; at most `max_queued` tasks wait beyond those running.
+  // `threads` >= 1 workers. A task that finds a worker idle starts at once; at most
+  // `max_queued` others wait for one (0: none wait).
   WorkerPool(int threads, size_t max_queued);
   // Runs every task already accepted, then joins.
   ~WorkerPool();
@@ -23,8 +24,10 @@ class WorkerPool {
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
 
-  // False (and `task` dropped) when the queue is full or the pool is stopping.
-  bool TrySubmit(std::function<void()> task);
+  enum class Submission { kAccepted, kQueueFull, kStopping };
+  // kQueueFull or kStopping (and `task` dropped) when it would wait beyond max_queued or the
+  // pool is being destroyed.
+  Submission TrySubmit(std::function<void()> task);
 
  private:
   void Loop();
@@ -32,7 +35,8 @@ class WorkerPool {
   const size_t max_queued_;
   std::mutex mutex_;
   std::condition_variable ready_;
-  std::deque<std::function<void()>> queue_;
+  std::deque<std::function<void()>> queue_;  // accepted, not yet taken by a worker
+  size_t idle_ = 0;                           // workers waiting for a task
   bool stopping_ = false;
   std::vector<std::thread> threads_;
 };

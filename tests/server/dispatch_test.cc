@@ -46,13 +46,14 @@ class DispatchTest : public ::testing::Test {
  protected:
   void SetUp() override {
     std::promise<void> started;
-    ASSERT_TRUE(pool_.TrySubmit([this, &started] {
+    ASSERT_EQ(pool_.TrySubmit([this, &started] {
       started.set_value();
       release_.get_future().wait();
-    }));
-    started.get_future().wait();          // the worker is busy,
-    ASSERT_TRUE(pool_.TrySubmit([] {}));  // the queue is full
-    ASSERT_FALSE(pool_.TrySubmit([] {}));
+    }),
+              WorkerPool::Submission::kAccepted);
+    started.get_future().wait();  // the worker is busy,
+    ASSERT_EQ(pool_.TrySubmit([] {}), WorkerPool::Submission::kAccepted);  // the queue is full
+    ASSERT_EQ(pool_.TrySubmit([] {}), WorkerPool::Submission::kQueueFull);
   }
   void TearDown() override { release_.set_value(); }
 
