@@ -20,6 +20,7 @@
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/arena_allocator.h"
 #include "server/malloc_tuning.h"
+#include "server/mutex_tuning.h"
 #include "server/process_control.h"
 #include "server/skeletal_parse.h"
 
@@ -108,6 +109,7 @@ int Fail(const std::string& message) {
 
 int main(int argc, char** argv) {
   koma::server::TuneMallocForLargeMessages();
+  koma::server::IgnoreMutexDeadlockCycles();
   absl::SetProgramUsageMessage(
       "koma_echo_server [--address=HOST:PORT] [--port_file=F] [--max_message_bytes=N] "
       "[--huge_page_cache_mb=N]: "

@@ -21,6 +21,7 @@
 #include "absl/time/time.h"
 #include "server/logging.h"
 #include "server/malloc_tuning.h"
+#include "server/mutex_tuning.h"
 #include "server/process_control.h"
 #include "server/server.h"
 
@@ -153,6 +154,7 @@ int Fail(const std::string& message) {
 
 int main(int argc, char** argv) {
   koma::server::TuneMallocForLargeMessages();
+  koma::server::IgnoreMutexDeadlockCycles();
   absl::FlagsUsageConfig usage;
   // --help lists this file's flags (Abseil's default looks for a file named after the binary).
   usage.contains_help_flags = [](absl::string_view file) {
