@@ -17,6 +17,7 @@ namespace {
 
 using ::koma::testing::InProcessServer;
 using ::koma::testing::SetTestDeadline;
+using ::koma::testing::SharedServerTest;
 using ::testing::HasSubstr;
 using Mutation = std::function<void(v1::RetimeSkeletalRequest&)>;
 
@@ -128,18 +129,14 @@ std::vector<BadRequest> BadRequests() {
   };
 }
 
-class BadRequestTest : public ::testing::TestWithParam<BadRequest> {
- protected:
-  static void SetUpTestSuite() {
+class BadRequestTest : public SharedServerTest<BadRequestTest, BadRequest> {
+ public:
+  static server::ServerConfig SuiteConfig() {
     server::ServerConfig config = InProcessServer::Config(2, 50'000);
     config.limits.max_joints = 32;
-    shared_ = new InProcessServer(config);
+    return config;
   }
-  static void TearDownTestSuite() { delete shared_; }
-  static v1::Retime::Stub& stub() { return shared_->stub(); }
-  static InProcessServer* shared_;
 };
-InProcessServer* BadRequestTest::shared_ = nullptr;
 
 TEST_P(BadRequestTest, AnswersCodeAndNamesTheField) {
   const BadRequest& bad = GetParam();

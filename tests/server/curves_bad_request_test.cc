@@ -18,6 +18,7 @@ namespace {
 
 using ::koma::testing::InProcessServer;
 using ::koma::testing::SetTestDeadline;
+using ::koma::testing::SharedServerTest;
 using ::testing::HasSubstr;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -148,17 +149,10 @@ std::vector<BadCurves> BadRequests() {
   };
 }
 
-class CurvesBadRequestTest : public ::testing::TestWithParam<BadCurves> {
- protected:
-  static void SetUpTestSuite() {
-    server::ServerConfig config = InProcessServer::Config(1, 50'000);
-    shared_ = new InProcessServer(config);
-  }
-  static void TearDownTestSuite() { delete shared_; }
-  static v1::Retime::Stub& stub() { return shared_->stub(); }
-  static InProcessServer* shared_;
+class CurvesBadRequestTest : public SharedServerTest<CurvesBadRequestTest, BadCurves> {
+ public:
+  static server::ServerConfig SuiteConfig() { return InProcessServer::Config(1, 50'000); }
 };
-InProcessServer* CurvesBadRequestTest::shared_ = nullptr;
 
 TEST_P(CurvesBadRequestTest, AnswersCodeAndNamesTheField) {
   const BadCurves& bad = GetParam();

@@ -4,6 +4,7 @@
 
 #include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/grpcpp.h>
+#include <gtest/gtest.h>
 
 #include <chrono>
 #include <memory>
@@ -37,6 +38,26 @@ class InProcessServer {
  private:
   std::unique_ptr<server::KomaServer> server_;
   std::unique_ptr<v1::Retime::Stub> stub_;
+};
+
+// A parameterised suite (a table of bad requests, say) whose cases share one InProcessServer,
+// started once for the suite with `Derived::SuiteConfig()` rather than once per case.
+//   class BadThingTest : public SharedServerTest<BadThingTest, BadThing> {
+//    public:
+//     static server::ServerConfig SuiteConfig() { return InProcessServer::Config(1, 50'000); }
+//   };
+template <typename Derived, typename Param>
+class SharedServerTest : public ::testing::TestWithParam<Param> {
+ protected:
+  static void SetUpTestSuite() { shared_ = new InProcessServer(Derived::SuiteConfig()); }
+  static void TearDownTestSuite() {
+    delete shared_;
+    shared_ = nullptr;
+  }
+  static v1::Retime::Stub& stub() { return shared_->stub(); }
+
+ private:
+  static inline InProcessServer* shared_ = nullptr;
 };
 
 // Every test RPC gets a deadline, so a broken server fails a test instead of hanging it.

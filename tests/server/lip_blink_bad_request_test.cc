@@ -18,6 +18,7 @@ namespace {
 
 using ::koma::testing::InProcessServer;
 using ::koma::testing::SetTestDeadline;
+using ::koma::testing::SharedServerTest;
 using ::testing::HasSubstr;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -145,17 +146,10 @@ std::vector<BadLipBlink> BadRequests() {
   };
 }
 
-class LipBlinkBadRequestTest : public ::testing::TestWithParam<BadLipBlink> {
- protected:
-  static void SetUpTestSuite() {
-    server::ServerConfig config = InProcessServer::Config(1, 50'000);
-    shared_ = new InProcessServer(config);
-  }
-  static void TearDownTestSuite() { delete shared_; }
-  static v1::Retime::Stub& stub() { return shared_->stub(); }
-  static InProcessServer* shared_;
+class LipBlinkBadRequestTest : public SharedServerTest<LipBlinkBadRequestTest, BadLipBlink> {
+ public:
+  static server::ServerConfig SuiteConfig() { return InProcessServer::Config(1, 50'000); }
 };
-InProcessServer* LipBlinkBadRequestTest::shared_ = nullptr;
 
 TEST_P(LipBlinkBadRequestTest, AnswersCodeAndNamesTheField) {
   const BadLipBlink& bad = GetParam();
