@@ -212,6 +212,7 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
   // The rotation channels whose angles are used: those of joints with children (a leaf's own
   // rotation moves nothing), as channel indices within a frame, in joint and channel order.
   std::vector<size_t> angle_channels;
+  angle_channels.reserve(static_cast<size_t>(channel_count));  // one allocation, not ~8
   for (size_t j = 0, channel = 0; j < joint_count; ++j) {
     JointPlan& plan = plans[j];
     plan.first_channel = channel;
@@ -234,6 +235,7 @@ __attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
     size_t channel, angle, length;
   };
   std::vector<ChannelRun> runs;
+  runs.reserve(joint_count);  // usually one run per joint
   for (size_t a = 0; a < angle_channels.size(); ++a) {
     if (!runs.empty() && runs.back().channel + runs.back().length == angle_channels[a]) {
       ++runs.back().length;
