@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "absl/container/inlined_vector.h"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 
@@ -28,6 +29,11 @@ std::string_view ChannelName(ChannelKind kind);
 // Inverse of ChannelName. INVALID_ARGUMENT naming `name` when it is not a BVH channel.
 absl::StatusOr<ChannelKind> ParseChannelName(std::string_view name);
 
+// A joint's channels, in the order their values appear in a frame. At most 6 in a valid
+// skeleton (ValidateSkeleton rule), so they are held inline: a 31-joint request otherwise
+// made 31 heap allocations per call just for these.
+using ChannelList = absl::InlinedVector<ChannelKind, 6>;
+
 struct Vec3 {
   double x = 0.0;
   double y = 0.0;
@@ -41,7 +47,7 @@ struct Joint {
   // Rest offset from the parent joint, in the clip's length unit (BVH OFFSET).
   Vec3 offset;
   // Channels in the order their values appear in each frame (BVH CHANNELS).
-  std::vector<ChannelKind> channels;
+  ChannelList channels;
   // BVH "End Site" offsets below this joint. They carry no channels and are not joints
   // for retiming; they are kept so a BVH file round-trips.
   std::vector<Vec3> end_sites;

@@ -189,7 +189,7 @@ class BvhParser {
       return Error(keyword, absl::StrCat("CHANNELS count ", count, " in ", BlockName(block),
                                          " is more than ", kMaxChannelsPerJoint));
     }
-    std::vector<ChannelKind>& channels = clip_.skeleton.joints[block.joint].channels;
+    ChannelList& channels = clip_.skeleton.joints[block.joint].channels;
     for (int i = 0; i < count; ++i) {
       const BvhToken token = lexer_.Next();
       absl::StatusOr<ChannelKind> kind = ParseChannelName(token.text);

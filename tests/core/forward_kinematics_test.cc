@@ -216,7 +216,7 @@ TEST(ForwardKinematicsTest, FourFramesAtOnceEqualOneFrameAtATimeBitForBit) {
       std::vector<C> order(std::begin(kinds), std::end(kinds));
       for (int c = 5; c > 0; --c) std::swap(order[c], order[rng.Int(0, c)]);
       order.resize(rng.Int(0, 6));
-      joint.channels = order;
+      joint.channels.assign(order.begin(), order.end());
       skeleton.joints.push_back(joint);
     }
     const int frames = clip % 14 + (clip % 9 == 0 ? rng.Int(0, 200) : 0);
