@@ -29,7 +29,8 @@ class CurvesResponseEncoder {
   // The serialised response's length in bytes.
   size_t size() const { return size_; }
 
-  // Writes exactly size() bytes at `out`.
+  // Writes exactly size() bytes at `out`: the whole response in one buffer. The service sends
+  // it in slices instead (EncodeInSlices); the tests check the two give the same bytes.
   void WriteTo(uint8_t* out) const;
 
   // The same bytes in parts, for a response written into several buffers: the head (key

@@ -232,7 +232,8 @@ class ArenaBytesCall {
     return ToGrpcStatus(handled);
   }
   // The handler has read all it needs: drop the request's arena now rather than after the
-  // response is sent. (Again harmless.)
+  // response is sent. Run calls it once the handler returns; Dispatch calls it again after
+  // Run, for the calls whose parse failed, and a second call does nothing.
   void FreeRequest() {
     request_ = nullptr;
     request_arena_.reset();
