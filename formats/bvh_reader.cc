@@ -33,7 +33,7 @@ struct OpenBlock {
 
 class BvhParser {
  public:
-  explicit BvhParser(std::string_view text) : lexer_(text), text_size_(text.size()) {}
+  explicit BvhParser(std::string_view text) : lexer_(text), text_(text) {}
 
   absl::StatusOr<SkeletalClip> Parse() {
     KOMA_RETURN_IF_ERROR(ParseHierarchy());
@@ -44,8 +44,15 @@ class BvhParser {
   }
 
  private:
-  static absl::Status Error(const BvhToken& token, const std::string& message) {
-    return absl::InvalidArgumentError(absl::StrCat("line ", token.line, ": ", message));
+  // "line N: message". A word that runs into the very end of the file (no line end after it)
+  // is where a cut-off copy or download stops: "Xrotati" there is a truncated file far more
+  // often than a typo, so the message says so.
+  absl::Status Error(const BvhToken& token, const std::string& message) const {
+    const bool cut_off =
+        !token.text.empty() && token.text.data() + token.text.size() == text_.data() + text_.size();
+    return absl::InvalidArgumentError(absl::StrCat(
+        "line ", token.line, ": ", message,
+        cut_off ? " (the file ends in the middle of this word: is it cut short?)" : ""));
   }
 
   std::string BlockName(const OpenBlock& block) const {
@@ -62,7 +69,7 @@ class BvhParser {
   }
 
   // `token` as a finite double; `what` names the field in the error.
-  static absl::StatusOr<double> NumberAt(const BvhToken& token, std::string_view what) {
+  absl::StatusOr<double> NumberAt(const BvhToken& token, std::string_view what) const {
     absl::StatusOr<double> value = ParseDouble(token.text);
     if (!value.ok()) {
       return Error(token, absl::StrCat(std::string(what), ": ", value.status().message()));
@@ -229,7 +236,7 @@ class BvhParser {
     const int64_t total = channels * clip_.frame_count;
     // A value takes at least 2 bytes (a digit and a separator): never reserve more than the text
     // could hold, whatever "Frames:" claims.
-    clip_.values.reserve(static_cast<size_t>(std::min<int64_t>(total, text_size_ / 2 + 1)));
+    clip_.values.reserve(static_cast<size_t>(std::min<int64_t>(total, text_.size() / 2 + 1)));
     int last_line = frame_time_line_;  // where the last value (or the header) was read
     for (int64_t i = 0; i < total; ++i) {
       const BvhToken token = lexer_.Next();
@@ -281,7 +288,7 @@ class BvhParser {
   }
 
   BvhLexer lexer_;
-  size_t text_size_;
+  std::string_view text_;  // all of the input (the lexer's tokens point into it)
   int frame_time_line_ = 0;  // line of the "Frame Time:" value
   SkeletalClip clip_;
   std::vector<OpenBlock> open_;

@@ -166,6 +166,35 @@ TEST(ParseBvhMalformedTest, QuotesTokensShortAndEscaped) {
                HasSubstr("line 6: expected \"{\" after JOINT \"He\\001ad\", got \"OFFSET\"")));
 }
 
+// A file cut off in the middle of a word (a partial copy or download) says so; the same bad
+// word followed by anything, even just a line end, is an ordinary error.
+TEST(ParseBvhMalformedTest, SaysWhenTheFileEndsInsideAWord) {
+  const std::string valid(kValid);
+  const std::string cut_in_channel = valid.substr(0, valid.find("Xrotation Y") + 4);  // "Xrot"
+  EXPECT_THAT(ParseBvh(cut_in_channel),
+              StatusIs(absl::StatusCode::kInvalidArgument,
+                       HasSubstr("line 5: unknown channel name \"Xrot\" (expected Xposition, "
+                                 "Yposition, Zposition, Xrotation, Yrotation or Zrotation) (the "
+                                 "file ends in the middle of this word: is it cut short?)")));
+  const std::string cut_in_keyword = valid.substr(0, valid.find("Time:") + 2);  // "Ti"
+  EXPECT_THAT(ParseBvh(cut_in_keyword),
+              StatusIs(absl::StatusCode::kInvalidArgument,
+                       HasSubstr("got \"Ti\" (the file ends in the middle of this word")));
+  for (const std::string& whole_word : {cut_in_channel + "\n", cut_in_channel + " ",
+                                        Edit("Xrotation Yrotation", "Xrot Yrotation")}) {
+    const absl::StatusOr<SkeletalClip> result = ParseBvh(whole_word);
+    EXPECT_THAT(result, StatusIs(absl::StatusCode::kInvalidArgument,
+                                 HasSubstr("unknown channel name \"Xrot\"")));
+    EXPECT_THAT(result.status().message(), ::testing::Not(HasSubstr("cut short")));
+  }
+  // A cut right after a whole word (here the last "}", no line end) reports what is missing,
+  // without the hint.
+  const std::string cut_after_brace = valid.substr(0, valid.find("MOTION") - 1);
+  EXPECT_THAT(ParseBvh(cut_after_brace),
+              StatusIs(absl::StatusCode::kInvalidArgument,
+                       ::testing::Not(HasSubstr("cut short"))));
+}
+
 TEST(ParseBvhMalformedTest, ReportsLinesOfACrlfFile) {
   std::string text;
   for (const char* p = kValid; *p != '\0'; ++p)
