@@ -288,7 +288,7 @@ class BvhParser {
   }
 
   BvhLexer lexer_;
-  std::string_view text_;  // all of the input (the lexer's tokens point into it)
+  std::string_view text_;    // all of the input (the lexer's tokens point into it)
   int frame_time_line_ = 0;  // line of the "Frame Time:" value
   SkeletalClip clip_;
   std::vector<OpenBlock> open_;

@@ -191,8 +191,7 @@ TEST(ParseBvhMalformedTest, SaysWhenTheFileEndsInsideAWord) {
   // without the hint.
   const std::string cut_after_brace = valid.substr(0, valid.find("MOTION") - 1);
   EXPECT_THAT(ParseBvh(cut_after_brace),
-              StatusIs(absl::StatusCode::kInvalidArgument,
-                       ::testing::Not(HasSubstr("cut short"))));
+              StatusIs(absl::StatusCode::kInvalidArgument, ::testing::Not(HasSubstr("cut short"))));
 }
 
 TEST(ParseBvhMalformedTest, ReportsLinesOfACrlfFile) {
