@@ -2,6 +2,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -80,7 +81,7 @@ constexpr const char* kEnvironmentFlags[] = {
     "max_joints",       "worker_threads",     "max_queued",        "log_level",
     "log_format",       "shutdown_grace_ms",  "tls_cert",          "tls_key",
     "tls_client_ca",    "metrics_address",    "metrics_port_file", "shutdown_delay_ms",
-    "inline_max_bytes", "huge_page_cache_mb", "threads_per_call", "idle_trim_ms"};
+    "inline_max_bytes", "huge_page_cache_mb", "threads_per_call",  "idle_trim_ms"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -145,6 +146,30 @@ std::string ListeningAddress(const std::string& address, int port) {
   return absl::StrCat(address.substr(0, colon + 1), port);
 }
 
+// The flags that main() applies itself (the rest go through KomaServer::Start's checks):
+// "--flag: value must be ..." for the first one out of range, else empty.
+std::string ProcessFlagError() {
+  const struct {
+    const char* flag;
+    int64_t value;
+    const char* meaning_of_zero;
+  } kAtLeastZero[] = {
+      {"huge_page_cache_mb", absl::GetFlag(FLAGS_huge_page_cache_mb), "none kept"},
+      {"threads_per_call", absl::GetFlag(FLAGS_threads_per_call), "one per core"},
+      {"shutdown_delay_ms", absl::GetFlag(FLAGS_shutdown_delay_ms),
+       "NOT_SERVING, then drain at once"},
+      {"shutdown_grace_ms", absl::GetFlag(FLAGS_shutdown_grace_ms),
+       "cancel calls in flight at once"},
+  };
+  for (const auto& setting : kAtLeastZero) {
+    if (setting.value < 0) {
+      return absl::StrCat("--", setting.flag, ": ", setting.value,
+                          " must be >= 0 (0 = ", setting.meaning_of_zero, ")");
+    }
+  }
+  return "";
+}
+
 int Fail(const std::string& message) {
   std::fprintf(stderr, "koma_server: %s\n", message.c_str());
   return 1;
@@ -165,7 +190,7 @@ int main(int argc, char** argv) {
   absl::SetProgramUsageMessage(
       "koma_server [--address=HOST:PORT] [flags]: the koma gRPC service. Every flag can also be "
       "set as KOMA_<FLAG> in the environment (KOMA_ADDRESS=0.0.0.0:50051); flags win.");
-  if (!ApplyEnvironment()) return 2;
+  if (!ApplyEnvironment()) return 1;  // as for a bad flag on the command line (Abseil exits 1)
   absl::ParseCommandLine(argc, argv);
   if (absl::Status s = koma::server::ConfigureLogging(absl::GetFlag(FLAGS_log_level),
                                                       absl::GetFlag(FLAGS_log_format));
@@ -173,8 +198,7 @@ int main(int argc, char** argv) {
     return Fail(std::string(s.message()));
   }
   koma::server::StopSignals stop_signals;  // before gRPC starts any thread
-  if (absl::GetFlag(FLAGS_huge_page_cache_mb) < 0) return Fail("--huge_page_cache_mb: negative");
-  if (absl::GetFlag(FLAGS_threads_per_call) < 0) return Fail("--threads_per_call: negative");
+  if (std::string error = ProcessFlagError(); !error.empty()) return Fail(error);
   koma::server::SetHugePageCache(absl::GetFlag(FLAGS_huge_page_cache_mb));
 
   koma::server::ServerConfig config = ConfigFromFlags();
@@ -207,7 +231,7 @@ int main(int argc, char** argv) {
   }
 
   const int signal_number = stop_signals.Wait();
-  const int delay_ms = std::max(0, absl::GetFlag(FLAGS_shutdown_delay_ms));
+  const int delay_ms = absl::GetFlag(FLAGS_shutdown_delay_ms);  // >= 0 (ProcessFlagError)
   koma::server::LogEvent(absl::StrCat("received ", signal_number == SIGTERM ? "SIGTERM" : "SIGINT",
                                       ", NOT_SERVING; still accepting calls for ", delay_ms,
                                       " ms"));

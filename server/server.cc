@@ -30,35 +30,55 @@ std::shared_ptr<grpc::ServerCredentials> Credentials(const ServerConfig& config)
 
 }  // namespace
 
-absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig& config) {
+absl::Status ValidateServerConfig(const ServerConfig& config) {
+  // Each message names the flag (koma_server's flags map one to one onto these fields) and
+  // the value, so a bad deployment fails at start, not at the first call.
+  const auto invalid = [](auto&&... parts) {
+    return absl::InvalidArgumentError(absl::StrCat(parts...));
+  };
   if (config.max_message_bytes < 1024) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("--max_message_bytes: ", config.max_message_bytes, " is below 1024"));
+    return invalid("--max_message_bytes: ", config.max_message_bytes, " is below 1024");
+  }
+  if (config.limits.max_values < 1) {
+    return invalid("--max_values: ", config.limits.max_values,
+                   " must be >= 1 (it would refuse every request)");
+  }
+  if (config.limits.max_joints < 1) {
+    return invalid("--max_joints: ", config.limits.max_joints,
+                   " must be >= 1 (it would refuse every skeleton)");
+  }
+  if (config.limits.threads_per_call < 1) {
+    return invalid("--threads_per_call: ", config.limits.threads_per_call, " must be >= 1");
   }
   if (config.tls_cert_pem.empty() != config.tls_key_pem.empty()) {
-    return absl::InvalidArgumentError("--tls_cert and --tls_key: give both or neither");
+    return invalid("--tls_cert and --tls_key: give both or neither");
   }
   if (!config.tls_client_ca_pem.empty() && config.tls_cert_pem.empty()) {
-    return absl::InvalidArgumentError("--tls_client_ca needs --tls_cert and --tls_key");
+    return invalid("--tls_client_ca needs --tls_cert and --tls_key");
   }
-  if (config.max_queued < 0 || config.worker_threads < 0) {
-    return absl::InvalidArgumentError("--max_queued and --worker_threads must be >= 0");
+  if (config.max_queued < 0) {
+    return invalid("--max_queued: ", config.max_queued, " must be >= 0 (0 = no request waits)");
+  }
+  if (config.worker_threads < 0) {
+    return invalid("--worker_threads: ", config.worker_threads, " must be >= 0 (0 = one per core)");
   }
   if (config.idle_trim < absl::ZeroDuration()) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("--idle_trim_ms: ", absl::ToInt64Milliseconds(config.idle_trim),
-                     " must be >= 0 (0 = never give memory back when idle)"));
+    return invalid("--idle_trim_ms: ", absl::ToInt64Milliseconds(config.idle_trim),
+                   " must be >= 0 (0 = never give memory back when idle)");
   }
   if (config.idle_trim_min_request_bytes < 0) {
-    return absl::InvalidArgumentError(absl::StrCat("idle_trim_min_request_bytes: ",
-                                                   config.idle_trim_min_request_bytes,
-                                                   " must be >= 0"));
+    return invalid("idle_trim_min_request_bytes: ", config.idle_trim_min_request_bytes,
+                   " must be >= 0");
   }
   if (config.inline_max_bytes < 0) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("--inline_max_bytes: ", config.inline_max_bytes,
-                     " must be >= 0 (0 = every request on a worker)"));
+    return invalid("--inline_max_bytes: ", config.inline_max_bytes,
+                   " must be >= 0 (0 = every request on a worker)");
   }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig& config) {
+  if (absl::Status valid = ValidateServerConfig(config); !valid.ok()) return valid;
   std::unique_ptr<KomaServer> server(new KomaServer());
   // The metrics port first: a bad --metrics_address fails before any gRPC port is bound.
   if (absl::Status s = server->StartMetrics(config); !s.ok()) return s;

@@ -52,6 +52,10 @@ struct ServerConfig {
   std::shared_ptr<prometheus::Registry> metrics_registry;
 };
 
+// InvalidArgument naming the first setting out of range (as its koma_server flag) and its
+// value; KomaServer::Start checks this first.
+absl::Status ValidateServerConfig(const ServerConfig& config);
+
 class KomaServer {
  public:
   static absl::StatusOr<std::unique_ptr<KomaServer>> Start(const ServerConfig& config);

@@ -40,3 +40,14 @@ stop_server() {
   server_pid=""
   [ "$code" = 0 ] || fail "server exited $code after SIGTERM"
 }
+
+# check_refused MESSAGE SERVER FLAGS...: the server must refuse to start: exit 1 within 10 s
+# with MESSAGE (a fixed string) on stderr. Environment variables set for the call reach it.
+check_refused() {
+  local want=$1 server_bin=$2
+  shift 2
+  local code=0
+  timeout 10 "$server_bin" --address=127.0.0.1:0 "$@" 2>"$work/refused.txt" || code=$?
+  [ "$code" = 1 ] || fail "koma_server $* exited $code, want 1: $(cat "$work/refused.txt")"
+  grep -qF -- "$want" "$work/refused.txt" || fail "koma_server $*: $(cat "$work/refused.txt")"
+}

@@ -94,24 +94,5 @@ TEST(IdleTrimmerTest, TheServerTrimsAfterItsCalls) {
   EXPECT_TRUE(Eventually([&] { return server.server().idle_trims() == 1; }));
 }
 
-TEST(IdleTrimmerTest, NegativeSettingsAreRejectedByName) {
-  ServerConfig config;
-  config.address = "";
-  config.idle_trim = absl::Milliseconds(-1);
-  const auto server = KomaServer::Start(config);
-  ASSERT_FALSE(server.ok());
-  EXPECT_EQ(server.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_NE(server.status().message().find("--idle_trim_ms: -1"), std::string::npos)
-      << server.status();
-
-  config.idle_trim = absl::Seconds(1);
-  config.idle_trim_min_request_bytes = -5;
-  const auto too_few = KomaServer::Start(config);
-  ASSERT_FALSE(too_few.ok());
-  EXPECT_EQ(too_few.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_NE(too_few.status().message().find("idle_trim_min_request_bytes: -5"), std::string::npos)
-      << too_few.status();
-}
-
 }  // namespace
 }  // namespace koma::server
