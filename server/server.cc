@@ -48,7 +48,9 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
                    " must be >= 1 (it would refuse every skeleton)");
   }
   if (config.limits.threads_per_call < 1) {
-    return invalid("--threads_per_call: ", config.limits.threads_per_call, " must be >= 1");
+    // Not reachable from the flag: koma_server turns --threads_per_call=0 into one per core.
+    return invalid("limits.threads_per_call: ", config.limits.threads_per_call,
+                   " must be >= 1 (--threads_per_call=0 means one per core)");
   }
   if (config.tls_cert_pem.empty() != config.tls_key_pem.empty()) {
     return invalid("--tls_cert and --tls_key: give both or neither");

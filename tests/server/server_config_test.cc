@@ -56,7 +56,7 @@ TEST(ServerConfigTest, OutOfRangeSettingsAreRefusedByFlagAndValue) {
       {"max_joints", [](ServerConfig& c) { c.limits.max_joints = -3; },
        "--max_joints: -3 must be >= 1"},
       {"threads_per_call", [](ServerConfig& c) { c.limits.threads_per_call = 0; },
-       "--threads_per_call: 0 must be >= 1"},
+       "limits.threads_per_call: 0 must be >= 1"},
       {"max_queued", [](ServerConfig& c) { c.max_queued = -5; },
        "--max_queued: -5 must be >= 0 (0 = no request waits)"},
       {"worker_threads", [](ServerConfig& c) { c.worker_threads = -1; },
