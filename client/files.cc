@@ -1,8 +1,11 @@
 #include "client/files.h"
 
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -39,6 +42,20 @@ absl::Status WriteFile(const std::string& path, const std::string& contents) {
     const int error = errno;
     std::remove(temporary.c_str());
     return OsError("rename to", path, error);
+  }
+  return absl::OkStatus();
+}
+
+absl::Status CheckWritable(std::initializer_list<std::string> paths) {
+  for (const std::string& path : paths) {
+    if (path.empty()) continue;
+    std::error_code ignored;
+    if (std::filesystem::is_directory(path, ignored)) return OsError("write", path, EISDIR);
+    std::string folder = std::filesystem::path(path).parent_path().string();
+    if (folder.empty()) folder = ".";
+    // Write and search permission on the folder: what creating "<path>.tmp" and renaming it
+    // over `path` need.
+    if (access(folder.c_str(), W_OK | X_OK) != 0) return OsError("write", path, errno);
   }
   return absl::OkStatus();
 }

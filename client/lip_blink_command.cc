@@ -10,6 +10,7 @@
 #include "absl/strings/str_join.h"
 #include "client/channel.h"
 #include "client/curve_files.h"
+#include "client/files.h"
 #include "client/curves_convert.h"
 #include "koma/v1/retime.grpc.pb.h"
 
@@ -86,6 +87,7 @@ int RunLipBlink(const LipBlinkArgs& args) {
   if (!CanWriteOutput(args.input, args.output)) return kUsageError;
   absl::StatusOr<CurveInput> input = ReadCurveInput(args.input, args.csv_fps);
   if (!input.ok()) return ReportError(input.status());
+  if (absl::Status s = CheckWritable({args.output}); !s.ok()) return ReportError(s);
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return ReportError(stub.status());

@@ -70,6 +70,17 @@ set -e
 grep -q "INVALID_ARGUMENT: tame: 0.5" "$work/err.txt" || fail "error text: $(cat "$work/err.txt")"
 [ ! -e "$work/bad.motion3.json" ] || fail "a failed call wrote an output file"
 
+# A drawing sheet that cannot be written is refused before the call (the server given cannot
+# be reached), and the motion3.json is not written either.
+set +e
+"$client_bin" curves "$sample" -o "$work/early.motion3.json" --timing "$work/missing/s.csv" \
+  --server 127.0.0.1:1 2>"$work/err.txt"
+code=$?
+set -e
+[ "$code" = 1 ] && grep -q "^koma: cannot write $work/missing/s.csv" "$work/err.txt" \
+  || fail "unwritable --timing: exit $code, $(cat "$work/err.txt")"
+[ ! -e "$work/early.motion3.json" ] || fail "an unwritable --timing still wrote the curves"
+
 # A malformed --curve-on: usage error, exit 2.
 set +e
 "$client_bin" curves "$sample" -o "$work/x.motion3.json" --curve-on ParamArmRA --server "$target" \

@@ -51,6 +51,20 @@ set -e
 grep -q "OUT_OF_RANGE: omissions: 500" "$work/err.txt" || fail "error text: $(cat "$work/err.txt")"
 [ ! -e "$work/bad.bvh" ] || fail "a failed call wrote an output file"
 
+# Outputs that cannot be written are refused before the call (the server given cannot be
+# reached, so an RPC would fail with UNAVAILABLE instead), and nothing is written.
+for outputs in "-o $work/missing/out.bvh" "-o $work/early.bvh --timing $work" \
+  "-o $work/early.bvh --timing $work/missing/t.csv"; do
+  set +e
+  # shellcheck disable=SC2086  # $outputs is a word list
+  "$client_bin" skeletal "$sample" $outputs --server 127.0.0.1:1 2>"$work/err.txt"
+  code=$?
+  set -e
+  [ "$code" = 1 ] && grep -q "^koma: cannot write $work" "$work/err.txt" \
+    || fail "unwritable output ($outputs): exit $code, $(cat "$work/err.txt")"
+  [ ! -e "$work/early.bvh" ] || fail "an unwritable --timing still wrote the BVH"
+done
+
 # A usage error: exit 2.
 set +e
 "$client_bin" skeletal >/dev/null 2>&1
