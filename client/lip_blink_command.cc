@@ -10,8 +10,8 @@
 #include "absl/strings/str_join.h"
 #include "client/channel.h"
 #include "client/curve_files.h"
-#include "client/files.h"
 #include "client/curves_convert.h"
+#include "client/files.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
