@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "core/forward_kinematics.h"
+#include "core/retime_grid.h"
 #include "core/status_macros.h"
 #include "server/response_slice.h"
 #include "server/skeletal_request.h"
@@ -43,11 +44,10 @@ absl::StatusOr<absl::Span<const double>> WorldPositions(const v1::SkeletalMotion
   // Room for the response as well (at most the request's values plus ~20 bytes a frame for the
   // timing fields): freed before the response is encoded, these positions' memory is then
   // exactly what UninitialisedSlice takes back from the huge-page cache (server/response_slice.h).
-  const size_t response_doubles =
-      static_cast<size_t>(motion.channels().values_size()) + 3 * static_cast<size_t>(job.frame_count) + 8192;
-  absl::StatusOr<HugePageVector<double>> positions =
-      ComputeWorldPositions(job.skeleton, SpanOf(motion.channels().values()), job.frame_count,
-                            threads, response_doubles);
+  const size_t response_doubles = static_cast<size_t>(motion.channels().values_size()) +
+                                  3 * static_cast<size_t>(job.frame_count) + 8192;
+  absl::StatusOr<HugePageVector<double>> positions = ComputeWorldPositions(
+      job.skeleton, SpanOf(motion.channels().values()), job.frame_count, threads, response_doubles);
   if (!positions.ok()) return positions.status();
   storage = *std::move(positions);
   return absl::MakeConstSpan(storage);
@@ -70,10 +70,16 @@ void CopyFrames(const google::protobuf::RepeatedField<double>& source, int per_f
   }
 }
 
+// Seconds per frame of the returned motion: the source's, or the grid's at TIMING_RATE.
+double OutputFrameTime(const v1::SkeletalMotion& in, const SkeletalJob& job) {
+  if (job.grid && job.output_at_timing_rate) return 1.0 / job.grid->timing_fps();
+  return in.frame_time();
+}
+
 void FillMotion(const v1::SkeletalMotion& in, const SkeletalJob& job, const TimingMap& map,
                 v1::SkeletalMotion* out) {
   *out->mutable_skeleton() = in.skeleton();
-  out->set_frame_time(in.frame_time());
+  out->set_frame_time(OutputFrameTime(in, job));
   out->set_frame_count(static_cast<int32_t>(map.source_frames.size()));
   const int per_frame = ValuesPerFrame(job);
   if (job.channel_form) {
@@ -104,8 +110,44 @@ void FillHead(const SkeletalJob& job, const TimingMap& map, const std::vector<do
 struct Retimed {
   SkeletalJob job;
   TimingMap map;
-  std::vector<double> input_ssd;
+  std::vector<double> input_ssd;      // per grid frame with a grid, else per source frame
+  std::vector<int32_t> grid_frames;   // with a grid: per output frame, its grid frame
+  std::vector<int32_t> grid_samples;  // with a grid: per grid frame, its source frame
 };
+
+// The response fields after the motion (14 and up): the film grid's, empty without one.
+void FillGridFields(const Retimed& retimed, v1::RetimeSkeletalResponse* response) {
+  if (!retimed.job.grid) return;
+  response->set_timing_fps(retimed.job.grid->timing_fps());
+  response->mutable_grid_frames()->Add(retimed.grid_frames.begin(), retimed.grid_frames.end());
+  response->mutable_grid_source_frames()->Add(retimed.grid_samples.begin(),
+                                              retimed.grid_samples.end());
+}
+
+// Positions of the grid's frames: frame g is a copy of source frame samples[g].
+std::vector<double> GridPositions(absl::Span<const double> positions,
+                                  const std::vector<int32_t>& samples, int per_frame) {
+  std::vector<double> out(samples.size() * static_cast<size_t>(per_frame));
+  double* dst = out.data();
+  for (int32_t frame : samples) {
+    std::memcpy(dst, positions.data() + static_cast<size_t>(frame) * per_frame,
+                sizeof(double) * per_frame);
+    dst += per_frame;
+  }
+  return out;
+}
+
+// RetimeFast on the grid's samples of `positions`, its timing map expanded back to output
+// frames (film grid: docs/semantics.md).
+absl::StatusOr<FrameDistance> GridDistance(absl::Span<const double> positions, Retimed& out,
+                                           std::vector<double>& grid_positions) {
+  const SkeletalJob& job = out.job;
+  const int joints = static_cast<int>(job.skeleton.joints.size());
+  out.grid_samples = GridSamples(*job.grid, job.frame_count);
+  grid_positions = GridPositions(positions, out.grid_samples, 3 * joints);
+  return FrameDistance::CreateView(grid_positions, static_cast<int>(out.grid_samples.size()),
+                                   joints, job.distance_options);
+}
 
 // Validates, runs forward kinematics (channel form) and RetimeFast.
 absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
@@ -120,15 +162,24 @@ absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
   KOMA_ASSIGN_OR_RETURN(
       const absl::Span<const double> positions,
       WorldPositions(request.motion(), job, limits.threads_per_call, computed_positions));
+  std::vector<double> grid_positions;
   absl::StatusOr<FrameDistance> distance =
-      FrameDistance::CreateView(positions, job.frame_count,
-                                static_cast<int>(job.skeleton.joints.size()), job.distance_options);
+      job.grid ? GridDistance(positions, out, grid_positions)
+               : FrameDistance::CreateView(positions, job.frame_count,
+                                           static_cast<int>(job.skeleton.joints.size()),
+                                           job.distance_options);
   if (!distance.ok()) {
     // Inputs are finite here; what fails is their size after FK or the transforms.
     return absl::Status(distance.status().code(),
                         absl::StrCat("motion: ", distance.status().message()));
   }
   out.map = RetimeFast(*distance, job.retime_options, &out.input_ssd);
+  if (job.grid) {
+    GridRetimed expanded = ExpandGridTiming(out.map, out.grid_samples, *job.grid, job.frame_count,
+                                            !job.output_at_timing_rate);
+    out.map = std::move(expanded.map);
+    out.grid_frames = std::move(expanded.grid_frames);
+  }
   return out;
 }
 
@@ -139,7 +190,10 @@ absl::Status RetimeSkeletalAnswer(const v1::RetimeSkeletalRequest& request,
   KOMA_ASSIGN_OR_RETURN(const Retimed retimed, Retime(request, limits));
   v1::RetimeSkeletalResponse head;
   FillHead(retimed.job, retimed.map, retimed.input_ssd, &head);
-  const SkeletalResponseEncoder encoder(head, retimed.job.return_motion, request.motion(),
+  v1::RetimeSkeletalResponse tail;
+  FillGridFields(retimed, &tail);
+  const SkeletalResponseEncoder encoder(head, tail, retimed.job.return_motion, request.motion(),
+                                        OutputFrameTime(request.motion(), retimed.job),
                                         retimed.job.channel_form, ValuesPerFrame(retimed.job),
                                         retimed.map.source_frames);
   const size_t size = encoder.size();
@@ -160,6 +214,7 @@ absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
   if (retimed.job.return_motion) {
     FillMotion(request.motion(), retimed.job, retimed.map, response->mutable_motion());
   }
+  FillGridFields(retimed, response);
   return absl::OkStatus();
 }
 

@@ -10,6 +10,7 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "core/distance.h"
+#include "core/film_grid.h"
 #include "core/retime.h"
 #include "core/skeleton.h"
 #include "koma/v1/retime.pb.h"
@@ -23,8 +24,11 @@ struct SkeletalJob {
   int frame_count = 0;
   bool channel_form = true;  // false: the request carried world positions
   DistanceOptions distance_options;
-  RetimeOptions retime_options;
+  RetimeOptions retime_options;  // counts in grid frames when `grid` is set
   bool return_motion = true;
+  // The film grid drawings are counted on; unset: count in source frames.
+  std::optional<FilmGrid> grid;
+  bool output_at_timing_rate = false;  // with a grid: write the motion at the grid's rate
 };
 
 // Checks every field and returns INVALID_ARGUMENT, OUT_OF_RANGE or RESOURCE_EXHAUSTED with

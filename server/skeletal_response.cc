@@ -27,27 +27,31 @@ constexpr uint8_t kValues = Tag(1, kLength);
 }  // namespace
 
 SkeletalResponseEncoder::SkeletalResponseEncoder(const v1::RetimeSkeletalResponse& head,
+                                                 const v1::RetimeSkeletalResponse& tail,
                                                  bool with_motion, const v1::SkeletalMotion& source,
-                                                 bool channel_form, int per_frame,
+                                                 double frame_time, bool channel_form,
+                                                 int per_frame,
                                                  const std::vector<int32_t>& source_frames)
     : head_(head),
+      tail_(tail),
       with_motion_(with_motion),
       source_(source),
+      frame_time_(frame_time),
       per_frame_(per_frame),
       source_frames_(source_frames),
       values_(channel_form ? &source.channels().values() : &source.positions().values()),
       data_field_(channel_form ? v1::SkeletalMotion::kChannelsFieldNumber
                                : v1::SkeletalMotion::kPositionsFieldNumber) {
   head_bytes_ = head_.ByteSizeLong();  // also caches the sizes SerializeWithCachedSizes uses
-  size_ = head_bytes_;
+  tail_bytes_ = tail_.ByteSizeLong();
+  size_ = head_bytes_ + tail_bytes_;
   if (!with_motion_) return;
   skeleton_bytes_ = source_.skeleton().ByteSizeLong();
   values_bytes_ = sizeof(double) * source_frames_.size() * static_cast<size_t>(per_frame_);
   data_bytes_ = values_bytes_ == 0 ? 0 : LengthField(values_bytes_);  // packed: empty left out
   const int32_t frame_count = static_cast<int32_t>(source_frames_.size());
   motion_bytes_ =
-      LengthField(skeleton_bytes_) +
-      (DoubleIsWritten(source_.frame_time()) ? 1 + sizeof(double) : 0) +
+      LengthField(skeleton_bytes_) + (DoubleIsWritten(frame_time_) ? 1 + sizeof(double) : 0) +
       (frame_count != 0 ? 1 + CodedOutputStream::VarintSize32SignExtended(frame_count) : 0) +
       LengthField(data_bytes_);  // the oneof's message, present even when empty
   size_ += LengthField(motion_bytes_);
@@ -55,13 +59,17 @@ SkeletalResponseEncoder::SkeletalResponseEncoder(const v1::RetimeSkeletalRespons
 
 void SkeletalResponseEncoder::WriteTo(uint8_t* out) const {
   out = head_.SerializeWithCachedSizesToArray(out);
-  if (!with_motion_) return;
+  if (with_motion_) out = WriteMotion(out);
+  tail_.SerializeWithCachedSizesToArray(out);
+}
+
+uint8_t* SkeletalResponseEncoder::WriteMotion(uint8_t* out) const {
   out = WriteLength(kResponseMotion, motion_bytes_, out);
   out = WriteLength(kSkeleton, skeleton_bytes_, out);
   out = source_.skeleton().SerializeWithCachedSizesToArray(out);
-  if (DoubleIsWritten(source_.frame_time())) {
+  if (DoubleIsWritten(frame_time_)) {
     *out++ = kFrameTime;
-    out = WireFormatLite::WriteDoubleNoTagToArray(source_.frame_time(), out);
+    out = WireFormatLite::WriteDoubleNoTagToArray(frame_time_, out);
   }
   const int32_t frame_count = static_cast<int32_t>(source_frames_.size());
   if (frame_count != 0) {
@@ -69,7 +77,7 @@ void SkeletalResponseEncoder::WriteTo(uint8_t* out) const {
     out = CodedOutputStream::WriteVarint32SignExtendedToArray(frame_count, out);
   }
   out = WriteLength(Tag(data_field_, WireFormatLite::WIRETYPE_LENGTH_DELIMITED), data_bytes_, out);
-  if (values_bytes_ == 0) return;
+  if (values_bytes_ == 0) return out;
   out = WriteLength(kValues, values_bytes_, out);
   const double* values = values_->data();
   for (const int32_t frame : source_frames_) {
@@ -85,6 +93,7 @@ void SkeletalResponseEncoder::WriteTo(uint8_t* out) const {
     }
 #endif
   }
+  return out;
 }
 
 }  // namespace koma::server

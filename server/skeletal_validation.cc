@@ -6,6 +6,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "core/film_grid.h"
 #include "core/magnitude_scan.h"
 #include "core/status_macros.h"
 #include "server/skeletal_request.h"
@@ -107,8 +108,8 @@ absl::Status CheckMotionData(const v1::SkeletalMotion& motion, const Skeleton& s
     case v1::SkeletalMotion::kPositions:
       *channel_form = false;
       return CheckValues(motion.positions().values(), "motion.positions.values",
-                         motion.frame_count(), 3 * joints,
-                         joints, " joints x 3 coordinates", position_values, limits);
+                         motion.frame_count(), 3 * joints, joints, " joints x 3 coordinates",
+                         position_values, limits);
     default:
       return absl::InvalidArgumentError("motion.data: neither channels nor positions is set");
   }
@@ -151,6 +152,49 @@ absl::StatusOr<DistanceOptions> ConvertDistanceOptions(const v1::RetimeSkeletalR
   return options;
 }
 
+// The film grid of timing_fps (unset: 24) for the motion's rate; unset when counting in
+// source frames. The grid's frame count is checked against the limits as frames are.
+absl::Status ConvertGrid(const v1::RetimeSkeletalRequest& request, int64_t work_per_frame,
+                         const RequestLimits& limits, SkeletalJob* job) {
+  const double timing_fps = request.has_timing_fps() ? request.timing_fps() : kDefaultTimingFps;
+  KOMA_RETURN_IF_ERROR(ValidateTimingFps(timing_fps, "timing_fps"));
+  switch (request.output_rate()) {
+    case v1::OUTPUT_RATE_UNSPECIFIED:
+    case v1::SOURCE_RATE:
+      break;
+    case v1::TIMING_RATE:
+      job->output_at_timing_rate = true;
+      break;
+    default:
+      return absl::InvalidArgumentError(
+          absl::StrCat("output_rate: ", static_cast<int>(request.output_rate()),
+                       " is not an OutputRate (1 SOURCE_RATE, 2 TIMING_RATE)"));
+  }
+  const double source_fps = 1.0 / request.motion().frame_time();
+  if (timing_fps > 0) {
+    KOMA_RETURN_IF_ERROR(ValidateSourceFps(
+        source_fps, absl::StrCat("motion.frame_time: ", request.motion().frame_time(), " s")));
+  }
+  job->grid = FilmGrid::Make(source_fps, timing_fps);
+  if (!job->grid) return absl::OkStatus();
+  const int grid_frames = job->grid->GridFrameCount(job->frame_count);
+  if (grid_frames < 2) {
+    return absl::OutOfRangeError(absl::StrCat(
+        "motion: ", job->frame_count, " frames at ", source_fps, " fps (", job->frame_count - 1,
+        " x ", request.motion().frame_time(), " s) span less than 2 frames of the ", timing_fps,
+        " fps film grid (timing_fps); send a longer clip, or timing_fps: 0 to count "
+        "in source frames"));
+  }
+  const int64_t work = static_cast<int64_t>(grid_frames) * work_per_frame;
+  if (work > limits.max_values) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("motion: ", grid_frames, " frames on the ", timing_fps,
+                     " fps grid (timing_fps) x ", work_per_frame, " values per frame = ", work,
+                     " exceeds the server limit --max_values=", limits.max_values));
+  }
+  return absl::OkStatus();
+}
+
 absl::StatusOr<RetimeOptions> ConvertRetimeOptions(const v1::RetimeSkeletalRequest& request,
                                                    int frame_count) {
   RetimeOptions options = DefaultRetimeOptions(frame_count);
@@ -188,7 +232,22 @@ absl::StatusOr<SkeletalJob> ValidateSkeletalRequest(const v1::RetimeSkeletalRequ
   KOMA_RETURN_IF_ERROR(CheckMotionData(motion, job.skeleton, limits, &job.channel_form));
   const int joints = static_cast<int>(job.skeleton.joints.size());
   KOMA_ASSIGN_OR_RETURN(job.distance_options, ConvertDistanceOptions(request, joints));
-  KOMA_ASSIGN_OR_RETURN(job.retime_options, ConvertRetimeOptions(request, job.frame_count));
+  KOMA_RETURN_IF_ERROR(ConvertGrid(request, 3LL * joints, limits, &job));
+  if (!job.grid) {
+    KOMA_ASSIGN_OR_RETURN(job.retime_options, ConvertRetimeOptions(request, job.frame_count));
+  } else {
+    // Omissions, holds, max_hold and their defaults count grid frames.
+    const int grid_frames = job.grid->GridFrameCount(job.frame_count);
+    absl::StatusOr<RetimeOptions> options = ConvertRetimeOptions(request, grid_frames);
+    if (!options.ok()) {
+      return absl::Status(
+          options.status().code(),
+          absl::StrCat(options.status().message(), " (counted on the ", job.grid->timing_fps(),
+                       " fps film grid, where the clip has ", grid_frames,
+                       " frames; timing_fps: 0 counts in source frames)"));
+    }
+    job.retime_options = *options;
+  }
   job.return_motion = !request.has_return_motion() || request.return_motion();
   return job;
 }

@@ -47,6 +47,9 @@ v1::RetimeSkeletalRequest RandomRequest(SplitMix64& rng) {
   if (rng.OneIn(3)) request.set_keep_length(rng.OneIn(2));
   if (rng.OneIn(3)) request.set_return_motion(rng.OneIn(2));
   if (rng.OneIn(4)) request.set_root_relative(true);
+  // The film grid: unset (24), off, or another rate; its fields follow the motion.
+  if (rng.OneIn(3)) request.set_timing_fps(rng.OneIn(2) ? 0.0 : 12.0 * rng.Int(1, 10));
+  if (rng.OneIn(3)) request.set_output_rate(rng.OneIn(2) ? v1::TIMING_RATE : v1::SOURCE_RATE);
   return request;
 }
 
@@ -96,7 +99,12 @@ TEST(SkeletalResponseTest, TheEncoderWritesExactlyItsSize) {
   v1::SkeletalMotion motion = request.motion();
   for (const double frame_time : {0.0, -0.0, 1.0 / 24.0}) {
     motion.set_frame_time(frame_time);
-    const SkeletalResponseEncoder encoder(head, true, motion, true, 12, frames);
+    v1::RetimeSkeletalResponse tail;
+    tail.set_timing_fps(24);
+    tail.add_grid_frames(0);
+    tail.add_grid_frames(1);
+    const SkeletalResponseEncoder encoder(head, tail, true, motion, motion.frame_time(), true, 12,
+                                          frames);
     std::string out(encoder.size() + 16, '\x5a');  // a guard after the end
     encoder.WriteTo(reinterpret_cast<uint8_t*>(out.data()));
     EXPECT_EQ(out.substr(encoder.size()), std::string(16, '\x5a')) << frame_time;
@@ -110,6 +118,7 @@ TEST(SkeletalResponseTest, TheEncoderWritesExactlyItsSize) {
         want_motion->mutable_channels()->add_values(motion.channels().values(f * 12 + c));
       }
     }
+    want.MergeFrom(tail);
     EXPECT_EQ(out.substr(0, encoder.size()), want.SerializeAsString()) << frame_time;
   }
 }
