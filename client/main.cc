@@ -1,7 +1,6 @@
 // koma: the reference client. Results on stdout, diagnostics on stderr.
 // Exit codes: 0 ok, 1 failure (RPC error, bad file), 2 usage error.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 
 #include "client/channel.h"
@@ -15,8 +14,8 @@ namespace {
 constexpr int kUsageError = 2;
 
 void AddSkeletal(CLI::App& app, koma::client::SkeletalArgs& args) {
-  CLI::App* cmd = app.add_subcommand(
-      "skeletal", "Retime a BVH mocap clip into anime timing (RetimeSkeletal)");
+  CLI::App* cmd =
+      app.add_subcommand("skeletal", "Retime a BVH mocap clip into anime timing (RetimeSkeletal)");
   cmd->add_option("input", args.input, "BVH file to retime")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args.output, "retimed BVH file to write")->required();
   cmd->add_option("--omit", args.omissions, "inbetween omissions Nio (default 4)")
@@ -31,8 +30,17 @@ void AddSkeletal(CLI::App& app, koma::client::SkeletalArgs& args) {
   cmd->add_flag("--root-relative", args.root_relative,
                 "measure speed relative to the root joint (ignore locomotion)");
   cmd->add_option("--timing", args.timing, "timing sheet CSV to write");
-  cmd->add_option("--server", args.server, "server host:port (default $KOMA_SERVER or "
-                                           "127.0.0.1:50051)");
+  cmd->add_option("--timing-fps", args.timing_fps,
+                  "film grid drawings are counted on, frames per second (default 24; 0 = count "
+                  "in the BVH's own frames)");
+  cmd->add_option_function<std::string>(
+         "--output-rate",
+         [&args](const std::string& rate) { args.output_at_timing_rate = rate == "timing"; },
+         "source (default: the BVH's rate and length) or timing (one frame per grid frame)")
+      ->check(CLI::IsMember({"source", "timing"}));
+  cmd->add_option("--server", args.server,
+                  "server host:port (default $KOMA_SERVER or "
+                  "127.0.0.1:50051)");
   cmd->add_option("--deadline", args.deadline_seconds, "RPC deadline in seconds (default 60)")
       ->check(CLI::PositiveNumber);
 }
@@ -44,37 +52,43 @@ void AddCurves(CLI::App& app, koma::client::CurvesArgs& args) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args.output, "motion3.json or .csv to write")->required();
-  cmd->add_option("--on", args.frames_per_drawing, "frames per drawing: 2 twos, 3 threes "
-                                                   "(default 3)")
+  cmd->add_option("--on", args.frames_per_drawing,
+                  "frames per drawing: 2 twos, 3 threes "
+                  "(default 3)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--keys", args.keys, "key poses in frames, e.g. 0,10,25 (default: the "
-                                       "keyframe times)")
+  cmd->add_option("--keys", args.keys,
+                  "key poses in frames, e.g. 0,10,25 (default: the "
+                  "keyframe times)")
       ->delimiter(',');
-  cmd->add_option("--tame", args.tame, "tame strength >= 1: bunch drawings near the first key "
-                                       "(default 1)");
-  cmd->add_option("--tsume", args.tsume, "tsume strength >= 1: bunch drawings near the next "
-                                         "key (default 1)");
+  cmd->add_option("--tame", args.tame,
+                  "tame strength >= 1: bunch drawings near the first key "
+                  "(default 1)");
+  cmd->add_option("--tsume", args.tsume,
+                  "tsume strength >= 1: bunch drawings near the next "
+                  "key (default 1)");
   cmd->add_option("--curve-on", args.curve_on, "ID=N: this curve on N (repeatable)");
   cmd->add_option("--fps", args.csv_fps, "frames per second of a CSV input (default 30)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--timing", args.timing, "drawing sheet CSV to write");
-  cmd->add_option("--server", args.server, "server host:port (default $KOMA_SERVER or "
-                                           "127.0.0.1:50051)");
+  cmd->add_option("--server", args.server,
+                  "server host:port (default $KOMA_SERVER or "
+                  "127.0.0.1:50051)");
   cmd->add_option("--deadline", args.deadline_seconds, "RPC deadline in seconds (default 60)")
       ->check(CLI::PositiveNumber);
 }
 
 void AddLipBlink(CLI::App& app, koma::client::LipBlinkArgs& args) {
-  CLI::App* cmd = app.add_subcommand(
-      "lipblink", "Three-drawing mouth flaps and anime blinks (LipBlink)");
+  CLI::App* cmd =
+      app.add_subcommand("lipblink", "Three-drawing mouth flaps and anime blinks (LipBlink)");
   cmd->add_option("input", args.input, "motion3.json, or CSV (frame,<id>,... per frame)")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args.output, "motion3.json or .csv to write")->required();
   cmd->add_option("--mouth", args.mouth_ids, "mouth-open curve ids (default ParamMouthOpenY)")
       ->delimiter(',');
-  cmd->add_option("--eyes", args.eye_ids, "eye-open curve ids (default ParamEyeLOpen,"
-                                          "ParamEyeROpen)")
+  cmd->add_option("--eyes", args.eye_ids,
+                  "eye-open curve ids (default ParamEyeLOpen,"
+                  "ParamEyeROpen)")
       ->delimiter(',');
   cmd->add_option("--mode", args.mode, "random (the paper) or follow the input (default random)")
       ->check(CLI::IsMember({"random", "follow"}));
@@ -87,8 +101,9 @@ void AddLipBlink(CLI::App& app, koma::client::LipBlinkArgs& args) {
   cmd->add_flag("--unlinked-eyes", args.unlinked_eyes, "time each eye's blinks on its own");
   cmd->add_option("--fps", args.csv_fps, "frames per second of a CSV input (default 30)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--server", args.server, "server host:port (default $KOMA_SERVER or "
-                                           "127.0.0.1:50051)");
+  cmd->add_option("--server", args.server,
+                  "server host:port (default $KOMA_SERVER or "
+                  "127.0.0.1:50051)");
   cmd->add_option("--deadline", args.deadline_seconds, "RPC deadline in seconds (default 60)")
       ->check(CLI::PositiveNumber);
 }

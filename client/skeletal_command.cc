@@ -1,5 +1,6 @@
 #include "client/skeletal_command.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -26,6 +27,8 @@ v1::RetimeSkeletalRequest MakeRequest(const SkeletalArgs& args, const SkeletalCl
   request.set_keep_length(args.keep_length);
   request.set_order(args.hold_first ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
   request.set_root_relative(args.root_relative);
+  if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
+  if (args.output_at_timing_rate) request.set_output_rate(v1::TIMING_RATE);
   return request;
 }
 
@@ -37,8 +40,7 @@ std::string Ranges(const std::vector<int>& sorted) {
   while (i < sorted.size()) {
     size_t j = i;
     while (j + 1 < sorted.size() && sorted[j + 1] == sorted[j] + 1) ++j;
-    parts.push_back(i == j ? absl::StrCat(sorted[i])
-                           : absl::StrCat(sorted[i], "-", sorted[j]));
+    parts.push_back(i == j ? absl::StrCat(sorted[i]) : absl::StrCat(sorted[i], "-", sorted[j]));
     i = j + 1;
   }
   return absl::StrJoin(parts, ", ");
@@ -51,6 +53,34 @@ std::vector<int> OutputFramesOfKind(const v1::RetimeSkeletalResponse& response,
     if (response.kinds(t) == kind) frames.push_back(t);
   }
   return frames;
+}
+
+// Lengths of the runs of one drawing (one source frame) in output frames, in order.
+std::vector<int> RunLengths(const v1::RetimeSkeletalResponse& response) {
+  std::vector<int> runs;
+  for (int t = 0; t < response.source_frames_size(); ++t) {
+    if (t > 0 && response.source_frames(t) == response.source_frames(t - 1)) {
+      ++runs.back();
+    } else {
+      runs.push_back(1);
+    }
+  }
+  return runs;
+}
+
+// "on the 24 fps film grid: 105 grid frames; drawings shown 42-125 ms (median 83 ms), the
+// source showed each frame 8.3 ms": what the grid did, in the units a viewer sees.
+void PrintGridSummary(const SkeletalClip& clip, const v1::RetimeSkeletalResponse& response) {
+  if (response.timing_fps() <= 0) return;
+  std::vector<int> runs = RunLengths(response);
+  const double frame_ms = 1000.0 * response.motion().frame_time();
+  const double out_ms = frame_ms > 0 ? frame_ms : 1000.0 * clip.frame_time;
+  std::sort(runs.begin(), runs.end());
+  std::printf(
+      "  film grid  %.4g fps: %d grid frames; %zu drawings shown %.0f-%.0f ms (median "
+      "%.0f ms); the source showed each frame %.3g ms\n",
+      response.timing_fps(), response.grid_source_frames_size(), runs.size(), runs.front() * out_ms,
+      runs.back() * out_ms, runs[runs.size() / 2] * out_ms, 1000.0 * clip.frame_time);
 }
 
 int LongestRun(const v1::RetimeSkeletalResponse& response) {
@@ -71,8 +101,8 @@ void PrintSummary(const SkeletalArgs& args, const SkeletalClip& clip,
   std::printf("%s: %d frames, %zu joints, %.4g fps -> %s (%d frames)\n", args.input.c_str(),
               clip.frame_count, clip.skeleton.joints.size(), 1.0 / clip.frame_time,
               args.output.c_str(), response.source_frames_size());
-  std::printf("  omitted    %3d inbetweens; source frames gone: %s\n",
-              response.omissions_applied(), Ranges(deleted).c_str());
+  std::printf("  omitted    %3d inbetweens; source frames gone: %s\n", response.omissions_applied(),
+              Ranges(deleted).c_str());
   std::printf("  duplicated %3d frames to keep the length%s; DUPLICATE at output frames %s\n",
               response.duplicates_applied(),
               response.duplicates_skipped() > 0
@@ -82,9 +112,10 @@ void PrintSummary(const SkeletalArgs& args, const SkeletalClip& clip,
   std::printf("  held       %3d hold steps; HELD at output frames %s\n", response.holds_applied(),
               Ranges(OutputFramesOfKind(response, v1::HELD)).c_str());
   std::printf("                 source frames hidden by holds: %s\n", Ranges(hidden).c_str());
-  std::printf("  longest hold %d frames; requested omissions %d, holds %d, max_hold %d\n",
-              LongestRun(response), response.omissions_requested(),
-              response.holds_requested(), response.max_hold());
+  std::printf("  longest hold %d frames; requested omissions %d, holds %d, max_hold %d%s\n",
+              LongestRun(response), response.omissions_requested(), response.holds_requested(),
+              response.max_hold(), response.timing_fps() > 0 ? " (grid frames)" : "");
+  PrintGridSummary(clip, response);
   if (!args.timing.empty()) std::printf("  timing sheet: %s\n", args.timing.c_str());
 }
 
@@ -95,8 +126,8 @@ int RunSkeletal(const SkeletalArgs& args) {
   if (!text.ok()) return ReportError(text.status());
   absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(*text);
   if (!clip.ok()) {
-    return ReportError(absl::InvalidArgumentError(
-        absl::StrCat(args.input, ": ", clip.status().message())));
+    return ReportError(
+        absl::InvalidArgumentError(absl::StrCat(args.input, ": ", clip.status().message())));
   }
   if (absl::Status s = CheckWritable({args.output, args.timing}); !s.ok()) return ReportError(s);
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
@@ -104,7 +135,8 @@ int RunSkeletal(const SkeletalArgs& args) {
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeSkeletalResponse response;
-  const grpc::Status status = (*stub)->RetimeSkeletal(&context, MakeRequest(args, *clip), &response);
+  const grpc::Status status =
+      (*stub)->RetimeSkeletal(&context, MakeRequest(args, *clip), &response);
   if (!status.ok()) return ReportRpcError(status);
 
   absl::StatusOr<SkeletalClip> retimed = ClipFromResponse(response, clip->skeleton);
@@ -113,8 +145,13 @@ int RunSkeletal(const SkeletalArgs& args) {
     return ReportError(s);
   }
   if (!args.timing.empty()) {
+    const std::vector<int32_t> grid_frames(response.grid_frames().begin(),
+                                           response.grid_frames().end());
+    const double frame_time =
+        response.has_motion() ? response.motion().frame_time() : clip->frame_time;
     const std::string sheet =
-        formats::WriteTimingSheetCsv(TimingMapFromResponse(response), clip->frame_time);
+        formats::WriteTimingSheetCsv(TimingMapFromResponse(response), frame_time,
+                                     response.timing_fps() > 0 ? &grid_frames : nullptr);
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return ReportError(s);
   }
   PrintSummary(args, *clip, response);

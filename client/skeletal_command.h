@@ -17,6 +17,8 @@ struct SkeletalArgs {
   bool keep_length = true;           // --no-keep-length turns it off
   bool hold_first = false;           // --hold-first: holds before omissions
   bool root_relative = false;        // --root-relative
+  std::optional<double> timing_fps;  // --timing-fps: the film grid; unset: server default (24)
+  bool output_at_timing_rate = false;  // --output-rate timing: write the BVH at the grid rate
   std::string server;                // host:port
   double deadline_seconds = 60.0;    // --deadline
 };

@@ -5,6 +5,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/retime.h"
 
@@ -18,7 +19,10 @@ std::string_view FrameKindName(FrameKind kind);
 // `frame_time` is in seconds per frame. Each time is one multiplication, never a running sum,
 // so row 1000 carries no accumulated rounding. "\n" line endings, including after the last
 // row. Requires map.kinds.size() == map.source_frames.size() (checked with assert only).
-std::string WriteTimingSheetCsv(const TimingMap& map, double frame_time);
+// With `grid_frames` (one per output frame, from a film-grid response) a fifth column
+// `grid_frame` follows: the frame of the retimed 24 fps (timing_fps) sequence the row shows.
+std::string WriteTimingSheetCsv(const TimingMap& map, double frame_time,
+                                const std::vector<int32_t>* grid_frames = nullptr);
 
 }  // namespace koma::formats
 
