@@ -1,5 +1,6 @@
 #include "core/film_grid.h"
 
+#include <climits>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
@@ -11,6 +12,10 @@ namespace {
 // 246 / 197 within 1e-4), small enough that p * index stays far inside int64 for any clip the
 // server accepts (indices below 2^31).
 constexpr int64_t kMaxDenominator = 100000;
+// Largest numerator: a grid frame 2^30 source frames long already holds any clip the server
+// accepts in one grid frame; capping the ratio there keeps it an int64 (a timing_fps of 1e-300
+// gives a ratio near 1e306) and 2 * g * p far from overflow for any g below 2^31.
+constexpr int64_t kMaxNumerator = int64_t{1} << 30;
 
 // floor(a / b) for b > 0 and any a.
 int64_t FloorDiv(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -18,9 +23,19 @@ int64_t FloorDiv(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) 
 // ceil(a / b) for b > 0 and any a.
 int64_t CeilDiv(int64_t a, int64_t b) { return -FloorDiv(-a, b); }
 
+// int of an int64 that is >= 0, saturating at INT_MAX.
+int SaturateToInt(int64_t value) { return value > INT_MAX ? INT_MAX : static_cast<int>(value); }
+
 // The first continued-fraction convergent p / q of `ratio` (> 0) within kSameRateTolerance of
-// it, relative: the simplest fraction that close.
+// it, relative: the closest fraction with so small a denominator (not always the one with the
+// smallest denominator within the tolerance: 29.97 / 24 gives 246 / 197, 1.5e-5 off, where
+// 231 / 185 is 8e-5 off). Ratios from kMaxNumerator up give kMaxNumerator / 1.
 void SimplestFraction(double ratio, int64_t* p, int64_t* q) {
+  if (ratio >= static_cast<double>(kMaxNumerator)) {
+    *p = kMaxNumerator;
+    *q = 1;
+    return;
+  }
   int64_t p0 = 1, q0 = 0;  // convergent k - 1
   int64_t p1 = static_cast<int64_t>(std::floor(ratio)), q1 = 1;
   double rest = ratio - std::floor(ratio);
@@ -74,7 +89,8 @@ std::optional<FilmGrid> FilmGrid::Make(double source_fps, double timing_fps) {
 
 int FilmGrid::GridFrameCount(int source_frames) const {
   if (source_frames < 1) return 0;
-  return GridFrameOf(source_frames - 1) + 1;
+  const int last = GridFrameOf(source_frames - 1);
+  return last == INT_MAX ? INT_MAX : last + 1;
 }
 
 int FilmGrid::NearestSourceFrame(int g, int last) const {
@@ -84,13 +100,14 @@ int FilmGrid::NearestSourceFrame(int g, int last) const {
 }
 
 int FilmGrid::GridFrameOf(int k) const {
-  return static_cast<int>(FloorDiv(static_cast<int64_t>(k) * q_, p_));
+  return SaturateToInt(FloorDiv(static_cast<int64_t>(k) * q_, p_));
 }
 
 int FilmGrid::NearestGridFrame(double source_frame) const {
   const double g = source_frame * static_cast<double>(q_) / static_cast<double>(p_);
   const double nearest = std::ceil(g - 0.5);
-  return nearest < 0 ? 0 : static_cast<int>(nearest);
+  if (!(nearest > 0)) return 0;  // NaN too
+  return nearest >= static_cast<double>(INT_MAX) ? INT_MAX : static_cast<int>(nearest);
 }
 
 double FilmGrid::SourceTime(double g) const {
@@ -98,7 +115,7 @@ double FilmGrid::SourceTime(double g) const {
 }
 
 int FilmGrid::FirstSourceFrameAtOrAfter(int g) const {
-  return static_cast<int>(CeilDiv(static_cast<int64_t>(g) * p_, q_));
+  return SaturateToInt(CeilDiv(static_cast<int64_t>(g) * p_, q_));
 }
 
 }  // namespace koma

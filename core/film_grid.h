@@ -3,10 +3,11 @@
 // second on a 30 fps Live2D motion and on 120 fps mocap alike. All three RPCs run their
 // algorithm on grid frames and map the result back to source frames with this class.
 //
-// Exact and machine-independent: the ratio of the two rates is replaced by the simplest
-// fraction p / q within 1e-4 of it (relative), and every mapping is integer arithmetic on p
-// and q. So a BVH Frame Time of 0.0166667 (59.9999 fps) maps exactly like 1/60, and ties
-// ("nearest, ties to the earlier") are real ties, not accidents of rounding.
+// Exact and machine-independent: the ratio of the two rates is replaced by a fraction p / q
+// within 1e-4 of it (relative; the first continued-fraction convergent that close), and every
+// mapping is integer arithmetic on p and q. So a BVH Frame Time of 0.0166667 (59.9999 fps)
+// maps exactly like 1/60, and ties ("nearest, ties to the earlier") are real ties, not
+// accidents of rounding.
 #ifndef KOMA_CORE_FILM_GRID_H_
 #define KOMA_CORE_FILM_GRID_H_
 
@@ -46,7 +47,8 @@ class FilmGrid {
   double timing_fps() const { return timing_fps_; }
 
   // Grid frames within a clip of `source_frames` frames: those at or before the last source
-  // frame's time. >= 1 for source_frames >= 1.
+  // frame's time. >= 1 for source_frames >= 1; saturates at INT_MAX (as do the mappings to
+  // frame numbers below) instead of wrapping.
   int GridFrameCount(int source_frames) const;
   // The source frame nearest grid frame g's time (ties to the earlier), at most `last`.
   int NearestSourceFrame(int g, int last) const;
