@@ -28,8 +28,7 @@ bool AddCurveOverrides(const std::vector<std::string>& entries, v1::RetimeCurves
     int n = 0;
     if (equals == std::string::npos || equals == 0 ||
         !absl::SimpleAtoi(entry.substr(equals + 1), &n)) {
-      std::fprintf(stderr, "koma: --curve-on %s: expected ID=N, e.g. ParamHair=2\n",
-                   entry.c_str());
+      std::fprintf(stderr, "koma: --curve-on %s: expected ID=N, e.g. ParamHair=2\n", entry.c_str());
       return false;
     }
     v1::CurveOverride* o = request.add_curve_overrides();
@@ -46,6 +45,7 @@ v1::RetimeCurvesRequest MakeRequest(const CurvesArgs& args, const CurveSet& curv
   if (args.frames_per_drawing) request.set_frames_per_drawing(*args.frames_per_drawing);
   if (args.tame) request.set_tame(*args.tame);
   if (args.tsume) request.set_tsume(*args.tsume);
+  if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
   return request;
 }
 
@@ -53,9 +53,9 @@ absl::Status WriteOutput(const CurvesArgs& args, const CurveInput& input,
                          const v1::RetimeCurvesResponse& response) {
   std::vector<std::optional<CurveReplacement>> replacements;
   for (const v1::RetimedCurve& curve : response.curves()) {
-    replacements.push_back(CurveReplacement{
-        std::vector<double>(curve.values().begin(), curve.values().end()),
-        StepsFromProto(curve.stepped())});
+    replacements.push_back(
+        CurveReplacement{std::vector<double>(curve.values().begin(), curve.values().end()),
+                         StepsFromProto(curve.stepped())});
   }
   return WriteCurveOutput(args.output, input, replacements);
 }
@@ -63,10 +63,14 @@ absl::Status WriteOutput(const CurvesArgs& args, const CurveInput& input,
 // "on ones", "on twos", "on threes", then "on 4s".
 std::string OnName(int n) {
   switch (n) {
-    case 1: return "on ones";
-    case 2: return "on twos";
-    case 3: return "on threes";
-    default: return absl::StrCat("on ", n, "s");
+    case 1:
+      return "on ones";
+    case 2:
+      return "on twos";
+    case 3:
+      return "on threes";
+    default:
+      return absl::StrCat("on ", n, "s");
   }
 }
 
@@ -84,6 +88,13 @@ void PrintSummary(const CurvesArgs& args, const CurveSet& curves,
               curves.curves.size(), curves.frame_count, curves.fps, args.output.c_str());
   std::printf("  key poses (%d): %s\n", response.key_frames_size(),
               absl::StrJoin(response.key_frames(), ", ").c_str());
+  if (response.timing_fps() > 0) {
+    std::printf(
+        "  on the %.4g fps film grid (holds in its frames, %.1f ms each); key poses at "
+        "grid frames %s\n",
+        response.timing_fps(), 1000.0 / response.timing_fps(),
+        absl::StrJoin(response.key_grid_frames(), ", ").c_str());
+  }
   std::map<int, std::vector<std::string>> curves_by_timing;
   for (const v1::RetimedCurve& curve : response.curves()) {
     curves_by_timing[curve.timing()].push_back(curve.id());
@@ -92,12 +103,14 @@ void PrintSummary(const CurvesArgs& args, const CurveSet& curves,
     const v1::DrawingTiming& timing = response.timings(index);
     const v1::RetimedCurve* first = nullptr;
     for (const v1::RetimedCurve& curve : response.curves()) {
-      if (curve.timing() == index) { first = &curve; break; }
+      if (curve.timing() == index) {
+        first = &curve;
+        break;
+      }
     }
     std::printf("  %s: %d drawings (holds %s) for %s\n",
                 OnName(timing.frames_per_drawing()).c_str(), timing.drawing_start_size(),
-                Histogram(*first).c_str(),
-                absl::StrJoin(ids, ", ").c_str());
+                Histogram(*first).c_str(), absl::StrJoin(ids, ", ").c_str());
   }
   if (!args.timing.empty()) std::printf("  drawing sheet: %s\n", args.timing.c_str());
 }
@@ -122,8 +135,8 @@ int RunCurves(const CurvesArgs& args) {
 
   if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return ReportError(s);
   if (!args.timing.empty()) {
-    const std::string sheet = formats::WriteDrawingSheetCsv(
-        TimingFromProto(response.timings(0)), input->curves.fps);
+    const std::string sheet =
+        formats::WriteDrawingSheetCsv(TimingFromProto(response.timings(0)), input->curves.fps);
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return ReportError(s);
   }
   PrintSummary(args, input->curves, response);

@@ -10,15 +10,16 @@
 namespace koma::client {
 
 struct CurvesArgs {
-  std::string input;     // .motion3.json, or .csv (frame,<id>,... per frame)
-  std::string output;    // .motion3.json (needs a motion3 input) or .csv
-  std::string timing;    // drawing sheet CSV to write; empty: none
+  std::string input;                      // .motion3.json, or .csv (frame,<id>,... per frame)
+  std::string output;                     // .motion3.json (needs a motion3 input) or .csv
+  std::string timing;                     // drawing sheet CSV to write; empty: none
   std::optional<int> frames_per_drawing;  // --on; unset: server default (3)
   std::vector<int> keys;                  // --keys; empty: keyframe times
   std::optional<double> tame;             // --tame; unset: 1
   std::optional<double> tsume;            // --tsume; unset: 1
   std::vector<std::string> curve_on;      // --curve-on ID=N, repeatable
   double csv_fps = 30.0;                  // --fps, frames per second of a CSV input
+  std::optional<double> timing_fps;       // --timing-fps: the film grid; unset: server's 24
   std::string server;
   double deadline_seconds = 60.0;
 };

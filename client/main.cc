@@ -69,6 +69,9 @@ void AddCurves(CLI::App& app, koma::client::CurvesArgs& args) {
   cmd->add_option("--curve-on", args.curve_on, "ID=N: this curve on N (repeatable)");
   cmd->add_option("--fps", args.csv_fps, "frames per second of a CSV input (default 30)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--timing-fps", args.timing_fps,
+                  "film grid drawings are counted on, frames per second (default 24; 0 = count "
+                  "in the input's own frames)");
   cmd->add_option("--timing", args.timing, "drawing sheet CSV to write");
   cmd->add_option("--server", args.server,
                   "server host:port (default $KOMA_SERVER or "
@@ -101,6 +104,9 @@ void AddLipBlink(CLI::App& app, koma::client::LipBlinkArgs& args) {
   cmd->add_flag("--unlinked-eyes", args.unlinked_eyes, "time each eye's blinks on its own");
   cmd->add_option("--fps", args.csv_fps, "frames per second of a CSV input (default 30)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--timing-fps", args.timing_fps,
+                  "film grid mouth and blink holds are counted on, frames per second (default "
+                  "24; 0 = count in the input's own frames)");
   cmd->add_option("--server", args.server,
                   "server host:port (default $KOMA_SERVER or "
                   "127.0.0.1:50051)");

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "core/curve_cursor.h"
+#include "core/film_grid.h"
 
 namespace koma {
 namespace {
@@ -70,6 +71,28 @@ DrawingTiming BuildTiming(const std::vector<int>& keys, const std::vector<Segmen
   return timing;
 }
 
+// A timing built on grid frames, at the source rate: source frame k shows the drawing of the
+// grid frame its time falls in; taus and drawing starts become (fractional) source frames.
+DrawingTiming ExpandToSource(const DrawingTiming& on_grid, const FilmGrid& grid, int frame_count) {
+  DrawingTiming out;
+  out.frames_per_drawing = on_grid.frames_per_drawing;
+  const int last_grid = static_cast<int>(on_grid.drawing_of_frame.size()) - 1;
+  out.drawing_of_frame.resize(static_cast<size_t>(frame_count));
+  out.source_frame.resize(static_cast<size_t>(frame_count));
+  for (int k = 0; k < frame_count; ++k) {
+    const int g = std::min(grid.GridFrameOf(k), last_grid);
+    out.drawing_of_frame[k] = on_grid.drawing_of_frame[g];
+    out.source_frame[k] = grid.SourceTime(on_grid.source_frame[g]);
+  }
+  out.drawing_start_grid = on_grid.drawing_start;
+  for (int g : on_grid.drawing_start) {
+    out.drawing_start.push_back(std::min(grid.FirstSourceFrameAtOrAfter(g), frame_count - 1));
+    out.drawing_time.push_back(grid.SourceTime(g));
+    out.drawing_tau.push_back(grid.SourceTime(on_grid.source_frame[g]));
+  }
+  return out;
+}
+
 std::map<int, int> HoldHistogram(const DrawingTiming& timing) {
   std::map<int, int> histogram;
   const std::vector<int>& starts = timing.drawing_start;
@@ -93,13 +116,18 @@ RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const Drawin
   out.values.resize(frame_count);
   out.steps.reserve(starts.size());
   CurveCursor cursor(curve, beziers_restricted);
+  const bool on_grid = !timing.drawing_time.empty();
   for (size_t d = 0; d < starts.size(); ++d) {
     const size_t begin = static_cast<size_t>(starts[d]);
-    const size_t end = d + 1 < starts.size() ? static_cast<size_t>(starts[d + 1]) : frame_count;
-    const double value = cursor.Evaluate(timing.source_frame[begin]);
+    size_t end = d + 1 < starts.size() ? static_cast<size_t>(starts[d + 1]) : frame_count;
+    if (end < begin) end = begin;  // a grid drawing no source frame shows
+    const double value =
+        cursor.Evaluate(on_grid ? timing.drawing_tau[d] : timing.source_frame[begin]);
     std::fill(out.values.begin() + begin, out.values.begin() + end, value);
-    out.steps.push_back({static_cast<double>(begin), value});
+    out.steps.push_back({on_grid ? timing.drawing_time[d] : static_cast<double>(begin), value});
   }
+  const double last = static_cast<double>(frame_count - 1);
+  if (on_grid && out.steps.back().frame < last) out.steps.push_back({last, out.steps.back().value});
   return out;
 }
 
@@ -134,10 +162,39 @@ std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set) {
   return keys;
 }
 
+GridKeyPoses KeyPosesOnGrid(const KomaUchiOptions& options, const CurveSet& set) {
+  GridKeyPoses out;
+  out.source = KeyPoses(options, set);
+  const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, options.timing_fps);
+  if (!grid) {
+    out.grid = out.source;
+    return out;
+  }
+  const int last_grid = grid->GridFrameCount(set.frame_count) - 1;
+  const std::vector<int> keys = std::move(out.source);
+  out.source.clear();
+  for (size_t i = 0; i + 1 < keys.size(); ++i) {
+    const int g = std::min(grid->NearestGridFrame(keys[i]), last_grid);
+    if (g >= last_grid || (!out.grid.empty() && g <= out.grid.back())) continue;
+    out.source.push_back(keys[i]);
+    out.grid.push_back(g);
+  }
+  out.source.push_back(keys.back());  // the clip's last frame: the last grid frame
+  out.grid.push_back(last_grid);
+  return out;
+}
+
 KomaUchiResult RetimeCurves(const CurveSet& set, const KomaUchiOptions& options) {
   KomaUchiResult result;
-  result.key_frames = KeyPoses(options, set);
-  const std::vector<int>& keys = result.key_frames;
+  const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, options.timing_fps);
+  GridKeyPoses key_poses = KeyPosesOnGrid(options, set);
+  result.key_frames = std::move(key_poses.source);
+  if (grid) {
+    result.timing_fps = grid->timing_fps();
+    result.key_grid_frames = key_poses.grid;
+  }
+  // The keys the timings are built on: grid frames with a grid, else source frames.
+  const std::vector<int>& keys = grid ? key_poses.grid : result.key_frames;
   const std::vector<SegmentParams> defaults = DefaultSegmentParams(options, keys.size() - 1);
   result.timings.push_back(BuildTiming(keys, defaults, options.frames_per_drawing));
   // Each distinct per-curve n (ascending) gets a timing with that n in every segment (the
@@ -160,8 +217,11 @@ KomaUchiResult RetimeCurves(const CurveSet& set, const KomaUchiOptions& options)
     timing_of_n[n] = static_cast<int>(result.timings.size());
     result.timings.push_back(BuildTiming(keys, params, n));
   }
-  std::vector<std::map<int, int>> histograms;
-  for (const DrawingTiming& timing : result.timings) histograms.push_back(HoldHistogram(timing));
+  std::vector<std::map<int, int>> histograms;  // on grid frames with a grid
+  for (DrawingTiming& timing : result.timings) {
+    histograms.push_back(HoldHistogram(timing));
+    if (grid) timing = ExpandToSource(timing, *grid, set.frame_count);
+  }
   result.curves.reserve(set.curves.size());
   for (const Curve& curve : set.curves) {
     const auto own = options.curve_frames_per_drawing.find(curve.id);

@@ -16,10 +16,10 @@ namespace koma {
 
 // Overrides for the segment between key poses G_x and G_{x+1}.
 struct SegmentOverride {
-  int segment = 0;                          // x, 0-based
-  std::optional<int> frames_per_drawing;    // n for this segment (curves without their own n)
-  std::optional<double> tame;               // s_a for this segment
-  std::optional<double> tsume;              // s_b for this segment
+  int segment = 0;                        // x, 0-based
+  std::optional<int> frames_per_drawing;  // n for this segment (curves without their own n)
+  std::optional<double> tame;             // s_a for this segment
+  std::optional<double> tsume;            // s_b for this segment
 };
 
 struct KomaUchiOptions {
@@ -32,17 +32,35 @@ struct KomaUchiOptions {
   double tsume = 1.0;          // s_b >= 1: gaps shrink by s_b per drawing toward G_{x+1}
   // Curve id -> its own n (hair on twos, body on threes). Beats segment overrides of n.
   std::map<std::string, int> curve_frames_per_drawing;
+  // Segment indices count the key poses used (after snapping to the grid, with one).
   std::vector<SegmentOverride> segment_overrides;
+  // The film grid drawings are counted on, frames per second (core/film_grid.h). <= 0, or
+  // the set's own fps (within 1e-4): count in source frames. With a grid, n counts grid
+  // frames, key poses snap to the nearest grid frame, and each drawing starts at its exact
+  // grid time.
+  double timing_fps = 0.0;
 };
 
 // INVALID_ARGUMENT naming the option and value: keys unsorted, duplicate or outside the
 // range; n < 1; strengths < 1 or not finite; an override naming an unknown curve or a
-// segment out of range, or given twice.
+// segment out of range, or given twice; timing_fps not finite or over 1000, or a grid on
+// which the clip spans fewer than 2 frames (OUT_OF_RANGE).
 absl::Status ValidateKomaUchiOptions(const KomaUchiOptions& options, const CurveSet& set);
 
 // The key poses actually used: options.key_frames (or the default) plus 0 and
 // frame_count - 1, sorted, unique.
 std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set);
+
+// The key poses on the film grid of options.timing_fps: each snaps to its nearest grid frame
+// (within the clip's grid frames); when several snap to one grid frame the first is kept,
+// except that the clip's last frame always takes the last grid frame. `source` are the
+// surviving key poses in source frames, `grid` their grid frames. Without a grid both are
+// KeyPoses().
+struct GridKeyPoses {
+  std::vector<int> source;
+  std::vector<int> grid;
+};
+GridKeyPoses KeyPosesOnGrid(const KomaUchiOptions& options, const CurveSet& set);
 
 // Hold lengths of one segment of `length` frames at n frames per drawing: ceil(length / n)
 // holds, as even as possible, longer ones first (10 at n = 3 -> 3, 3, 2, 2).
@@ -56,25 +74,36 @@ std::vector<double> Spacing(int drawings, double tame, double tsume);
 
 // One timing: how output frames map to drawings and source times.
 struct DrawingTiming {
-  int frames_per_drawing = 3;          // the n this timing was made with (default n)
-  std::vector<int> drawing_of_frame;   // per output frame: its drawing, 0-based, global
-  std::vector<double> source_frame;    // per output frame: tau of its drawing, in frames
-  std::vector<int> drawing_start;      // per drawing: its first output frame
+  int frames_per_drawing = 3;         // the n this timing was made with (default n)
+  std::vector<int> drawing_of_frame;  // per output frame: its drawing, 0-based, global
+  std::vector<double> source_frame;   // per output frame: tau of its drawing, in frames
+  std::vector<int> drawing_start;     // per drawing: its first output frame
+  // With a grid: per drawing, the grid frame it starts on, its start time in (fractional)
+  // source frames, and its tau in source frames (a drawing between two output frames has
+  // none of its own in source_frame).
+  std::vector<int> drawing_start_grid;
+  std::vector<double> drawing_time;
+  std::vector<double> drawing_tau;
 };
 
 struct RetimedCurve {
-  int timing = 0;                  // index into KomaUchiResult::timings
-  std::vector<double> values;      // per output frame: curve(tau)
+  int timing = 0;              // index into KomaUchiResult::timings
+  std::vector<double> values;  // per output frame: curve(tau)
   // Stepped keyframes: one point per drawing at its first frame with its value (motion3:
-  // start point, then a stepped segment to each next point).
+  // start point, then a stepped segment to each next point). With a grid the points lie at
+  // the drawings' exact grid times, and a last point at the clip's last frame holds the last
+  // drawing to the end.
   std::vector<CurvePoint> steps;
-  std::map<int, int> hold_histogram;  // hold length in frames -> number of drawings
+  // Hold length in frames (grid frames with a grid) -> number of drawings.
+  std::map<int, int> hold_histogram;
 };
 
 struct KomaUchiResult {
-  std::vector<int> key_frames;          // the key poses used
-  std::vector<DrawingTiming> timings;   // [0] is the default timing; others per distinct n
-  std::vector<RetimedCurve> curves;     // in the order of set.curves
+  std::vector<int> key_frames;         // the key poses used
+  std::vector<DrawingTiming> timings;  // [0] is the default timing; others per distinct n
+  std::vector<RetimedCurve> curves;    // in the order of set.curves
+  double timing_fps = 0.0;             // the film grid used; 0: none (source frames)
+  std::vector<int> key_grid_frames;    // with a grid: per key pose, its grid frame
 };
 
 // Requires ValidateCurveSet and ValidateKomaUchiOptions OK.

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "core/film_grid.h"
 #include "core/koma_uchi.h"
 #include "core/status_macros.h"
 
@@ -80,6 +81,23 @@ absl::Status CheckSegmentOverrides(const std::vector<SegmentOverride>& overrides
   return absl::OkStatus();
 }
 
+// timing_fps finite and <= 1000; with a grid, a source rate the grid can count and at least
+// two grid frames (the first and the last key pose).
+absl::Status CheckGrid(double timing_fps, const CurveSet& set) {
+  KOMA_RETURN_IF_ERROR(ValidateTimingFps(timing_fps, "timing_fps"));
+  if (timing_fps <= 0) return absl::OkStatus();
+  KOMA_RETURN_IF_ERROR(ValidateSourceFps(set.fps, absl::StrCat("curves.fps: ", set.fps)));
+  const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, timing_fps);
+  if (grid && grid->GridFrameCount(set.frame_count) < 2) {
+    return absl::OutOfRangeError(absl::StrCat(
+        "curves.frame_count: ", set.frame_count, " frames at ", set.fps,
+        " fps span less than 2 frames of the ", timing_fps,
+        " fps film grid (timing_fps); send a longer clip, or timing_fps: 0 to count in source "
+        "frames"));
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::Status ValidateKomaUchiOptions(const KomaUchiOptions& options, const CurveSet& set) {
@@ -88,8 +106,9 @@ absl::Status ValidateKomaUchiOptions(const KomaUchiOptions& options, const Curve
   KOMA_RETURN_IF_ERROR(CheckStrength(options.tsume, "tsume"));
   KOMA_RETURN_IF_ERROR(CheckKeyFrames(options.key_frames, set.frame_count));
   KOMA_RETURN_IF_ERROR(CheckCurveOverrides(options.curve_frames_per_drawing, set));
+  KOMA_RETURN_IF_ERROR(CheckGrid(options.timing_fps, set));
   // Segments exist only once the key poses are known (they are valid by now).
-  const int segment_count = static_cast<int>(KeyPoses(options, set).size()) - 1;
+  const int segment_count = static_cast<int>(KeyPosesOnGrid(options, set).grid.size()) - 1;
   return CheckSegmentOverrides(options.segment_overrides, segment_count);
 }
 

@@ -6,6 +6,7 @@
 #include "absl/container/flat_hash_set.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/string_view.h"
+#include "core/film_grid.h"
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
 
@@ -53,7 +54,22 @@ KomaUchiOptions ConvertOptions(const v1::RetimeCurvesRequest& request) {
     if (in.has_tsume()) out.tsume = in.tsume();
     options.segment_overrides.push_back(out);
   }
+  options.timing_fps = request.has_timing_fps() ? request.timing_fps() : kDefaultTimingFps;
   return options;
+}
+
+// With a film grid finer than the curves' own rate, the timings have more frames than the
+// clip: the grid's frames count against --max_values as the clip's do.
+absl::Status CheckGridSize(const CurveSet& set, double timing_fps, const RequestLimits& limits) {
+  const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, timing_fps);
+  if (!grid) return absl::OkStatus();
+  const int64_t grid_frames = grid->GridFrameCount(set.frame_count);
+  const int64_t work = grid_frames * static_cast<int64_t>(set.curves.size());
+  if (work <= limits.max_values) return absl::OkStatus();
+  return absl::ResourceExhaustedError(
+      absl::StrCat("curves: ", grid_frames, " frames on the ", timing_fps,
+                   " fps grid (timing_fps) x ", set.curves.size(), " curves = ", work,
+                   " exceeds the server limit --max_values=", limits.max_values));
 }
 
 void FillTiming(const DrawingTiming& timing, v1::DrawingTiming* out) {
@@ -62,6 +78,8 @@ void FillTiming(const DrawingTiming& timing, v1::DrawingTiming* out) {
                                        timing.drawing_of_frame.end());
   out->mutable_source_frame()->Add(timing.source_frame.begin(), timing.source_frame.end());
   out->mutable_drawing_start()->Add(timing.drawing_start.begin(), timing.drawing_start.end());
+  out->mutable_drawing_start_grid()->Add(timing.drawing_start_grid.begin(),
+                                         timing.drawing_start_grid.end());
 }
 
 absl::Status CheckFinite(const KomaUchiResult& result) {
@@ -81,6 +99,7 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
   job.options = ConvertOptions(request);
   KOMA_RETURN_IF_ERROR(ConvertCurveOverrides(request, job.set, job.options));
   KOMA_RETURN_IF_ERROR(ValidateKomaUchiOptions(job.options, job.set));
+  KOMA_RETURN_IF_ERROR(CheckGridSize(job.set, job.options.timing_fps, limits));
   return job;
 }
 
@@ -121,6 +140,9 @@ void FillCurvesResponse(const CurveSet& set, const KomaUchiResult& result,
       count->set_drawings(drawings);
     }
   }
+  response->set_timing_fps(result.timing_fps);
+  response->mutable_key_grid_frames()->Add(result.key_grid_frames.begin(),
+                                           result.key_grid_frames.end());
 }
 
 absl::Status HandleRetimeCurves(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,

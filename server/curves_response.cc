@@ -29,12 +29,15 @@ namespace response {  // RetimeCurvesResponse
 constexpr uint8_t kKeyFrames = Tag(1, kLength);
 constexpr uint8_t kTimings = Tag(2, kLength);
 constexpr uint8_t kCurves = Tag(3, kLength);
+constexpr uint8_t kTimingFps = Tag(4, wire::kFixed64);
+constexpr uint8_t kKeyGridFrames = Tag(5, kLength);
 }  // namespace response
 namespace timing {  // DrawingTiming
 constexpr uint8_t kFramesPerDrawing = Tag(1, kVarint);
 constexpr uint8_t kDrawingOfFrame = Tag(2, kLength);
 constexpr uint8_t kSourceFrame = Tag(3, kLength);
 constexpr uint8_t kDrawingStart = Tag(4, kLength);
+constexpr uint8_t kDrawingStartGrid = Tag(5, kLength);
 }  // namespace timing
 namespace retimed {  // RetimedCurve
 constexpr uint8_t kId = Tag(1, kLength);
@@ -170,8 +173,10 @@ CurvesResponseEncoder::CurvesResponseEncoder(const CurveSet& set, const KomaUchi
     TimingSizes sizes;
     sizes.drawing_of_frame = PackedInt32Bytes(t.drawing_of_frame);
     sizes.drawing_start = PackedInt32Bytes(t.drawing_start);
+    sizes.drawing_start_grid = PackedInt32Bytes(t.drawing_start_grid);
     sizes.body = Int32Field(t.frames_per_drawing) + PackedField(sizes.drawing_of_frame) +
-                 PackedField(8 * t.source_frame.size()) + PackedField(sizes.drawing_start);
+                 PackedField(8 * t.source_frame.size()) + PackedField(sizes.drawing_start) +
+                 PackedField(sizes.drawing_start_grid);
     size_ += LengthField(sizes.body);
     timings_.push_back(sizes);
   }
@@ -191,11 +196,20 @@ CurvesResponseEncoder::CurvesResponseEncoder(const CurveSet& set, const KomaUchi
     size_ += sizes.field;
     curves_.push_back(sizes);
   }
+  key_grid_frames_ = PackedInt32Bytes(result.key_grid_frames);
+  tail_size_ = (Bits(result.timing_fps) != 0 ? 9 : 0) + PackedField(key_grid_frames_);
+  size_ += tail_size_;
 }
 
 void CurvesResponseEncoder::WriteTo(uint8_t* out) const {
   out = WriteHead(out);
   for (size_t c = 0; c < curves_.size(); ++c) out = WriteCurve(c, out);
+  WriteTail(out);
+}
+
+uint8_t* CurvesResponseEncoder::WriteTail(uint8_t* out) const {
+  out = WriteDouble(response::kTimingFps, result_.timing_fps, out);
+  return WritePackedInt32(response::kKeyGridFrames, key_grid_frames_, result_.key_grid_frames, out);
 }
 
 uint8_t* CurvesResponseEncoder::WriteHead(uint8_t* out) const {
@@ -209,6 +223,8 @@ uint8_t* CurvesResponseEncoder::WriteHead(uint8_t* out) const {
         WritePackedInt32(timing::kDrawingOfFrame, sizes.drawing_of_frame, t.drawing_of_frame, out);
     out = WritePackedDouble(timing::kSourceFrame, t.source_frame, out);
     out = WritePackedInt32(timing::kDrawingStart, sizes.drawing_start, t.drawing_start, out);
+    out = WritePackedInt32(timing::kDrawingStartGrid, sizes.drawing_start_grid,
+                           t.drawing_start_grid, out);
   }
   return out;
 }
@@ -241,6 +257,8 @@ std::vector<grpc::Slice> EncodeInSlices(const CurvesResponseEncoder& encoder,
     while (end < encoder.curve_count() && (bytes < slice_bytes || bytes == 0)) {
       bytes += encoder.curve_size(end++);
     }
+    const bool tail = end == encoder.curve_count();  // the last slice ends with the tail
+    if (tail) bytes += encoder.tail_size();
     grpc::Slice slice = UninitialisedSlice(bytes);
     uint8_t* out = const_cast<uint8_t*>(slice.begin());
     if (head) out = encoder.WriteHead(out);
@@ -248,6 +266,7 @@ std::vector<grpc::Slice> EncodeInSlices(const CurvesResponseEncoder& encoder,
       out = encoder.WriteCurve(next, out);
       result.curves[next] = RetimedCurve();  // frees its memory
     }
+    if (tail) out = encoder.WriteTail(out);
     slices.push_back(std::move(slice));
   } while (next < encoder.curve_count());
   return slices;

@@ -42,11 +42,15 @@ class CurvesResponseEncoder {
   size_t curve_size(size_t c) const { return curves_[c].field; }
   uint8_t* WriteHead(uint8_t* out) const;
   uint8_t* WriteCurve(size_t c, uint8_t* out) const;
+  // The fields after the curves (the film grid's: timing_fps, key_grid_frames).
+  size_t tail_size() const { return tail_size_; }
+  uint8_t* WriteTail(uint8_t* out) const;
 
  private:
   struct TimingSizes {
     size_t drawing_of_frame;  // packed varints, bytes
     size_t drawing_start;
+    size_t drawing_start_grid;
     size_t body;  // the DrawingTiming message
   };
   struct CurveSizes {
@@ -59,12 +63,15 @@ class CurvesResponseEncoder {
   const KomaUchiResult& result_;
   size_t key_frames_ = 0;  // packed varints, bytes
   size_t head_size_ = 0;
+  size_t key_grid_frames_ = 0;  // packed varints, bytes
+  size_t tail_size_ = 0;
   std::vector<TimingSizes> timings_;
   std::vector<CurveSizes> curves_;
   size_t size_ = 0;
 };
 
-// The bytes `encoder` gives, in slices of whole parts (the head, then curves), each slice
+// The bytes `encoder` gives, in slices of whole parts (the head, then curves, the tail in the
+// last slice), each slice
 // closed once it holds `slice_bytes` or more; one slice when the whole response is smaller.
 // `result` must be the encoder's own result: each of its curves (values, steps, histogram) is
 // freed as soon as its bytes are written, so a large result and its response are never both

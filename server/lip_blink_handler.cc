@@ -2,7 +2,7 @@
 // response.
 #include <vector>
 
-
+#include "core/lip_blink_grid.h"
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
 #include "server/lip_blink_request.h"
@@ -12,20 +12,37 @@ namespace {
 
 v1::MouthShape ToProto(MouthShape shape) {
   switch (shape) {
-    case MouthShape::kClosed: return v1::MOUTH_CLOSED;
-    case MouthShape::kMid: return v1::MOUTH_MID;
-    case MouthShape::kOpen: return v1::MOUTH_OPEN;
+    case MouthShape::kClosed:
+      return v1::MOUTH_CLOSED;
+    case MouthShape::kMid:
+      return v1::MOUTH_MID;
+    case MouthShape::kOpen:
+      return v1::MOUTH_OPEN;
   }
   return v1::MOUTH_SHAPE_UNSPECIFIED;
 }
 
 void AddConvertedCurve(const std::string& id, const std::vector<double>& values,
-                       v1::LipBlinkResponse* response) {
+                       const std::vector<CurvePoint>& steps, v1::LipBlinkResponse* response) {
   v1::ConvertedCurve* out = response->add_curves();
   out->set_id(id);
   out->mutable_values()->Add(values.begin(), values.end());
   out->mutable_stepped()->set_id(id);
-  SteppedKeyframesToProto(SteppedFromValues(values), out->mutable_stepped());
+  SteppedKeyframesToProto(steps, out->mutable_stepped());
+}
+
+// A converted curve: per-frame `values` (source frames without a grid), or, with a grid,
+// `values` on grid frames brought back to the source rate where `repainted`.
+void AddConverted(const LipBlinkJob& job, int index, const std::vector<double>& values,
+                  const std::vector<bool>& repainted, const std::vector<double>& source_input,
+                  v1::LipBlinkResponse* response) {
+  const std::string& id = job.set.curves[index].id;
+  if (!job.grid) {
+    AddConvertedCurve(id, values, SteppedFromValues(values), response);
+    return;
+  }
+  const SourceRateCurve out = ExpandConverted(values, repainted, source_input, *job.grid);
+  AddConvertedCurve(id, out.values, out.steps, response);
 }
 
 void FillMouth(const std::string& id, const MouthResult& mouth, v1::MouthTrack* out) {
@@ -64,38 +81,56 @@ void FillEye(const std::string& id, const EyeResult& eyes, size_t i, v1::EyeTrac
 
 // The curve at every frame, or OUT_OF_RANGE where it overflows (CheckEvaluatedFinite).
 absl::StatusOr<std::vector<double>> Sample(const LipBlinkJob& job, int index) {
-  std::vector<double> values = SampleEveryFrame(job.set.curves[index], job.set.frame_count,
-                                                job.set.beziers_restricted);
+  std::vector<double> values =
+      SampleEveryFrame(job.set.curves[index], job.set.frame_count, job.set.beziers_restricted);
+  KOMA_RETURN_IF_ERROR(CheckEvaluatedFinite(values, index));
+  return values;
+}
+
+// What the conversion runs on: the curve at every grid frame (with a grid), else `source`.
+absl::StatusOr<std::vector<double>> ConversionInput(const LipBlinkJob& job, int index,
+                                                    const std::vector<double>& source) {
+  if (!job.grid) return source;
+  std::vector<double> values =
+      SampleOnGrid(job.set.curves[index], *job.grid, job.grid_frames, job.set.beziers_restricted);
   KOMA_RETURN_IF_ERROR(CheckEvaluatedFinite(values, index));
   return values;
 }
 
 absl::Status RunMouths(const LipBlinkJob& job, v1::LipBlinkResponse* response) {
   for (size_t m = 0; m < job.mouth_curves.size(); ++m) {
-    const Curve& curve = job.set.curves[job.mouth_curves[m]];
-    KOMA_ASSIGN_OR_RETURN(const std::vector<double> input, Sample(job, job.mouth_curves[m]));
+    const int index = job.mouth_curves[m];
+    KOMA_ASSIGN_OR_RETURN(const std::vector<double> source, Sample(job, index));
+    KOMA_ASSIGN_OR_RETURN(const std::vector<double> input, ConversionInput(job, index, source));
     // Mouth curve m draws from its own stream, seed + m, so adding a curve leaves the
     // others' shapes as they were.
     const MouthResult mouth = ConvertMouth(input, job.mouth, job.seed + m);
-    FillMouth(curve.id, mouth, response->add_mouths());
-    AddConvertedCurve(curve.id, mouth.values, response);
+    FillMouth(job.set.curves[index].id, mouth, response->add_mouths());
+    AddConverted(job, index, mouth.values,
+                 job.grid ? SpeechMask(mouth.speech, job.grid_frames) : std::vector<bool>(), source,
+                 response);
   }
   return absl::OkStatus();
 }
 
 absl::Status RunEyes(const LipBlinkJob& job, v1::LipBlinkResponse* response) {
   if (job.eye_curves.empty()) return absl::OkStatus();
-  std::vector<std::vector<double>> inputs;
+  std::vector<std::vector<double>> sources;  // per source frame
+  std::vector<std::vector<double>> inputs;   // what the conversion runs on
   for (int index : job.eye_curves) {
-    KOMA_ASSIGN_OR_RETURN(std::vector<double> input, Sample(job, index));
+    KOMA_ASSIGN_OR_RETURN(std::vector<double> source, Sample(job, index));
+    KOMA_ASSIGN_OR_RETURN(std::vector<double> input, ConversionInput(job, index, source));
+    sources.push_back(std::move(source));
     inputs.push_back(std::move(input));
   }
   const std::vector<absl::Span<const double>> spans(inputs.begin(), inputs.end());
   const EyeResult eyes = ConvertEyes(spans, job.eyes, job.seed);
   for (size_t i = 0; i < job.eye_curves.size(); ++i) {
-    const std::string& id = job.set.curves[job.eye_curves[i]].id;
-    FillEye(id, eyes, i, response->add_eyes());
-    AddConvertedCurve(id, eyes.values[i], response);
+    const int index = job.eye_curves[i];
+    FillEye(job.set.curves[index].id, eyes, i, response->add_eyes());
+    AddConverted(job, index, eyes.values[i],
+                 job.grid ? BlinkMask(eyes.blinks[i], job.grid_frames) : std::vector<bool>(),
+                 sources[i], response);
   }
   return absl::OkStatus();
 }
@@ -108,6 +143,7 @@ absl::Status HandleLipBlink(const v1::LipBlinkRequest& request, const RequestLim
   KOMA_RETURN_IF_ERROR(RunMouths(job, response));
   KOMA_RETURN_IF_ERROR(RunEyes(job, response));
   response->set_seed(job.seed);
+  if (job.grid) response->set_timing_fps(job.grid->timing_fps());
   return absl::OkStatus();
 }
 

@@ -3,12 +3,14 @@
 #define KOMA_SERVER_LIP_BLINK_REQUEST_H_
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "core/curves.h"
+#include "core/film_grid.h"
 #include "core/lip_blink.h"
 #include "koma/v1/retime.pb.h"
 #include "server/request_limits.h"
@@ -25,6 +27,10 @@ struct LipBlinkJob {
   MouthOptions mouth;
   EyeOptions eyes;
   uint64_t seed = kDefaultLipBlinkSeed;
+  // The film grid holds are counted on; unset: source frames. With a grid, `mouth` and
+  // `eyes` are for the grid's frames (intervals snapped, auto-blink fps = the grid's).
+  std::optional<FilmGrid> grid;
+  int grid_frames = 0;
 };
 
 // Every field checked before any work; INVALID_ARGUMENT / RESOURCE_EXHAUSTED naming the

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "core/lip_blink_grid.h"
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
 #include "server/lip_blink_request.h"
@@ -46,8 +47,8 @@ absl::StatusOr<std::vector<int>> ResolveIds(
           absl::StrCat(path, "[", i, "]: \"", ids[i], "\" is not a curve of the request"));
     }
     if (!taken.insert(index).second) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          path, "[", i, "]: \"", ids[i], "\" is already a mouth or eye curve"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(path, "[", i, "]: \"", ids[i], "\" is already a mouth or eye curve"));
     }
     indices.push_back(index);
   }
@@ -65,11 +66,15 @@ absl::StatusOr<MouthOptions> ConvertMouth(const v1::MouthSettings& in, int frame
   MouthOptions out;
   switch (in.mode()) {
     case v1::MOUTH_MODE_UNSPECIFIED:
-    case v1::MOUTH_RANDOM: out.mode = MouthMode::kRandom; break;
-    case v1::MOUTH_FOLLOW: out.mode = MouthMode::kFollow; break;
+    case v1::MOUTH_RANDOM:
+      out.mode = MouthMode::kRandom;
+      break;
+    case v1::MOUTH_FOLLOW:
+      out.mode = MouthMode::kFollow;
+      break;
     default:
-      return absl::InvalidArgumentError(absl::StrCat(
-          "mouth.mode: ", static_cast<int>(in.mode()), " is not a MouthMode (1 RANDOM, 2 FOLLOW)"));
+      return absl::InvalidArgumentError(absl::StrCat("mouth.mode: ", static_cast<int>(in.mode()),
+                                                     " is not a MouthMode (1 RANDOM, 2 FOLLOW)"));
   }
   if (in.has_frames_per_shape()) out.frames_per_shape = in.frames_per_shape();
   if (in.has_mid_ratio()) out.mid_ratio = in.mid_ratio();
@@ -90,7 +95,8 @@ absl::StatusOr<EyeOptions> ConvertEyes(const v1::EyeSettings& in, const CurveSet
   if (in.has_linked()) out.linked = in.linked();
   const v1::AutoBlink& auto_blink = in.auto_blink();
   out.auto_blink.enabled = auto_blink.enabled();
-  if (auto_blink.has_mean_interval_s()) out.auto_blink.mean_interval_s = auto_blink.mean_interval_s();
+  if (auto_blink.has_mean_interval_s())
+    out.auto_blink.mean_interval_s = auto_blink.mean_interval_s();
   // Unset spread: 1 s, or a quarter of a short mean, so `--auto-blink 0.8` alone is valid.
   out.auto_blink.spread_s = auto_blink.has_spread_s()
                                 ? auto_blink.spread_s()
@@ -99,6 +105,40 @@ absl::StatusOr<EyeOptions> ConvertEyes(const v1::EyeSettings& in, const CurveSet
   out.auto_blink.keep = Intervals(auto_blink.keep());
   KOMA_RETURN_IF_ERROR(Prefixed(ValidateEyeOptions(out, set.frame_count), "eyes."));
   return out;
+}
+
+// The film grid of timing_fps (unset: 24): checked, and the mouth and eye options moved onto
+// it (they were checked on the source frames, where their intervals are given).
+absl::Status ConvertGrid(const v1::LipBlinkRequest& request, const RequestLimits& limits,
+                         LipBlinkJob* job) {
+  const double timing_fps = request.has_timing_fps() ? request.timing_fps() : kDefaultTimingFps;
+  KOMA_RETURN_IF_ERROR(ValidateTimingFps(timing_fps, "timing_fps"));
+  if (timing_fps <= 0) return absl::OkStatus();
+  KOMA_RETURN_IF_ERROR(ValidateSourceFps(job->set.fps, absl::StrCat("curves.fps: ", job->set.fps)));
+  job->grid = FilmGrid::Make(job->set.fps, timing_fps);
+  if (!job->grid) return absl::OkStatus();
+  const int frames = job->grid->GridFrameCount(job->set.frame_count);
+  if (frames < 2) {
+    return absl::OutOfRangeError(
+        absl::StrCat("curves.frame_count: ", job->set.frame_count, " frames at ", job->set.fps,
+                     " fps span less than 2 frames of the ", timing_fps,
+                     " fps film grid (timing_fps); send "
+                     "a longer clip, or timing_fps: 0 to count in source frames"));
+  }
+  const int64_t work = static_cast<int64_t>(frames) *
+                       static_cast<int64_t>(job->mouth_curves.size() + job->eye_curves.size());
+  if (work > limits.max_values) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("curves: ", frames, " frames on the ", timing_fps, " fps grid (timing_fps) x ",
+                     job->mouth_curves.size() + job->eye_curves.size(), " curves = ", work,
+                     " exceeds the server limit --max_values=", limits.max_values));
+  }
+  job->grid_frames = frames;
+  job->mouth.speech = IntervalsOnGrid(job->mouth.speech, *job->grid, frames);
+  job->eyes.auto_blink.keep = IntervalsOnGrid(job->eyes.auto_blink.keep, *job->grid, frames);
+  job->eyes.fps = timing_fps;
+  KOMA_RETURN_IF_ERROR(Prefixed(ValidateMouthOptions(job->mouth, frames), "mouth."));
+  return Prefixed(ValidateEyeOptions(job->eyes, frames), "eyes.");
 }
 
 }  // namespace
@@ -111,8 +151,8 @@ absl::StatusOr<LipBlinkJob> ValidateLipBlinkRequest(const v1::LipBlinkRequest& r
   std::set<int> taken;
   KOMA_ASSIGN_OR_RETURN(job.mouth_curves, ResolveIds(request.mouth().ids(), kDefaultMouthIds,
                                                      "mouth.ids", job.set, taken));
-  KOMA_ASSIGN_OR_RETURN(job.eye_curves, ResolveIds(request.eyes().ids(), kDefaultEyeIds,
-                                                   "eyes.ids", job.set, taken));
+  KOMA_ASSIGN_OR_RETURN(
+      job.eye_curves, ResolveIds(request.eyes().ids(), kDefaultEyeIds, "eyes.ids", job.set, taken));
   if (job.mouth_curves.empty() && job.eye_curves.empty()) {
     return absl::InvalidArgumentError(
         "mouth.ids, eyes.ids: no mouth or eye curve to convert (none named, and the set has "
@@ -120,6 +160,7 @@ absl::StatusOr<LipBlinkJob> ValidateLipBlinkRequest(const v1::LipBlinkRequest& r
   }
   KOMA_ASSIGN_OR_RETURN(job.mouth, ConvertMouth(request.mouth(), job.set.frame_count));
   KOMA_ASSIGN_OR_RETURN(job.eyes, ConvertEyes(request.eyes(), job.set));
+  KOMA_RETURN_IF_ERROR(ConvertGrid(request, limits, &job));
   if (request.has_seed()) job.seed = request.seed();
   return job;
 }

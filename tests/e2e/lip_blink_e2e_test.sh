@@ -8,8 +8,9 @@ source "$(dirname "$0")/lib.sh"
 
 start_server "$server_bin"
 
-"$client_bin" lipblink "$sample" -o "$work/out.motion3.json" --seed 7 --server "$target" \
-  >"$work/summary.txt" || fail "koma lipblink failed"
+# Counted in the motion's own 30 fps frames (--timing-fps 0): frame numbers of the source.
+"$client_bin" lipblink "$sample" -o "$work/source.motion3.json" --seed 7 --timing-fps 0 \
+  --server "$target" >"$work/summary.txt" || fail "koma lipblink --timing-fps 0 failed"
 cat "$work/summary.txt"
 grep -q "mouth ParamMouthOpenY: speech at frames 12-50, 68-104" "$work/summary.txt" \
   || fail "summary: speech intervals"
@@ -17,6 +18,28 @@ grep -q "eye ParamEyeLOpen: 2 blinks: frame 31 (hold 2), frame 92 (hold 3)" "$wo
   || fail "summary: left eye blinks"
 grep -q "eye ParamEyeROpen: 2 blinks: frame 31 (hold 2), frame 92 (hold 3)" "$work/summary.txt" \
   || fail "summary: right eye blinks (linked)"
+
+# The default: the 24 fps film grid. The same speech, in grid frames (12/30 s = grid 9.6,
+# 51/30 s = grid 40.8), holds of 3 grid frames = 1/8 s, each starting at an exact grid time.
+"$client_bin" lipblink "$sample" -o "$work/out.motion3.json" --seed 7 --server "$target" \
+  >"$work/summary.txt" || fail "koma lipblink failed"
+cat "$work/summary.txt"
+grep -q "on the 24 fps film grid" "$work/summary.txt" || fail "summary: no film grid line"
+grep -q "mouth ParamMouthOpenY: speech at grid frames 9-40 (0.38-1.71 s), 54-84" \
+  "$work/summary.txt" || fail "summary: speech intervals on the grid"
+python3 - "$work/out.motion3.json" <<'PY' || fail "mouth drawings are not on the 24 fps grid"
+import json, sys
+curves = {c["Id"]: c for c in json.load(open(sys.argv[1]))["Curves"]}
+s = curves["ParamMouthOpenY"]["Segments"]
+times = [s[0]] + [s[i + 1] for i in range(2, len(s), 3)]
+inside = [t for t in times if 0.3 < t < 1.7]  # the first speech interval
+assert inside, times
+for t in inside:
+    assert abs(t * 24 - round(t * 24)) < 1e-9, ("not on the grid", t)
+gaps = [round((b - a) * 24) for a, b in zip(inside, inside[1:])]
+assert all(1 <= g <= 3 for g in gaps) and gaps.count(3) >= len(gaps) - 1, gaps
+print("mouth holds on the grid:", gaps)
+PY
 
 # Same seed, same file; valid motion3 with recounted Meta; ParamAngleX untouched.
 "$client_bin" lipblink "$sample" -o "$work/again.motion3.json" --seed 7 --server "$target" \

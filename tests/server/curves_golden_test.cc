@@ -57,16 +57,34 @@ std::string AnswerBytes(koma::testing::InProcessServer& server,
   return bytes;
 }
 
+// Counted in source frames (timing_fps 0): the answers from before the film grid, unchanged.
 TEST(CurvesGoldenTest, DefaultOptionsAnswerTheSameBytes) {
   koma::testing::InProcessServer server;
-  const std::string bytes = AnswerBytes(server, MixedRequest(12, 300, 1));
+  v1::RetimeCurvesRequest request = MixedRequest(12, 300, 1);
+  request.set_timing_fps(0.0);
+  const std::string bytes = AnswerBytes(server, request);
   EXPECT_EQ(bytes.size(), 106839u);
   EXPECT_EQ(Fnv1a64(bytes), 6502357649322255037ULL);
+}
+
+// The same 30 fps curves with the defaults, on the 24 fps film grid; and the same curves
+// declared at 24 fps (no grid) answer what they answered before the grid existed.
+TEST(CurvesGoldenTest, FilmGridAnswersArePinned) {
+  koma::testing::InProcessServer server;
+  const std::string grid = AnswerBytes(server, MixedRequest(12, 300, 1));
+  EXPECT_EQ(grid.size(), 94770u);
+  EXPECT_EQ(Fnv1a64(grid), 14491162749119409826ULL);
+  v1::RetimeCurvesRequest at24 = MixedRequest(12, 300, 1);
+  at24.mutable_curves()->set_fps(24.0);
+  v1::RetimeCurvesRequest at24_no_grid = at24;
+  at24_no_grid.set_timing_fps(0.0);
+  EXPECT_EQ(AnswerBytes(server, at24), AnswerBytes(server, at24_no_grid));
 }
 
 TEST(CurvesGoldenTest, OverridesTameAndTsumeAnswerTheSameBytes) {
   koma::testing::InProcessServer server;
   v1::RetimeCurvesRequest request = MixedRequest(8, 240, 2);
+  request.set_timing_fps(0.0);
   request.set_frames_per_drawing(2);
   request.set_tame(1.4);
   request.set_tsume(1.25);

@@ -71,6 +71,7 @@ TEST(LipBlinkServiceTest, SameSeedSameBytesAcrossRunsAndThreadCounts) {
   request.set_seed(2024);
   request.mutable_eyes()->mutable_auto_blink()->set_enabled(true);
   request.mutable_eyes()->mutable_auto_blink()->set_mean_interval_s(0.5);
+  request.set_timing_fps(0.0);  // pinned from before the film grid: counted in source frames
   std::vector<std::string> answers;
   for (int threads : {1, 2, 4}) {
     koma::testing::InProcessServer server(
@@ -93,6 +94,30 @@ TEST(LipBlinkServiceTest, SameSeedSameBytesAcrossRunsAndThreadCounts) {
   // answers differently fails this line, which is the point.
   EXPECT_EQ(Fnv1a64(answers.front()), 0x4c543fd8830607b5ULL)
       << std::hex << Fnv1a64(answers.front());
+}
+
+// The same 30 fps request on the default 24 fps film grid, pinned; and the curves declared at
+// 24 fps answer exactly what they answer with no grid (timing_fps 0).
+TEST(LipBlinkServiceTest, FilmGridAnswersArePinned) {
+  koma::testing::InProcessServer server;
+  v1::Retime::Stub& stub = server.stub();
+  v1::LipBlinkRequest request = koma::testing::MakeLipBlinkRequest();
+  request.set_seed(2024);
+  request.mutable_eyes()->mutable_auto_blink()->set_enabled(true);
+  request.mutable_eyes()->mutable_auto_blink()->set_mean_interval_s(0.5);
+  v1::LipBlinkResponse grid;
+  ASSERT_TRUE(Call(stub, request, &grid).ok());
+  EXPECT_EQ(grid.timing_fps(), 24.0);
+  EXPECT_EQ(Fnv1a64(grid.SerializeAsString()), 0xc7235ecc3e5e0ccfULL)
+      << std::hex << Fnv1a64(grid.SerializeAsString());
+  request.mutable_curves()->set_fps(24.0);
+  v1::LipBlinkResponse at24;
+  ASSERT_TRUE(Call(stub, request, &at24).ok());
+  request.set_timing_fps(0.0);
+  v1::LipBlinkResponse no_grid;
+  ASSERT_TRUE(Call(stub, request, &no_grid).ok());
+  EXPECT_EQ(at24.timing_fps(), 0.0);
+  EXPECT_EQ(at24.SerializeAsString(), no_grid.SerializeAsString());
 }
 
 TEST(LipBlinkServiceTest, AnotherSeedGivesAnotherMouth) {
@@ -139,8 +164,7 @@ TEST(LipBlinkServiceTest, LargeRequestParsedInOnePieceGivesTheHandlersAnswer) {
   const grpc::Status refused =
       koma::testing::RawUnaryCall(server, "/koma.v1.Retime/LipBlink", garbage, &answer);
   EXPECT_EQ(refused.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_THAT(refused.error_message(),
-              ::testing::HasSubstr("not a valid koma.v1.LipBlinkRequest"));
+  EXPECT_THAT(refused.error_message(), ::testing::HasSubstr("not a valid koma.v1.LipBlinkRequest"));
 }
 
 }  // namespace
