@@ -26,6 +26,11 @@ echo
 echo "First output frames of the timing sheet ($out/pitch_timing.csv):"
 head -n 13 "$out/pitch_timing.csv"
 echo
+# Real 120 fps mocap (pybvh's test fixture, MIT): drawings counted on the 24 fps film grid, so
+# holds last 1/12 or 1/8 s as on a film, not 3 frames of 120 fps (25 ms).
+"$build/client/koma" skeletal "$root/samples/mocap_120fps.bvh" -o "$out/mocap_120fps_anime.bvh" \
+  --timing "$out/mocap_120fps_timing.csv" --server "$server"
+echo
 "$build/client/koma" curves "$root/samples/arm_head.motion3.json" \
   -o "$out/arm_head_anime.motion3.json" --timing "$out/arm_head_drawings.csv" --on 3 \
   --tame 1.5 --tsume 1.5 --server "$server"
