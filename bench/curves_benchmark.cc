@@ -57,8 +57,9 @@ CurveSet SyntheticMotion(int curve_count, int frame_count, bool beziers_restrict
 }
 
 // On threes with tame and tsume (the paper's setting), hair on twos.
-KomaUchiOptions BenchOptions(const CurveSet& set) {
+KomaUchiOptions BenchOptions(const CurveSet& set, double timing_fps) {
   KomaUchiOptions options;
+  options.timing_fps = timing_fps;
   options.frames_per_drawing = 3;
   options.tame = 1.5;
   options.tsume = 1.5;
@@ -67,11 +68,12 @@ KomaUchiOptions BenchOptions(const CurveSet& set) {
   return options;
 }
 
-// Arguments: {curves, frames, beziers_restricted}.
+// Arguments: {curves, frames, beziers_restricted, timing_fps}: the 30 fps motion counted in
+// its own frames (0) or on the 24 fps film grid (24), side by side.
 void BM_RetimeCurves(benchmark::State& state) {
   const CurveSet set = SyntheticMotion(static_cast<int>(state.range(0)),
                                        static_cast<int>(state.range(1)), state.range(2) != 0);
-  const KomaUchiOptions options = BenchOptions(set);
+  const KomaUchiOptions options = BenchOptions(set, static_cast<double>(state.range(3)));
   for (auto _ : state) benchmark::DoNotOptimize(RetimeCurves(set, options));
   state.SetItemsProcessed(state.iterations() * state.range(0) * state.range(1));  // values
 }
@@ -104,13 +106,17 @@ void BM_EvaluateCurve(benchmark::State& state) {
 }
 
 BENCHMARK(BM_RetimeCurves)
-    ->Args({kTypicalCurves, kTypicalFrames, 1})
-    ->Args({kTypicalCurves, kTypicalFrames, 0})
+    ->Args({kTypicalCurves, kTypicalFrames, 1, 0})
+    ->Args({kTypicalCurves, kTypicalFrames, 1, 24})
+    ->Args({kTypicalCurves, kTypicalFrames, 0, 0})
+    ->Args({kTypicalCurves, kTypicalFrames, 0, 24})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_OutputFloor)->Args({kTypicalCurves, kTypicalFrames})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RetimeCurves)
-    ->Args({kLargeCurves, kLargeFrames, 1})
-    ->Args({kLargeCurves, kLargeFrames, 0})
+    ->Args({kLargeCurves, kLargeFrames, 1, 0})
+    ->Args({kLargeCurves, kLargeFrames, 1, 24})
+    ->Args({kLargeCurves, kLargeFrames, 0, 0})
+    ->Args({kLargeCurves, kLargeFrames, 0, 24})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OutputFloor)->Args({kLargeCurves, kLargeFrames})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EvaluateCurve)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond);
