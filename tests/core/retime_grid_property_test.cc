@@ -234,6 +234,22 @@ void CheckGridRetimingEqualsTheSampledClipExpanded(Rate r) {
         got.grid_frames.push_back(t);
       }
     }
+    if (r.num >= 24 * r.den) {
+      // At or above 24 fps every grid frame has its source frames: each sampled frame is shown
+      // or listed gone, once, and no other frame is either.
+      std::vector<int> seen(static_cast<size_t>(clip.frames), 0);
+      std::vector<bool> is_sample(static_cast<size_t>(clip.frames), false);
+      for (int32_t f : ref_samples) is_sample[f] = true;
+      for (int32_t f :
+           std::set<int32_t>(got.map.source_frames.begin(), got.map.source_frames.end())) {
+        ++seen[f];
+      }
+      for (int32_t f : got.map.deleted) ++seen[f];
+      for (int32_t f : got.map.hidden) ++seen[f];
+      for (int f = 0; f < clip.frames; ++f) {
+        ASSERT_EQ(seen[f], is_sample[f] ? 1 : 0) << context << ": source frame " << f;
+      }
+    }
     if (!(got.map == want.map) || got.grid_frames != want.grid_frames) {
       ++failures;
       ADD_FAILURE() << context << "\nwant" << Describe(want.map, want.grid_frames) << "\ngot "
