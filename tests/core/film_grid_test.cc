@@ -9,8 +9,11 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <optional>
+#include <string>
+#include <utility>
 
 #include "tests/testing/status_matchers.h"
 
