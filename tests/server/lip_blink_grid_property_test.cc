@@ -50,9 +50,12 @@ struct Rate {
   friend void PrintTo(const Rate& r, std::ostream* os) { *os << r.num << "/" << r.den << " fps"; }
 };
 
+// And sources slower than the grid (12, 15, 23.976 fps): repainted grid frames may fall
+// between source frames.
 const Rate kRates[] = {{25, 1, 25, 24},  {30, 1, 5, 4},   {50, 1, 25, 12},
                        {60, 1, 5, 2},    {100, 1, 25, 6}, {120, 1, 5, 1},
-                       {240, 1, 10, 1},  {2997, 100, 246, 197}};
+                       {240, 1, 10, 1},  {2997, 100, 246, 197}, {12, 1, 1, 2},
+                       {15, 1, 5, 8},    {24000, 1001, 1000, 1001}};
 
 // The grid frame nearest source frame k, ties to the earlier.
 int NearestGrid(const Rate& r, int64_t k) {
@@ -155,10 +158,14 @@ struct Pair {
 
 Pair RandomPair(SplitMix64& rng, const Rate& r) {
   Pair pair;
-  const int g = rng.Int(2, 150);
-  pair.grid_frames = g;
-  const int64_t lo = ((g - 1) * r.p + r.q - 1) / r.q;
-  const int64_t hi = (g * r.p + r.q - 1) / r.q - 1;
+  // Source frames n with floor((n - 1) q / p) = g - 1 (below 24 fps not every g has one).
+  int64_t lo = 0, hi = -1;
+  while (hi < lo) {
+    pair.grid_frames = rng.Int(2, 150);
+    lo = ((pair.grid_frames - 1) * r.p + r.q - 1) / r.q;
+    hi = (pair.grid_frames * r.p + r.q - 1) / r.q - 1;
+  }
+  const int g = pair.grid_frames;
   const int n = static_cast<int>(lo + rng.Int(0, static_cast<int>(hi - lo))) + 1;
   const int scale = static_cast<int>(std::max<int64_t>(1, (r.num / r.den + 12) / 24));
   v1::LipBlinkRequest& req = pair.at_rate;
