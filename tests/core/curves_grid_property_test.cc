@@ -1,5 +1,7 @@
 // RetimeCurves on the film grid (algorithms.md section 0, issue 17), on 500 random clips per
-// source rate (25 .. 240 fps and 29.97; and 12, 15 and 23.976, slower than the grid):
+// source rate (25 .. 240 fps and 29.97; and 12, 15 and 23.976, slower than the grid; and
+// grids other than 24: 60 on 30, 50 and 30 on 12, 24 on 8, 25 on 1000, where "24" below
+// reads as that grid's rate):
 //  - retiming at rate R with timing_fps 24 equals retiming the same curves expressed at 24 fps
 //    (keyframe times in 24 fps frames, frame_count = the grid's frame count, key poses at their
 //    nearest 24 fps frame) with no grid, expanded back to R by the rule written here: source
@@ -50,13 +52,16 @@ struct Rate {
   int64_t den;
   int64_t p;
   int64_t q;
+  int64_t t = 24;  // the grid, timing_fps
   double fps() const { return static_cast<double>(num) / static_cast<double>(den); }
   double ratio() const { return static_cast<double>(p) / static_cast<double>(q); }
   // |(p / q) / (R / 24) - 1|: 0 for the integer rates.
   double ratio_error() const {
-    return std::fabs(static_cast<double>(p * 24 * den - q * num)) / static_cast<double>(q * num);
+    return std::fabs(static_cast<double>(p * t * den - q * num)) / static_cast<double>(q * num);
   }
-  friend void PrintTo(const Rate& r, std::ostream* os) { *os << r.num << "/" << r.den << " fps"; }
+  friend void PrintTo(const Rate& r, std::ostream* os) {
+    *os << r.num << "/" << r.den << " fps on " << r.t;
+  }
 };
 
 // Beyond the brief's rates: sources slower than the grid (12, 15 and 23.976 fps), where a
@@ -64,7 +69,10 @@ struct Rate {
 const Rate kRates[] = {{25, 1, 25, 24},        {30, 1, 5, 4},   {50, 1, 25, 12},
                        {60, 1, 5, 2},          {100, 1, 25, 6}, {120, 1, 5, 1},
                        {240, 1, 10, 1},        {2997, 100, 246, 197}, {12, 1, 1, 2},
-                       {15, 1, 5, 8},          {24000, 1001, 1000, 1001}};
+                       {15, 1, 5, 8},          {24000, 1001, 1000, 1001},
+                       // Other grids: 60 on 30, 50 and 30 on 12, 24 on 8, 25 on 1000.
+                       {60, 1, 2, 1, 30},      {50, 1, 25, 6, 12}, {30, 1, 5, 2, 12},
+                       {24, 1, 3, 1, 8},       {25, 1, 1, 40, 1000}};
 
 // Grid frames at or before the last source frame (n - 1) * q / p.
 int RefGridCount(const Rate& r, int n) { return static_cast<int>(((n - 1) * r.q) / r.p) + 1; }
@@ -79,7 +87,7 @@ int RefNearestGrid(const Rate& r, int64_t k) {
 // The grid frames source frame k may show: floor(k * 24 / R), and its neighbour when
 // k * 24 / R lies within the ratio's error of the boundary between them; within [0, last].
 std::vector<int> RefGridFramesOf(const Rate& r, int64_t k, int last) {
-  const int64_t num = k * 24 * r.den;
+  const int64_t num = k * r.t * r.den;
   const int64_t g = num / r.num;
   const double frac = static_cast<double>(num - g * r.num) / static_cast<double>(r.num);
   const double tol = r.ratio_error() * static_cast<double>(num) / static_cast<double>(r.num);
@@ -175,7 +183,7 @@ Clip RandomClip(SplitMix64& rng, const Rate& r, int max_grid_frames) {
   clip.source.fps = r.fps();
   clip.source.frame_count = n;
   EXPECT_EQ(RefGridCount(r, n), g);
-  clip.reference.fps = 24.0;
+  clip.reference.fps = static_cast<double>(r.t);
   clip.reference.frame_count = g;
   const bool restricted = rng.OneIn(2);
   clip.source.beziers_restricted = clip.reference.beziers_restricted = restricted;
@@ -206,7 +214,7 @@ Clip RandomClip(SplitMix64& rng, const Rate& r, int max_grid_frames) {
     clip.reference.curves.push_back(grid_curve);
   }
   KomaUchiOptions& o = clip.options;
-  o.timing_fps = 24.0;
+  o.timing_fps = static_cast<double>(r.t);
   if (rng.OneIn(3)) {
     for (int k = 0; k < n; ++k) {
       if (rng.OneIn(std::max(2, n / 6))) o.key_frames.push_back(k);
@@ -254,7 +262,7 @@ std::string CompareTiming(const Rate& r, const Clip& clip, const DrawingTiming& 
   for (size_t d = 0; d < drawings; ++d) {
     const int g = want.drawing_start[d];
     // Start times in seconds: g / 24 s (the ratio's error apart for 29.97).
-    const double got_s = got.drawing_time[d] / r.fps(), want_s = g / 24.0;
+    const double got_s = got.drawing_time[d] / r.fps(), want_s = g / static_cast<double>(r.t);
     if (std::fabs(got_s - want_s) > (r.ratio_error() + 1e-12) * std::max(1.0, want_s)) {
       why << "drawing " << d << " starts at " << got_s << " s, want " << want_s << " s";
       return why.str();
@@ -348,7 +356,7 @@ class CurvesGridPropertyTest : public ::testing::TestWithParam<Rate> {};
 TEST_P(CurvesGridPropertyTest, GridRetimingEqualsRetimingAt24FpsExpanded) {
   const Rate r = GetParam();
   // The grid's ratio is the p / q this test converts with.
-  const std::optional<FilmGrid> grid = FilmGrid::Make(r.fps(), 24.0);
+  const std::optional<FilmGrid> grid = FilmGrid::Make(r.fps(), static_cast<double>(r.t));
   ASSERT_TRUE(grid.has_value());
   ASSERT_EQ(grid->SourceTime(static_cast<double>(r.q)), static_cast<double>(r.p));
   ASSERT_EQ(grid->GridFrameOf(static_cast<int>(r.p)), r.q);
@@ -370,7 +378,7 @@ TEST_P(CurvesGridPropertyTest, GridRetimingEqualsRetimingAt24FpsExpanded) {
     const KomaUchiResult got = RetimeCurves(clip.source, clip.options);
     const KomaUchiResult want = RetimeCurves(clip.reference, clip.ref_options);
     std::string why;
-    if (got.timing_fps != 24.0) why = "timing_fps";
+    if (got.timing_fps != static_cast<double>(r.t)) why = "timing_fps";
     if (why.empty() && got.key_grid_frames != want.key_frames) why = "key_grid_frames";
     if (why.empty() && got.key_frames.size() != got.key_grid_frames.size()) why = "key_frames";
     for (size_t i = 0; why.empty() && i + 1 < got.key_frames.size(); ++i) {
@@ -406,13 +414,13 @@ TEST_P(CurvesGridPropertyTest, GridRetimingEqualsRetimingAt24FpsExpanded) {
 // drawing's is cut by the clip's end), and the source frames that show it.
 TEST_P(CurvesGridPropertyTest, DrawingsLastOneToNGridFramesAndStepsGiveBackTheValues) {
   const Rate r = GetParam();
-  const double grid_s = 1.0 / 24.0, source_s = 1.0 / r.fps();
+  const double grid_s = 1.0 / static_cast<double>(r.t), source_s = 1.0 / r.fps();
   int failures = 0;
   for (uint64_t seed = 1; seed <= kClipsPerRate && failures < 3; ++seed) {
     SplitMix64 rng(seed * 15485863 + static_cast<uint64_t>(r.num));
     Clip clip = RandomClip(rng, r, 200);
-    if (rng.OneIn(2)) clip.options = KomaUchiOptions{};  // the defaults (timing_fps unset: 24)
-    clip.options.timing_fps = kDefaultTimingFps;
+    if (rng.OneIn(2)) clip.options = KomaUchiOptions{};  // the defaults, n = 3
+    clip.options.timing_fps = static_cast<double>(r.t);
     clip.options.segment_overrides.clear();  // defaults may differ in key count
     if (!ValidateKomaUchiOptions(clip.options, clip.source).ok()) continue;
     const KomaUchiResult got = RetimeCurves(clip.source, clip.options);
@@ -477,8 +485,9 @@ TEST_P(CurvesGridPropertyTest, DrawingsLastOneToNGridFramesAndStepsGiveBackTheVa
 
 INSTANTIATE_TEST_SUITE_P(
     Rates, CurvesGridPropertyTest, ::testing::ValuesIn(kRates), [](const auto& param_info) {
-      return "Fps" + std::to_string(param_info.param.num) +
-             (param_info.param.den == 1 ? "" : "_" + std::to_string(param_info.param.den));
+      const Rate& r = param_info.param;
+      return "Fps" + std::to_string(r.num) + (r.den == 1 ? "" : "_" + std::to_string(r.den)) +
+             (r.t == 24 ? "" : "_On" + std::to_string(r.t));
     });
 
 // 24 fps input is not on a grid: timing_fps 24 (and 24 +- 1e-4 relative) answers exactly as

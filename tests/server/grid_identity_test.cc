@@ -159,6 +159,41 @@ TEST(GridIdentityTest, LipBlinkAt24FpsAnswersTheBytesOfNoGrid) {
   }
 }
 
+// At any rate, timing_fps <= 0 or within 1e-4 of the curves' own rate counts in source
+// frames: the bytes of timing_fps 0.
+TEST(GridIdentityTest, NegativeOrOwnRateTimingFpsAnswersTheBytesOfNoGrid) {
+  InProcessServer server;
+  SplitMix64 rng(31);
+  for (const double fps : {30.0, 60.0, 12.0, 29.97}) {
+    for (int i = 0; i < 20; ++i) {
+      v1::RetimeCurvesRequest curves = RandomCurvesRequest(rng, fps);
+      v1::LipBlinkRequest lip = RandomLipBlinkRequest(rng, fps);
+      curves.set_timing_fps(0.0);
+      lip.set_timing_fps(0.0);
+      std::string want_curves, want_lip;
+      ASSERT_TRUE(RawUnaryCall(server, "/koma.v1.Retime/RetimeCurves", curves.SerializeAsString(),
+                               &want_curves)
+                      .ok());
+      ASSERT_TRUE(
+          RawUnaryCall(server, "/koma.v1.Retime/LipBlink", lip.SerializeAsString(), &want_lip)
+              .ok());
+      for (const double timing : {-1.0, -1e300, -0.0, fps, fps * (1 + 0.9e-4)}) {
+        curves.set_timing_fps(timing);
+        lip.set_timing_fps(timing);
+        std::string got_curves, got_lip;
+        ASSERT_TRUE(RawUnaryCall(server, "/koma.v1.Retime/RetimeCurves",
+                                 curves.SerializeAsString(), &got_curves)
+                        .ok());
+        ASSERT_TRUE(
+            RawUnaryCall(server, "/koma.v1.Retime/LipBlink", lip.SerializeAsString(), &got_lip)
+                .ok());
+        ASSERT_EQ(got_curves, want_curves) << fps << " fps, timing_fps " << timing << ", " << i;
+        ASSERT_EQ(got_lip, want_lip) << fps << " fps, timing_fps " << timing << ", " << i;
+      }
+    }
+  }
+}
+
 // Just outside the tolerance (24 * (1 +- 2e-4)) the grid is used: the answers differ from
 // timing_fps 0 (they carry timing_fps 24), so the comparison above can tell the two apart.
 TEST(GridIdentityTest, RatesJustOutsideTheToleranceUseTheGrid) {
