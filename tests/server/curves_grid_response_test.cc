@@ -18,6 +18,7 @@
 #include "server/curves_response.h"
 #include "server/request_limits.h"
 #include "tests/server/curves_request_builder.h"
+#include "tests/server/in_process_server.h"
 
 namespace koma::server {
 namespace {
@@ -186,6 +187,39 @@ TEST(CurvesGridResponseTest, GridAnswersEncodeAsTheMessages) {
     ASSERT_EQ(response.key_grid_frames_size(), response.key_frames_size()) << i;
   }
   EXPECT_EQ(with_grid_starts, 150);
+}
+
+// Through the service, whose answers of 512 KiB and up go out in several slices: a large grid
+// answer (60 fps, 20 curves x 6000 frames, two timings; ~1.9 MB) is the message's bytes, tail
+// included.
+TEST(CurvesGridResponseTest, LargeGridAnswerThroughTheServiceIsTheMessagesBytes) {
+  SplitMix64 rng(60);
+  v1::RetimeCurvesRequest request;
+  v1::CurveSet* set = request.mutable_curves();
+  set->set_fps(60.0);
+  set->set_frame_count(6000);
+  for (int c = 0; c < 20; ++c) {
+    v1::Curve* curve = set->add_curves();
+    curve->set_id("P" + std::to_string(c));
+    ::koma::testing::AddRandomKeyframes(rng, 6000, 5, 90, 0, curve);
+    if (c % 4 == 1) {
+      v1::CurveOverride* own = request.add_curve_overrides();
+      own->set_curve_id(curve->id());
+      own->set_frames_per_drawing(2);
+    }
+  }
+  v1::RetimeCurvesResponse want;
+  ASSERT_TRUE(HandleRetimeCurves(request, RequestLimits{}, &want).ok());
+  ASSERT_EQ(want.timing_fps(), 24.0);
+  ASSERT_EQ(want.timings_size(), 2);
+  const std::string want_bytes = want.SerializeAsString();
+  ASSERT_GT(want_bytes.size(), size_t{3} << 19);  // over three 512 KiB slices
+  koma::testing::InProcessServer server;
+  std::string got;
+  const grpc::Status status = koma::testing::RawUnaryCall(
+      server, "/koma.v1.Retime/RetimeCurves", request.SerializeAsString(), &got);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_TRUE(got == want_bytes) << got.size() << " bytes, want " << want_bytes.size();
 }
 
 }  // namespace
