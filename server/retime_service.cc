@@ -309,7 +309,7 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   };
   // A small call (a Pitch-size clip is ~100 KB and retimes in well under a millisecond) runs
   // right here: handing it to a worker and back costs a thread wake-up each way, which on 2
-  // cores measured as much as the retiming (docs/benchmarks.md, "Inline small calls"). Large
+  // cores measured as much as the retiming (docs/benchmarks.md, "Findings"). Large
   // calls go to the pool, so a call of seconds never holds one of gRPC's few callback threads
   // and the bounded queue still applies to them.
   if (record.bytes_in <= inline_max_bytes_) {

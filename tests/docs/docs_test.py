@@ -57,7 +57,8 @@ def strip_code_blocks_only(text):
 
 
 def check_lengths(root, problems):
-    for rel, limit in (("README.md", README_MAX_LINES), ("docs/benchmarks.md", BENCHMARKS_MAX_LINES)):
+    limits = (("README.md", README_MAX_LINES), ("docs/benchmarks.md", BENCHMARKS_MAX_LINES))
+    for rel, limit in limits:
         with open(os.path.join(root, rel), encoding="utf-8") as f:
             count = len(f.read().splitlines())
         if count > limit:
