@@ -7,7 +7,8 @@ that starts with `koma ` runs as written (shell words, no shell), from a scratch
 has `samples/` (the repository's) and an empty `out/`, with the client first on PATH and
 KOMA_SERVER naming a koma_server started here on 127.0.0.1 (a free port). A command must exit 0,
 or N when its trailing comment says "exit N"; "exit N: TEXT ..." also requires TEXT (up to
-an ellipsis) in its output. The server is stopped with SIGTERM at the end and
+an ellipsis) in its output; a line whose comment says "not run" is skipped (for examples that
+need TLS files or several servers). The server is stopped with SIGTERM at the end and
 must exit 0. Every wait is bounded. Fails (exit 1) on any command that exits otherwise, or when
 no command was found.
 """
@@ -35,6 +36,8 @@ def commands(markdown_path):
                 continue
             if in_sh and stripped.startswith("koma "):
                 comment = stripped.partition("#")[2]
+                if "not run" in comment:
+                    continue  # needs what this harness lacks (TLS files, several servers)
                 expected = re.search(r"\bexit (\d+)(?::\s*(.*?)\s*(?:\.\.\.|…|$))?", comment)
                 code = int(expected.group(1)) if expected else 0
                 text = expected.group(2) if expected and expected.group(2) else ""
