@@ -9,7 +9,8 @@ Fails (exit 1, every problem listed) when
 - any file of the source tree (not .git, not a build tree) refers to the design notes outside
   the repository (the FORBIDDEN words below): docs/semantics.md is the reference;
 - a flag that `koma_server --help` lists is not in docs/operations.md as `--flag`;
-- a message or a field of proto/koma/v1/*.proto is not in docs/api.md as `name`.
+- a message, a field, an enum or an enum value of proto/koma/v1/*.proto is not in docs/api.md
+  as `name`.
 
 Run with Debian's /usr/bin/python3; standard library only.
 """
@@ -165,6 +166,14 @@ def proto_messages(path):
     return messages
 
 
+def proto_enums(path):
+    """{enum: [value names]} of a .proto file."""
+    with open(path, encoding="utf-8") as f:
+        text = re.sub(r"//[^\n]*", "", f.read())
+    return {m.group(1): re.findall(r"(\w+)\s*=\s*-?\d+", m.group(2))
+            for m in re.finditer(r"enum\s+(\w+)\s*\{([^}]*)\}", text)}
+
+
 def check_proto_fields(root, problems):
     proto_dir = os.path.join(root, "proto", "koma", "v1")
     with open(os.path.join(root, "docs", "api.md"), encoding="utf-8") as f:
@@ -181,6 +190,11 @@ def check_proto_fields(root, problems):
                 if f"`{field}`" not in api:
                     problems.append(f"docs/api.md: field {message}.{field} ({name}) "
                                     "is not documented")
+        for enum, values in proto_enums(os.path.join(proto_dir, name)).items():
+            for item in [enum] + values:
+                total += 1
+                if f"`{item}`" not in api:
+                    problems.append(f"docs/api.md: enum {enum}: {item} ({name}) is not documented")
     if total < 100:
         problems.append(f"only {total} proto fields found: is the .proto parser broken?")
 
