@@ -97,10 +97,15 @@ absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
   KOMA_RETURN_IF_ERROR(CheckFileSize(request.bvh_text(), "bvh_text", limits));
   absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(request.bvh_text());
   if (!clip.ok()) return InField(clip.status(), "bvh_text");
-  v1::RetimeSkeletalRequest decoded;
-  decoded.CopyFrom(request);
-  *decoded.mutable_motion() = convert::ToProto(*clip);  // drops the text
-  KOMA_RETURN_IF_ERROR(HandleRetimeSkeletal(decoded, limits, response));
+  {
+    v1::RetimeSkeletalRequest decoded;
+    decoded.CopyFrom(request);
+    *decoded.mutable_motion() = convert::ToProto(*clip);  // drops the text
+    // The frames now live in `decoded` only (the writer needs just the skeleton): a file near
+    // --max_file_bytes decodes to tens of MB, held once here, not twice.
+    std::vector<double>().swap(clip->values);
+    KOMA_RETURN_IF_ERROR(HandleRetimeSkeletal(decoded, limits, response));
+  }  // `decoded` freed before the retimed clip and its text are built
   if (!response->has_motion()) return absl::OkStatus();  // return_motion false
   // The CLI's steps exactly: the retimed clip from the response, on the parsed skeleton.
   absl::StatusOr<SkeletalClip> retimed = convert::ClipFromResponse(*response, clip->skeleton);
