@@ -91,12 +91,14 @@ absl::StatusOr<int64_t> SerialiseInto(const Response& response, grpc::ByteBuffer
 constexpr size_t kCurvesSliceBytes = 512 * 1024;
 absl::StatusOr<int64_t> SerialiseInto(CurvesAnswer& answer, grpc::ByteBuffer* bytes) {
   const CurvesResponseEncoder encoder(answer.set, answer.result);
-  const size_t size = encoder.size();
+  const size_t size = encoder.size() + answer.file_field.size();
   if (size > static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
     return absl::InternalError(absl::StrCat("response: cannot be serialised: ", size,
                                             " bytes is over protobuf's 2 GiB message limit"));
   }
   std::vector<grpc::Slice> slices = EncodeInSlices(encoder, answer.result, kCurvesSliceBytes);
+  // A file request's retimed file: its field (6 or 7) follows the encoder's (1-5).
+  if (!answer.file_field.empty()) slices.emplace_back(std::move(answer.file_field));
   grpc::ByteBuffer(slices.data(), slices.size()).Swap(bytes);
   return static_cast<int64_t>(size);
 }
