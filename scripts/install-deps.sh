@@ -19,6 +19,9 @@ if [ "${1:-}" != "--build-only" ]; then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev python3 python3-grpcio python3-protobuf
              python3-yaml openssl
              buildah podman runc debootstrap nginx)
+  # python3-jsonschema: the client tests validate `koma ... --json` against
+  # docs/summary.schema.json.
+  packages+=(python3-jsonschema)
 fi
 
 missing=()
