@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_replace.h"
 #include "client/report/templates.h"
+#include "koma/version.h"
 
 namespace koma::client::report {
 namespace {
@@ -32,7 +33,7 @@ nlohmann::json Header(std::string_view rpc, std::string_view input_name,
   header["input"] = input_name;
   header["options"] = options;
   header["counts"] = counts;
-  header["version"] = KOMA_VERSION;
+  header["version"] = kVersion;
   return header;
 }
 
