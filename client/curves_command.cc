@@ -17,11 +17,7 @@
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
-namespace {
 
-constexpr int kUsageError = 2;
-
-// "ParamHair=2" -> request.curve_overrides; false on a malformed entry.
 bool AddCurveOverrides(const std::vector<std::string>& entries, v1::RetimeCurvesRequest& request) {
   for (const std::string& entry : entries) {
     const size_t equals = entry.rfind('=');
@@ -38,7 +34,7 @@ bool AddCurveOverrides(const std::vector<std::string>& entries, v1::RetimeCurves
   return true;
 }
 
-v1::RetimeCurvesRequest MakeRequest(const CurvesArgs& args, const CurveSet& curves) {
+v1::RetimeCurvesRequest MakeCurvesRequest(const CurvesArgs& args, const CurveSet& curves) {
   v1::RetimeCurvesRequest request;
   *request.mutable_curves() = CurveSetToProto(curves);
   request.mutable_key_frames()->Add(args.keys.begin(), args.keys.end());
@@ -48,6 +44,10 @@ v1::RetimeCurvesRequest MakeRequest(const CurvesArgs& args, const CurveSet& curv
   if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
   return request;
 }
+
+namespace {
+
+constexpr int kUsageError = 2;
 
 absl::Status WriteOutput(const CurvesArgs& args, const CurveInput& input,
                          const v1::RetimeCurvesResponse& response) {
@@ -121,7 +121,7 @@ int RunCurves(const CurvesArgs& args) {
   if (!CanWriteOutput(args.input, args.output)) return kUsageError;
   absl::StatusOr<CurveInput> input = ReadCurveInput(args.input, args.csv_fps);
   if (!input.ok()) return ReportError(input.status());
-  v1::RetimeCurvesRequest request = MakeRequest(args, input->curves);
+  v1::RetimeCurvesRequest request = MakeCurvesRequest(args, input->curves);
   if (!AddCurveOverrides(args.curve_on, request)) return kUsageError;
   if (absl::Status s = CheckWritable({args.output, args.timing}); !s.ok()) return ReportError(s);
 
@@ -133,14 +133,22 @@ int RunCurves(const CurvesArgs& args) {
   const grpc::Status status = (*stub)->RetimeCurves(&context, request, &response);
   if (!status.ok()) return ReportRpcError(status);
 
-  if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return ReportError(s);
-  if (!args.timing.empty()) {
-    const std::string sheet =
-        formats::WriteDrawingSheetCsv(TimingFromProto(response.timings(0)), input->curves.fps);
-    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return ReportError(s);
+  if (absl::Status s = WriteCurvesOutputs(args, *input, response); !s.ok()) {
+    return ReportError(s);
   }
   PrintSummary(args, input->curves, response);
   return 0;
+}
+
+absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
+                                const v1::RetimeCurvesResponse& response) {
+  if (absl::Status s = WriteOutput(args, input, response); !s.ok()) return s;
+  if (!args.timing.empty()) {
+    const std::string sheet =
+        formats::WriteDrawingSheetCsv(TimingFromProto(response.timings(0)), input.curves.fps);
+    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
+  }
+  return absl::OkStatus();
 }
 
 }  // namespace koma::client

@@ -7,6 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "absl/status/status.h"
+#include "client/curve_files.h"
+#include "koma/v1/retime.pb.h"
+
 namespace koma::client {
 
 struct CurvesArgs {
@@ -27,6 +31,19 @@ struct CurvesArgs {
 // Exit code: 0 ok, 1 failure (message on stderr), 2 a malformed --curve-on or an output the
 // input cannot make. The summary goes to stdout.
 int RunCurves(const CurvesArgs& args);
+
+// The request RunCurves sends for `curves`, without args.curve_on (`koma batch` sends the
+// same).
+v1::RetimeCurvesRequest MakeCurvesRequest(const CurvesArgs& args, const CurveSet& curves);
+
+// "ParamHair=2" entries (--curve-on) -> request.curve_overrides; false (the entry named on
+// stderr) on a malformed one.
+bool AddCurveOverrides(const std::vector<std::string>& entries, v1::RetimeCurvesRequest& request);
+
+// Writes args.output (and args.timing when set) from the answer to `input`, as RunCurves
+// does; errors name the file.
+absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
+                                const v1::RetimeCurvesResponse& response);
 
 }  // namespace koma::client
 

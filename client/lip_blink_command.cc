@@ -16,11 +16,8 @@
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
-namespace {
 
-constexpr int kUsageError = 2;
-
-v1::LipBlinkRequest MakeRequest(const LipBlinkArgs& args, const CurveSet& curves) {
+v1::LipBlinkRequest MakeLipBlinkRequest(const LipBlinkArgs& args, const CurveSet& curves) {
   v1::LipBlinkRequest request;
   *request.mutable_curves() = CurveSetToProto(curves);
   v1::MouthSettings* mouth = request.mutable_mouth();
@@ -38,6 +35,10 @@ v1::LipBlinkRequest MakeRequest(const LipBlinkArgs& args, const CurveSet& curves
   if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
   return request;
 }
+
+namespace {
+
+constexpr int kUsageError = 2;
 
 const char* ShapeName(int shape) {
   switch (shape) {
@@ -94,8 +95,10 @@ void PrintEye(const v1::EyeTrack& eye, const Frames& frames) {
               blinks.empty() ? "" : ": ", absl::StrJoin(blinks, ", ").c_str());
 }
 
-absl::Status WriteOutput(const LipBlinkArgs& args, const CurveInput& input,
-                         const v1::LipBlinkResponse& response) {
+}  // namespace
+
+absl::Status WriteLipBlinkOutput(const LipBlinkArgs& args, const CurveInput& input,
+                                 const v1::LipBlinkResponse& response) {
   std::map<std::string, size_t> index_of;
   for (size_t i = 0; i < input.curves.curves.size(); ++i) index_of[input.curves.curves[i].id] = i;
   std::vector<std::optional<CurveReplacement>> replacements(input.curves.curves.size());
@@ -106,8 +109,6 @@ absl::Status WriteOutput(const LipBlinkArgs& args, const CurveInput& input,
   }
   return WriteCurveOutput(args.output, input, replacements);
 }
-
-}  // namespace
 
 int RunLipBlink(const LipBlinkArgs& args) {
   if (!CanWriteOutput(args.input, args.output)) return kUsageError;
@@ -121,9 +122,9 @@ int RunLipBlink(const LipBlinkArgs& args) {
   SetDeadline(&context, args.deadline_seconds);
   v1::LipBlinkResponse response;
   const grpc::Status status =
-      (*stub)->LipBlink(&context, MakeRequest(args, input->curves), &response);
+      (*stub)->LipBlink(&context, MakeLipBlinkRequest(args, input->curves), &response);
   if (!status.ok()) return ReportRpcError(status);
-  if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return ReportError(s);
+  if (absl::Status s = WriteLipBlinkOutput(args, *input, response); !s.ok()) return ReportError(s);
 
   std::printf("%s: %d frames at %.4g fps -> %s (seed %llu, %s mouth)\n", args.input.c_str(),
               input->curves.frame_count, input->curves.fps, args.output.c_str(),

@@ -8,6 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "absl/status/status.h"
+#include "client/curve_files.h"
+#include "koma/v1/retime.pb.h"
+
 namespace koma::client {
 
 struct LipBlinkArgs {
@@ -28,6 +32,13 @@ struct LipBlinkArgs {
 
 // Exit code: 0 ok, 1 failure (message on stderr), 2 an output the input cannot make.
 int RunLipBlink(const LipBlinkArgs& args);
+
+// The request RunLipBlink sends for `curves` (`koma batch` sends the same).
+v1::LipBlinkRequest MakeLipBlinkRequest(const LipBlinkArgs& args, const CurveSet& curves);
+
+// Writes args.output from the answer to `input`, as RunLipBlink does; errors name the file.
+absl::Status WriteLipBlinkOutput(const LipBlinkArgs& args, const CurveInput& input,
+                                 const v1::LipBlinkResponse& response);
 
 }  // namespace koma::client
 

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "client/batch/batch_command.h"
 #include "client/channel.h"
 #include "client/curves_command.h"
 #include "client/health_command.h"
@@ -145,6 +146,7 @@ int main(int argc, char** argv) {
   AddCurves(app, curves);
   AddLipBlink(app, lip_blink);
   AddHealth(app, health);
+  koma::client::batch::AddBatch(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -16,9 +16,8 @@
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
-namespace {
 
-v1::RetimeSkeletalRequest MakeRequest(const SkeletalArgs& args, const SkeletalClip& clip) {
+v1::RetimeSkeletalRequest MakeSkeletalRequest(const SkeletalArgs& args, const SkeletalClip& clip) {
   v1::RetimeSkeletalRequest request;
   *request.mutable_motion() = ToProto(clip);
   if (args.omissions) request.set_omissions(*args.omissions);
@@ -31,6 +30,8 @@ v1::RetimeSkeletalRequest MakeRequest(const SkeletalArgs& args, const SkeletalCl
   if (args.output_at_timing_rate) request.set_output_rate(v1::TIMING_RATE);
   return request;
 }
+
+namespace {
 
 // "3-5, 9, 12-13": ascending integers as compact ranges; "none" when empty.
 std::string Ranges(const std::vector<int>& sorted) {
@@ -136,26 +137,32 @@ int RunSkeletal(const SkeletalArgs& args) {
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeSkeletalResponse response;
   const grpc::Status status =
-      (*stub)->RetimeSkeletal(&context, MakeRequest(args, *clip), &response);
+      (*stub)->RetimeSkeletal(&context, MakeSkeletalRequest(args, *clip), &response);
   if (!status.ok()) return ReportRpcError(status);
 
-  absl::StatusOr<SkeletalClip> retimed = ClipFromResponse(response, clip->skeleton);
-  if (!retimed.ok()) return ReportError(retimed.status());
-  if (absl::Status s = WriteFile(args.output, formats::WriteBvh(*retimed)); !s.ok()) {
+  if (absl::Status s = WriteSkeletalOutputs(args, *clip, response); !s.ok()) {
     return ReportError(s);
   }
+  PrintSummary(args, *clip, response);
+  return 0;
+}
+
+absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& clip,
+                                  const v1::RetimeSkeletalResponse& response) {
+  absl::StatusOr<SkeletalClip> retimed = ClipFromResponse(response, clip.skeleton);
+  if (!retimed.ok()) return retimed.status();
+  if (absl::Status s = WriteFile(args.output, formats::WriteBvh(*retimed)); !s.ok()) return s;
   if (!args.timing.empty()) {
     const std::vector<int32_t> grid_frames(response.grid_frames().begin(),
                                            response.grid_frames().end());
     const double frame_time =
-        response.has_motion() ? response.motion().frame_time() : clip->frame_time;
+        response.has_motion() ? response.motion().frame_time() : clip.frame_time;
     const std::string sheet =
         formats::WriteTimingSheetCsv(TimingMapFromResponse(response), frame_time,
                                      response.timing_fps() > 0 ? &grid_frames : nullptr);
-    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return ReportError(s);
+    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }
-  PrintSummary(args, *clip, response);
-  return 0;
+  return absl::OkStatus();
 }
 
 }  // namespace koma::client

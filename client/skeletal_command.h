@@ -5,6 +5,10 @@
 #include <optional>
 #include <string>
 
+#include "absl/status/status.h"
+#include "core/skeleton.h"
+#include "koma/v1/retime.pb.h"
+
 namespace koma::client {
 
 struct SkeletalArgs {
@@ -25,6 +29,14 @@ struct SkeletalArgs {
 
 // Exit code: 0 ok, 1 failure (message on stderr). The summary goes to stdout.
 int RunSkeletal(const SkeletalArgs& args);
+
+// The request RunSkeletal sends for `clip` (`koma batch` sends the same).
+v1::RetimeSkeletalRequest MakeSkeletalRequest(const SkeletalArgs& args, const SkeletalClip& clip);
+
+// Writes args.output (and args.timing when set) from the answer to `clip`, as RunSkeletal
+// does; errors name the file.
+absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& clip,
+                                  const v1::RetimeSkeletalResponse& response);
 
 }  // namespace koma::client
 
