@@ -43,7 +43,7 @@ struct BatchCommandArgs {
   std::string out_dir;
   std::string servers;
   int jobs = 0;
-  int io_threads = 2;
+  int io_threads = 4;  // file I/O blocks: more threads than cores (measured: docs/benchmarks.md)
   int retries = 7;
   double deadline_seconds = 60.0;
   bool force = false;
@@ -346,7 +346,7 @@ void AddBatch(CLI::App& app) {
   cmd->add_option("-j,--jobs", args.jobs, "calls in flight (default 2 per server)")
       ->check(CLI::Range(1, 4096));
   cmd->add_option("--io-threads", args.io_threads,
-                  "threads reading and parsing inputs and writing outputs (default 2)")
+                  "threads reading and parsing inputs and writing outputs (default 4)")
       ->check(CLI::Range(1, 64));
   cmd->add_option("--retries", args.retries,
                   "times a clip is sent again after UNAVAILABLE or RESOURCE_EXHAUSTED, with "

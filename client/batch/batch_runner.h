@@ -18,7 +18,7 @@ namespace koma::client::batch {
 struct RunnerSettings {
   std::vector<std::string> servers;  // one channel each ("host:port" or a gRPC target URI)
   int jobs = 0;                      // calls in flight; 0: 2 per server
-  int io_threads = 2;                // threads that read/parse inputs and write outputs
+  int io_threads = 4;                // threads that read/parse inputs and write outputs
   int max_attempts = 8;              // per clip, for UNAVAILABLE / RESOURCE_EXHAUSTED
   double deadline_seconds = 60.0;    // per attempt
   bool verbose = false;              // a line per clip written

@@ -127,6 +127,36 @@ mkdir "$work/empty"
 expect_exit 2 "$work/u6.err" "$client_bin" batch curves "$work/empty" -o "$work/u" --server "$servers"
 grep -q "no input clips" "$work/u6.err" || fail "an empty folder: $(cat "$work/u6.err")"
 [ "$(started)" = "$before" ] || fail "a usage error sent calls"
+
+# 7. Faults and the rest, on a few clips: a dead server is retried a bounded number of times
+#    and each clip reported; RESOURCE_EXHAUSTED (a server with no queue) is retried until done;
+#    an output folder inside the input folder is never searched; a terminal gets a live bar.
+mkdir -p "$work/few"
+cp "$work"/clips/bvh/g04/clip_00[0-3]4.bvh "$work/few/"
+dead=$("$python" -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+expect_exit 1 "$work/dead.err" "$client_bin" batch skeletal "$work/few" -o "$work/dead" \
+  --server "127.0.0.1:$dead" --retries 2 --jobs 4 --summary "$work/dead.json"
+[ "$(grep -c "UNAVAILABLE: .*(after 3 attempts)" "$work/dead.err")" = 4 ] \
+  || fail "a dead server: $(cat "$work/dead.err")"
+[ -z "$(find "$work/dead" -name '*.bvh*')" ] || fail "a dead server: files written"
+start_named c --worker_threads=1 --max_queued=0 --inline_max_bytes=0
+expect_exit 0 "$work/busy.err" "$client_bin" batch skeletal "$work/clips/bvh/g06" \
+  -o "$work/busy" --server "$target_c" --jobs 8 --retries 60 --summary "$work/busy.json"
+[ "$(summary_field "$work/busy.json" retried)" -gt 0 ] || fail "RESOURCE_EXHAUSTED never happened"
+[ "$(summary_field "$work/busy.json" ok)" = 70 ] || fail "busy server: $(tail -2 "$work/busy.err")"
+stop_named c
+expect_exit 0 "$work/in1.err" "$client_bin" batch skeletal "$work/few" -o "$work/few/out" \
+  --server "$servers" --summary "$work/in1.json"
+expect_exit 0 "$work/in2.err" "$client_bin" batch skeletal "$work/few" -o "$work/few/out" \
+  --server "$servers" --summary "$work/in2.json"
+[ "$(summary_field "$work/in2.json" total)" = 4 ] && [ "$(summary_field "$work/in2.json" up_to_date)" = 4 ] \
+  || fail "outputs inside the input folder became inputs: $(cat "$work/in2.err")"
+rm -rf "$work/few/out"
+timeout 60 script -qec "$client_bin batch skeletal $work/few -o $work/tty --server $servers" \
+  /dev/null >"$work/tty.txt" </dev/null || fail "under a terminal: $(cat "$work/tty.txt")"
+grep -q $'\r\033\[K\[=*' "$work/tty.txt" || fail "no live bar on a terminal: $(od -c "$work/tty.txt" | head)"
+grep -q "4 clips: 4 done" "$work/tty.txt" || fail "no summary on a terminal"
+
 stop_named a
 stop_named b
 echo "PASS: batch e2e"
