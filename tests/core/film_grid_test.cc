@@ -195,6 +195,15 @@ TEST(FilmGridTest, ExtremeRatiosStayInRange) {
   EXPECT_EQ(fine.GridFrameCount(100000), INT_MAX);
   EXPECT_EQ(fine.GridFrameOf(100000), INT_MAX);
   EXPECT_GE(fine.GridFrameCount(INT_MAX), 1);
+  // More than 1e5 grid frames a source frame (beyond the continued fraction's denominator
+  // bound): still the true ratio, not a rate clipped to 1e5. A frame every 1000 s at 1000 fps
+  // is 1e6 grid frames a source frame, one every 200 s 200000.
+  EXPECT_EQ(GridOf(1e-3, 1000.0).GridFrameOf(1), 1000000);
+  EXPECT_EQ(GridOf(1e-3, 1000.0).GridFrameCount(3), 2000001);
+  EXPECT_EQ(GridOf(5e-3, 1000.0).GridFrameOf(1), 200000);
+  EXPECT_EQ(GridOf(5e-3, 1000.0).FirstSourceFrameAtOrAfter(200001), 2);
+  EXPECT_EQ(GridOf(5e-3, 1000.0).NearestSourceFrame(300000, 9), 1);  // a tie: the earlier
+  EXPECT_EQ(GridOf(1e-3, 1e300).GridFrameOf(1), 1000000000);        // capped at 1e9
 }
 
 TEST(FilmGridTest, ValidateTimingFps) {

@@ -243,6 +243,20 @@ TEST(ConvertMouthTest, GivenIntervalsAreUsedAsTheyAre) {
   for (int f : {0, 1, 5, 10, 11}) EXPECT_EQ(r.values[f], 0.3) << f;
 }
 
+TEST(ConvertMouthTest, GivenButEmptySpeechIsNoSpeechNotDetection) {
+  // What a film grid leaves of given intervals all shorter than a grid frame: nothing. The
+  // talking curve is then left as it is, not searched for speech of its own.
+  MouthOptions options;
+  options.detect_speech = false;
+  const std::vector<double> chatter = Chatter();
+  const MouthResult r = ConvertMouth(chatter, options, 7);
+  EXPECT_TRUE(r.speech.empty());
+  EXPECT_TRUE(r.holds.empty());
+  EXPECT_EQ(r.values, chatter);
+  options.detect_speech = true;  // the default: detected
+  EXPECT_FALSE(ConvertMouth(chatter, options, 7).speech.empty());
+}
+
 TEST(ConvertMouthTest, RandomPicksEachAllowedShapeHalfTheTime) {
   MouthOptions options;
   options.frames_per_shape = 1;

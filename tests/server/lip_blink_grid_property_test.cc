@@ -365,6 +365,12 @@ TEST_P(LipBlinkGridPropertyTest, ConvertingAtRateEqualsConvertingTheGridSamplesE
   for (uint64_t seed = 1; seed <= kRequestsPerRate && failures < 3; ++seed) {
     SplitMix64 rng(seed * 1000003 + static_cast<uint64_t>(r.num));
     const Pair pair = RandomPair(rng, r);
+    if (pair.at_rate.mouth().speech_size() > 0 && pair.at_24.mouth().speech_size() == 0) {
+      // Every given interval vanished: the grid answer has no speech, which a 24 fps request
+      // cannot ask for (no intervals there means "detect"). GridBadRequestTableTest.
+      // SpeechThatVanishesOnTheGridDoesNotCrash checks that case.
+      continue;
+    }
     const std::string context = "seed " + std::to_string(seed) + ", " +
                                 std::to_string(pair.at_rate.curves().frame_count()) +
                                 " frames at " + std::to_string(r.fps()) + " fps";
