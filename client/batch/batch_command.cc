@@ -284,7 +284,7 @@ int Run(BatchCommandArgs& args, const CLI::App& root) {
   Progress progress(stderr, isatty(STDERR_FILENO) == 1, args.quiet, args.progress_every_s);
   auto last_save = std::chrono::steady_clock::now();
   const std::function<void(size_t)> on_written = [&](size_t i) {
-    manifest.Set((*items)[i].relative, fingerprint);
+    manifest.Set((*items)[i], fingerprint);
     const auto now = std::chrono::steady_clock::now();
     if (std::chrono::duration<double>(now - last_save).count() >= kManifestSaveEveryS) {
       manifest.Save().IgnoreError();  // saved again at the end, where an error is reported

@@ -11,7 +11,7 @@ namespace koma::client::batch {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr int kFormatVersion = 1;
+constexpr int kFormatVersion = 2;
 
 // Not older than `input`; false when either cannot be read.
 bool NotOlder(const std::string& output, const std::string& input) {
@@ -34,15 +34,31 @@ Manifest Manifest::Load(const std::string& out_dir) {
   if (!json.is_object() || json.value("version", 0) != kFormatVersion) return manifest;
   const auto outputs = json.find("outputs");
   if (outputs == json.end() || !outputs->is_object()) return manifest;
-  for (const auto& [relative, fingerprint] : outputs->items()) {
-    if (fingerprint.is_string()) manifest.entries_[relative] = fingerprint.get<std::string>();
+  for (const auto& [relative, entry] : outputs->items()) {
+    if (!entry.is_object()) continue;
+    const auto input = entry.find("input");
+    const auto options = entry.find("options");
+    if (input == entry.end() || !input->is_string() || options == entry.end() ||
+        !options->is_string()) {
+      continue;
+    }
+    manifest.entries_[relative] = Entry{input->get<std::string>(), options->get<std::string>()};
   }
   return manifest;
 }
 
+std::string Manifest::AbsoluteInput(const BatchItem& item) {
+  std::error_code error;
+  const fs::path absolute = fs::absolute(item.input, error);
+  return error ? item.input : absolute.lexically_normal().string();
+}
+
 bool Manifest::UpToDate(const BatchItem& item, const std::string& fingerprint) const {
   const auto it = entries_.find(item.relative);
-  if (it == entries_.end() || it->second != fingerprint) return false;
+  if (it == entries_.end() || it->second.options != fingerprint ||
+      it->second.input != AbsoluteInput(item)) {
+    return false;
+  }
   if (!NotOlder(item.output, item.input)) return false;
   return item.timing.empty() || NotOlder(item.timing, item.input);
 }
@@ -51,7 +67,9 @@ absl::Status Manifest::Save() const {
   nlohmann::json json;
   json["version"] = kFormatVersion;
   json["outputs"] = nlohmann::json::object();
-  for (const auto& [relative, fingerprint] : entries_) json["outputs"][relative] = fingerprint;
+  for (const auto& [relative, entry] : entries_) {
+    json["outputs"][relative] = {{"input", entry.input}, {"options", entry.options}};
+  }
   std::error_code ignored;
   fs::create_directories(fs::path(path_).parent_path(), ignored);
   return WriteFile(path_, json.dump(1) + "\n");

@@ -11,7 +11,8 @@
 
 namespace koma::client::batch {
 
-// Output path below the output folder -> fingerprint of the options it was made with.
+// Output path below the output folder -> the input it was made from (absolute) and the
+// fingerprint of the options used.
 class Manifest {
  public:
   static constexpr const char* kFileName = ".koma-batch.json";
@@ -20,11 +21,11 @@ class Manifest {
   static Manifest Load(const std::string& out_dir);
 
   // True when item.output (and item.timing, if asked for) exists, is not older than
-  // item.input, and was made with `fingerprint`.
+  // item.input, and was made from that input with `fingerprint`.
   bool UpToDate(const BatchItem& item, const std::string& fingerprint) const;
 
-  void Set(const std::string& relative, const std::string& fingerprint) {
-    entries_[relative] = fingerprint;
+  void Set(const BatchItem& item, const std::string& fingerprint) {
+    entries_[item.relative] = Entry{AbsoluteInput(item), fingerprint};
   }
   void Erase(const std::string& relative) { entries_.erase(relative); }
 
@@ -32,8 +33,14 @@ class Manifest {
   absl::Status Save() const;
 
  private:
+  struct Entry {
+    std::string input;
+    std::string options;
+  };
+  static std::string AbsoluteInput(const BatchItem& item);
+
   std::string path_;
-  std::map<std::string, std::string> entries_;
+  std::map<std::string, Entry> entries_;
 };
 
 }  // namespace koma::client::batch

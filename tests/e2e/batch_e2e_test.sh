@@ -96,6 +96,15 @@ expect_exit 0 "$work/list.err" "$client_bin" batch skeletal "@$work/list.txt" -o
 [ "$(summary_field "$work/list.json" ok)" = 72 ] || fail "@list: $(cat "$work/list.err")"
 cmp -s "$work/listed/clip_0001.bvh" "$work/out/bvh/g01/clip_0001.bvh" || fail "@list output"
 cmp -s "$work/listed/clip_0005.bvh" "$work/out/bvh/g05/clip_0005.bvh" || fail "@list folder output"
+# Another (older) input of the same name into the same folder is not "up to date".
+mkdir "$work/other"
+cp "$work/clips/bvh/g02/clip_0002.bvh" "$work/other/clip_0001.bvh"
+touch -d 2020-01-01 "$work/other/clip_0001.bvh"
+before=$(started)
+expect_exit 0 "$work/other.err" "$client_bin" batch skeletal "$work/other/clip_0001.bvh" \
+  -o "$work/listed" --server "$target_b"
+[ "$(started)" = $((before + 1)) ] || fail "an older input of the same name was skipped"
+cmp -s "$work/listed/clip_0001.bvh" "$work/out/bvh/g02/clip_0002.bvh" || fail "same-name output"
 mkdir "$work/lip_in"
 cp "$work"/clips/curves/g0[0-2]/*.motion3.json "$work/lip_in/"
 expect_exit 0 "$work/lip.err" "$client_bin" batch lipblink "$work/lip_in" -o "$work/lip_out" \
