@@ -9,6 +9,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "client/batch/batch_command.h"
 #include "client/cli_options.h"
 #include "client/command_flags.h"
 #include "client/command_output.h"
@@ -154,7 +155,8 @@ std::string ParseErrorText(const CLI::ParseError& e) {
 }  // namespace
 
 const std::vector<std::string>& CommandNames() {
-  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health"};
+  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health",
+                                              "batch"};
   return names;
 }
 
@@ -170,6 +172,8 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
   AddCurvesCommand(app, out->curves);
   AddLipBlinkCommand(app, out->lip_blink);
   AddHealthCommand(app, out->health);
+  // `koma batch` runs (and exits the process) from its parse callback: batch/batch_command.h.
+  batch::AddBatch(app);
 
   std::string command;
   if (int code = PreCheck(app, args, &command); code >= 0) return code;
