@@ -93,10 +93,15 @@ bool CarriesFile(const v1::LipBlinkRequest& request) {
 
 absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
                                       const RequestLimits& limits,
-                                      v1::RetimeSkeletalResponse* response) {
+                                      v1::RetimeSkeletalResponse* response,
+                                      SkeletalAnswer* described) {
   KOMA_RETURN_IF_ERROR(CheckFileSize(request.bvh_text(), "bvh_text", limits));
   absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(request.bvh_text());
   if (!clip.ok()) return InField(clip.status(), "bvh_text");
+  if (described != nullptr) {
+    described->frames = clip->frame_count;
+    described->joints = static_cast<int>(clip->skeleton.joints.size());
+  }
   {
     v1::RetimeSkeletalRequest decoded;
     decoded.CopyFrom(request);
@@ -118,7 +123,7 @@ absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
 absl::Status RetimeSkeletalFileAnswer(const v1::RetimeSkeletalRequest& request,
                                       const RequestLimits& limits, SkeletalAnswer* answer) {
   v1::RetimeSkeletalResponse response;
-  KOMA_RETURN_IF_ERROR(HandleRetimeSkeletalFile(request, limits, &response));
+  KOMA_RETURN_IF_ERROR(HandleRetimeSkeletalFile(request, limits, &response, answer));
   const size_t size = response.ByteSizeLong();
   if (size > static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
     return absl::ResourceExhaustedError(absl::StrCat(

@@ -4,6 +4,7 @@
 // same convert/ and formats/ functions it calls). Every sample and real mocap file, several
 // option sets; limits on files; the raw service's bytes against the message path.
 #include <gtest/gtest.h>
+#include <prometheus/registry.h>
 
 #include <cmath>
 #include <fstream>
@@ -418,6 +419,43 @@ TEST(FileRequestTest, CsvFpsIsCheckedAndUsed) {
   request.set_csv_fps(24);
   ASSERT_TRUE(Call(server, request, &response).ok());
   EXPECT_EQ(response.timing_fps(), 0);
+}
+
+// A file request counts its file's frames in koma_frames_processed_total (the decoded request
+// carries them in frame_count; a file request only once it is parsed).
+double FramesProcessed(const prometheus::Registry& registry, const std::string& method) {
+  for (const prometheus::MetricFamily& family : registry.Collect()) {
+    if (family.name != "koma_frames_processed_total") continue;
+    for (const prometheus::ClientMetric& metric : family.metric) {
+      for (const prometheus::ClientMetric::Label& label : metric.label) {
+        if (label.name == "grpc_method" && label.value == method) return metric.counter.value;
+      }
+    }
+  }
+  return -1;
+}
+
+TEST(FileRequestTest, FileRequestsCountTheirFramesInTheMetrics) {
+  auto registry = std::make_shared<prometheus::Registry>();
+  server::ServerConfig config;
+  config.metrics_registry = registry;
+  InProcessServer server(config);
+  v1::RetimeSkeletalRequest skeletal;
+  skeletal.set_bvh_text(ReadTestFile(KOMA_SAMPLES_DIR "/pitch.bvh"));
+  skeletal.set_output_rate(v1::TIMING_RATE);  // fewer output frames: the input's count
+  v1::RetimeSkeletalResponse skeletal_response;
+  ASSERT_TRUE(Call(server, skeletal, &skeletal_response).ok());
+  EXPECT_EQ(FramesProcessed(*registry, "RetimeSkeletal"), 130);
+  v1::RetimeCurvesRequest curves;
+  curves.set_motion3_json(ReadTestFile(KOMA_SAMPLES_DIR "/arm_head.motion3.json"));
+  v1::RetimeCurvesResponse curves_response;
+  ASSERT_TRUE(Call(server, curves, &curves_response).ok());
+  EXPECT_EQ(FramesProcessed(*registry, "RetimeCurves"), 91);
+  v1::LipBlinkRequest lip;
+  lip.set_motion3_json(ReadTestFile(KOMA_SAMPLES_DIR "/talk_blink.motion3.json"));
+  v1::LipBlinkResponse lip_response;
+  ASSERT_TRUE(Call(server, lip, &lip_response).ok());
+  EXPECT_EQ(FramesProcessed(*registry, "LipBlink"), 121);
 }
 
 }  // namespace
