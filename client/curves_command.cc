@@ -13,6 +13,7 @@
 #include "client/curve_files.h"
 #include "client/curves_convert.h"
 #include "client/files.h"
+#include "client/report/curves_report.h"
 #include "formats/drawing_sheet.h"
 #include "koma/v1/retime.grpc.pb.h"
 
@@ -123,7 +124,7 @@ int RunCurves(const CurvesArgs& args) {
   if (!input.ok()) return ReportError(input.status());
   v1::RetimeCurvesRequest request = MakeRequest(args, input->curves);
   if (!AddCurveOverrides(args.curve_on, request)) return kUsageError;
-  if (absl::Status s = CheckWritable({args.output, args.timing}); !s.ok()) return ReportError(s);
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) return ReportError(s);
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return ReportError(stub.status());
@@ -139,7 +140,14 @@ int RunCurves(const CurvesArgs& args) {
         formats::WriteDrawingSheetCsv(TimingFromProto(response.timings(0)), input->curves.fps);
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return ReportError(s);
   }
+  if (!args.report.empty()) {
+    if (absl::Status s = report::WriteCurvesReport(args.report, request, response, args.input);
+        !s.ok()) {
+      return ReportError(s);
+    }
+  }
   PrintSummary(args, input->curves, response);
+  if (!args.report.empty()) std::printf("  report: %s\n", args.report.c_str());
   return 0;
 }
 

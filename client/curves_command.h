@@ -13,6 +13,7 @@ struct CurvesArgs {
   std::string input;                      // .motion3.json, or .csv (frame,<id>,... per frame)
   std::string output;                     // .motion3.json (needs a motion3 input) or .csv
   std::string timing;                     // drawing sheet CSV to write; empty: none
+  std::string report;                     // --report: HTML report to write; empty: none
   std::optional<int> frames_per_drawing;  // --on; unset: server default (3)
   std::vector<int> keys;                  // --keys; empty: keyframe times
   std::optional<double> tame;             // --tame; unset: 1

@@ -13,6 +13,7 @@
 #include "client/curve_files.h"
 #include "client/curves_convert.h"
 #include "client/files.h"
+#include "client/report/lip_blink_report.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
@@ -113,15 +114,15 @@ int RunLipBlink(const LipBlinkArgs& args) {
   if (!CanWriteOutput(args.input, args.output)) return kUsageError;
   absl::StatusOr<CurveInput> input = ReadCurveInput(args.input, args.csv_fps);
   if (!input.ok()) return ReportError(input.status());
-  if (absl::Status s = CheckWritable({args.output}); !s.ok()) return ReportError(s);
+  if (absl::Status s = CheckWritable({args.output, args.report}); !s.ok()) return ReportError(s);
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return ReportError(stub.status());
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::LipBlinkResponse response;
-  const grpc::Status status =
-      (*stub)->LipBlink(&context, MakeRequest(args, input->curves), &response);
+  const v1::LipBlinkRequest request = MakeRequest(args, input->curves);
+  const grpc::Status status = (*stub)->LipBlink(&context, request, &response);
   if (!status.ok()) return ReportRpcError(status);
   if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return ReportError(s);
 
@@ -137,6 +138,13 @@ int RunLipBlink(const LipBlinkArgs& args) {
   }
   for (const v1::MouthTrack& mouth : response.mouths()) PrintMouth(mouth, frames);
   for (const v1::EyeTrack& eye : response.eyes()) PrintEye(eye, frames);
+  if (!args.report.empty()) {
+    if (absl::Status s = report::WriteLipBlinkReport(args.report, request, response, args.input);
+        !s.ok()) {
+      return ReportError(s);
+    }
+    std::printf("  report: %s\n", args.report.c_str());
+  }
   return 0;
 }
 

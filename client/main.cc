@@ -30,6 +30,7 @@ void AddSkeletal(CLI::App& app, koma::client::SkeletalArgs& args) {
   cmd->add_flag("--root-relative", args.root_relative,
                 "measure speed relative to the root joint (ignore locomotion)");
   cmd->add_option("--timing", args.timing, "timing sheet CSV to write");
+  cmd->add_option("--report", args.report, "before/after HTML report to write (docs/report.md)");
   cmd->add_option("--timing-fps", args.timing_fps,
                   "film grid drawings are counted on, frames per second (default 24; 0 = count "
                   "in the BVH's own frames)");
@@ -73,6 +74,7 @@ void AddCurves(CLI::App& app, koma::client::CurvesArgs& args) {
                   "film grid drawings are counted on, frames per second (default 24; 0 = count "
                   "in the input's own frames)");
   cmd->add_option("--timing", args.timing, "drawing sheet CSV to write");
+  cmd->add_option("--report", args.report, "before/after HTML report to write (docs/report.md)");
   cmd->add_option("--server", args.server,
                   "server host:port (default $KOMA_SERVER or "
                   "127.0.0.1:50051)");
@@ -93,6 +95,7 @@ void AddLipBlink(CLI::App& app, koma::client::LipBlinkArgs& args) {
                   "eye-open curve ids (default ParamEyeLOpen,"
                   "ParamEyeROpen)")
       ->delimiter(',');
+  cmd->add_option("--report", args.report, "before/after HTML report to write (docs/report.md)");
   cmd->add_option("--mode", args.mode, "random (the paper) or follow the input (default random)")
       ->check(CLI::IsMember({"random", "follow"}));
   cmd->add_option("--seed", args.seed, "seed of the random mouth shapes and auto-blinks");

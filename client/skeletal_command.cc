@@ -10,6 +10,7 @@
 #include "absl/strings/str_join.h"
 #include "client/channel.h"
 #include "client/files.h"
+#include "client/report/skeletal_report.h"
 #include "client/skeletal_convert.h"
 #include "formats/bvh.h"
 #include "formats/timing_sheet.h"
@@ -129,14 +130,14 @@ int RunSkeletal(const SkeletalArgs& args) {
     return ReportError(
         absl::InvalidArgumentError(absl::StrCat(args.input, ": ", clip.status().message())));
   }
-  if (absl::Status s = CheckWritable({args.output, args.timing}); !s.ok()) return ReportError(s);
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) return ReportError(s);
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return ReportError(stub.status());
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeSkeletalResponse response;
-  const grpc::Status status =
-      (*stub)->RetimeSkeletal(&context, MakeRequest(args, *clip), &response);
+  const v1::RetimeSkeletalRequest request = MakeRequest(args, *clip);
+  const grpc::Status status = (*stub)->RetimeSkeletal(&context, request, &response);
   if (!status.ok()) return ReportRpcError(status);
 
   absl::StatusOr<SkeletalClip> retimed = ClipFromResponse(response, clip->skeleton);
@@ -154,7 +155,14 @@ int RunSkeletal(const SkeletalArgs& args) {
                                      response.timing_fps() > 0 ? &grid_frames : nullptr);
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return ReportError(s);
   }
+  if (!args.report.empty()) {
+    if (absl::Status s = report::WriteSkeletalReport(args.report, request, response, args.input);
+        !s.ok()) {
+      return ReportError(s);
+    }
+  }
   PrintSummary(args, *clip, response);
+  if (!args.report.empty()) std::printf("  report: %s\n", args.report.c_str());
   return 0;
 }
 

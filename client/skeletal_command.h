@@ -11,6 +11,7 @@ struct SkeletalArgs {
   std::string input;                 // BVH file to read
   std::string output;                // BVH file to write
   std::string timing;                // timing sheet CSV to write; empty: none
+  std::string report;                // --report: HTML report to write; empty: none
   std::optional<int> omissions;      // --omit; unset: server default (4)
   std::optional<int> holds;          // --hold; unset: server default (N / 3)
   std::optional<int> max_hold;       // --max-hold; unset: server default (3)

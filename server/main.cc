@@ -58,6 +58,10 @@ ABSL_FLAG(int64_t, huge_page_cache_mb, 0,
 ABSL_FLAG(int, idle_trim_ms, 1000,
           "once no call has run for this long (after large calls), give the memory they left "
           "in malloc's heap back to the system; 0 = never");
+ABSL_FLAG(int64_t, max_memory_mb, -1,
+          "memory all calls in flight may hold together, MiB; calls beyond it get "
+          "RESOURCE_EXHAUSTED naming this budget. -1 = three quarters of the container's cgroup "
+          "memory limit, or of the machine's memory without one; 0 = no budget");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn, error, critical or off");
 ABSL_FLAG(std::string, log_format, "text", "text, or json (one JSON object per line)");
 ABSL_FLAG(std::string, tls_cert, "", "PEM certificate chain file: serve TLS instead of plaintext");
@@ -85,7 +89,7 @@ constexpr const char* kEnvironmentFlags[] = {
     "log_format",       "shutdown_grace_ms",  "tls_cert",          "tls_key",
     "tls_client_ca",    "metrics_address",    "metrics_port_file", "shutdown_delay_ms",
     "inline_max_bytes", "huge_page_cache_mb", "threads_per_call",  "idle_trim_ms",
-    "max_file_bytes"};
+    "max_memory_mb",    "max_file_bytes"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -141,6 +145,9 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.inline_max_bytes = absl::GetFlag(FLAGS_inline_max_bytes);
   config.idle_trim = absl::Milliseconds(absl::GetFlag(FLAGS_idle_trim_ms));
   config.metrics_address = absl::GetFlag(FLAGS_metrics_address);
+  const int64_t max_memory_mb = absl::GetFlag(FLAGS_max_memory_mb);
+  config.max_memory_mb =
+      max_memory_mb == -1 ? koma::server::DefaultMemoryBudgetMb() : max_memory_mb;
   return config;
 }
 
