@@ -18,6 +18,7 @@
 #include "server/arena_allocator.h"
 #include "server/call_footprint.h"
 #include "server/curves_request.h"
+#include "server/call_reservation.h"
 #include "server/curves_response.h"
 #include "server/file_requests.h"
 #include "server/lip_blink_request.h"
@@ -255,7 +256,12 @@ class ArenaBytesCall {
           ExpectedFootprint(*request_, bytes_in, limits_), "this call (request, work, response)");
       if (!fits.ok()) return ToGrpcStatus(fits);
     }
-    absl::Status handled = handler_(*request_, response_.get());
+    absl::Status handled;
+    {
+      // A file request grows its reservation once its file is parsed (server/file_requests.h).
+      const CallReservationScope scope(&reservation_);
+      handled = handler_(*request_, response_.get());
+    }
     if (handled.ok() && CarriesFile(*request_)) DescribeAnswer(*response_.get(), record);
     FreeRequest();
     if (handled.ok()) handled = CompleteAnswer(*response_.get());
