@@ -13,12 +13,14 @@ packages=(
 )
 # What the tests and benchmarks add (python3-grpcio: the interop test's second client;
 # buildah, podman, runc, debootstrap: deploy/test-image.sh builds and runs the image;
-# nginx: the scale-out test puts it in front of two servers on loopback).
+# nginx: the scale-out test puts it in front of two servers on loopback; clang, its sanitizer
+# and libFuzzer runtimes and llvm-symbolizer: scripts/test-sanitizers.sh and scripts/fuzz.sh).
 # `install-deps.sh --build-only` skips them (the Dockerfile's build stage).
 if [ "${1:-}" != "--build-only" ]; then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev python3 python3-grpcio python3-protobuf
              python3-yaml openssl
-             buildah podman runc debootstrap nginx)
+             buildah podman runc debootstrap nginx
+             clang libclang-rt-14-dev llvm)
 fi
 
 missing=()
