@@ -118,8 +118,7 @@ double Value(const prometheus::Registry& registry, const std::string& name) {
   for (const prometheus::MetricFamily& family : registry.Collect()) {
     if (family.name != name) continue;
     const prometheus::ClientMetric& metric = family.metric.at(0);
-    return family.type == prometheus::MetricType::Gauge ? metric.gauge.value
-                                                        : metric.counter.value;
+    return family.type == prometheus::MetricType::Gauge ? metric.gauge.value : metric.counter.value;
   }
   ADD_FAILURE() << name << " not registered";
   return -1;
@@ -233,7 +232,8 @@ TEST(MemoryBudgetServerTest, ACallThatDoesNotFitIsRefusedNamingTheBudget) {
   const grpc::Status status =
       server.stub().RetimeSkeletal(&context, testing::MakeSkeletalRequest(90'000), &response);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
-  EXPECT_THAT(status.error_message(), HasSubstr("memory budget (--max_memory_mb=32, 16 MiB of it for calls)"));
+  EXPECT_THAT(status.error_message(),
+              HasSubstr("memory budget (--max_memory_mb=32, 16 MiB of it for calls)"));
   EXPECT_THAT(status.error_message(), HasSubstr("more than the whole budget"));
   EXPECT_EQ(server.server().memory_budget()->in_use(), 0);
   EXPECT_EQ(Value(*config.metrics_registry, "koma_memory_budget_refused_total"), 1);
