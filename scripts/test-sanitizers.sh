@@ -36,9 +36,11 @@ run_asan() {
   echo "test-sanitizers: ASan + UBSan tests took $((SECONDS - start)) s"
 }
 
-# TSan's binaries and, for each, the gtest filter of its tests of koma's own threads.
+# TSan's binaries and, for each, the gtest filter of its tests of koma's own threads. Left out:
+# IdleTrimmerTest.TheServerTrimsAfterItsCalls, which starts an in-process gRPC server (TSan
+# reports a race on an epoll descriptor inside libgrpc's event engine: see above).
 tsan_tests=(
-  "tests/server/koma_tsan_threads_test WorkerPoolTest.*:IdleTrimmerTest.*:MemoryBudgetTest.*:DefaultBudgetTest.*"
+  "tests/server/koma_tsan_threads_test WorkerPoolTest.*:IdleTrimmerTest.*:MemoryBudgetTest.*:DefaultBudgetTest.*-IdleTrimmerTest.TheServerTrimsAfterItsCalls"
   "tests/core/forward_kinematics_test *"
   "tests/core/huge_page_pool_test *"
 )
