@@ -252,8 +252,8 @@ class ArenaBytesCall {
     if (!parsed.ok()) return ToGrpcStatus(parsed);
     DescribeRequest(*request_, record);
     if (reservation_.budgeted()) {
-      const absl::Status fits = reservation_.Resize(
-          ExpectedFootprint(*request_, bytes_in, limits_), "this call (request, work, response)");
+      const absl::Status fits = reservation_.Resize(ExpectedFootprint(*request_, bytes_in, limits_),
+                                                    "this call (request, work, response)");
       if (!fits.ok()) return ToGrpcStatus(fits);
     }
     absl::Status handled;
