@@ -106,7 +106,7 @@ nlohmann::json LipBlinkReportWriter::Data() const {
   counts.push_back({"mouth curves", r.mouths_size()});
   counts.push_back({"mouth drawings (holds)", holds});
   counts.push_back({"eye curves", r.eyes_size()});
-  counts.push_back({"blinks", blinks});
+  counts.push_back({"blinks (all eye curves)", blinks});
 
   nlohmann::json data;
   data["header"] = Header("LipBlink", input_name_, options, counts);

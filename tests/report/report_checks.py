@@ -10,6 +10,7 @@
 The oracles are the client's other outputs for the same call: the timing and drawing sheets
 (formats/ writers) and the summary it prints, never the report's own data. Exit 1 with
 "FAIL: ..." on the first difference."""
+import collections
 import csv
 import os
 import re
@@ -82,7 +83,7 @@ def check_screenshot(browser, path, figure_selector=None):
     image = Image.open(path).convert("RGB")
     small = image.resize((image.width // 4, image.height // 4))
     pixels = list(small.getdata())
-    background = max(set(pixels), key=pixels.count)
+    background = collections.Counter(pixels).most_common(1)[0][0]
     ink = sum(1 for p in pixels if sum(abs(a - b) for a, b in zip(p, background)) > 60)
     colours = len(set(pixels))
     if colours < 50 or ink < 0.02 * len(pixels):

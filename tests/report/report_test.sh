@@ -8,6 +8,7 @@
 #   browser  each sample's report in chromium: figures and counts against the timing and
 #            drawing sheets and the printed summary, a screenshot that is not blank
 #   player   stepping, scrubbing and playing the pitch's player
+#   variants the browser checks on other options of each command
 #   large    a 100,000-frame clip: report under 20 MB, ready in chromium in under 5 s
 # KOMA_REPORT_SHOTS=DIR keeps the screenshots (else they go with the scratch directory).
 set -euo pipefail
@@ -65,6 +66,27 @@ case "$mode" in
   player)
     run_samples ""
     "${checks[@]}" player "$work/pitch.html" "$work/pitch.csv" || fail "player"
+    ;;
+  variants)
+    # Other calls: the TIMING_RATE output, no film grid, no duplicates, holds first, curves
+    # on twos with a per-curve override, lipblink's follow mode with auto-blinks.
+    "$koma" skeletal "$samples/mocap_120fps.bvh" -o "$work/v1.bvh" --timing "$work/v1.csv" \
+      --output-rate timing --report "$work/v1.html" --server "$target" >"$work/v1.txt" || fail "v1"
+    "${checks[@]}" skeletal "$work/v1.html" "$work/v1.csv" "$work/v1.txt" || fail "--output-rate timing"
+    "$koma" skeletal "$samples/mocap_120fps.bvh" -o "$work/v2.bvh" --timing "$work/v2.csv" \
+      --timing-fps 0 --report "$work/v2.html" --server "$target" >"$work/v2.txt" || fail "v2"
+    "${checks[@]}" skeletal "$work/v2.html" "$work/v2.csv" "$work/v2.txt" || fail "--timing-fps 0"
+    "$koma" skeletal "$samples/pitch.bvh" -o "$work/v3.bvh" --timing "$work/v3.csv" \
+      --no-keep-length --hold-first --report "$work/v3.html" --server "$target" >"$work/v3.txt" || fail "v3"
+    "${checks[@]}" skeletal "$work/v3.html" "$work/v3.csv" "$work/v3.txt" || fail "--no-keep-length --hold-first"
+    "${checks[@]}" player "$work/v3.html" "$work/v3.csv" || fail "--no-keep-length player"
+    "$koma" curves "$samples/arm_head.motion3.json" -o "$work/v4.csv" --timing "$work/v4_sheet.csv" \
+      --timing-fps 0 --on 2 --curve-on ParamArmLA=3 --report "$work/v4.html" --server "$target" \
+      >"$work/v4.txt" || fail "v4"
+    "${checks[@]}" curves "$work/v4.html" "$work/v4_sheet.csv" "$work/v4.txt" || fail "curves on twos"
+    "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/v5.csv" --timing-fps 0 \
+      --auto-blink 1 --mode follow --report "$work/v5.html" --server "$target" >"$work/v5.txt" || fail "v5"
+    "${checks[@]}" lipblink "$work/v5.html" "$work/v5.txt" || fail "lipblink follow, auto-blink"
     ;;
   large)
     "$python" "$here/make_long_bvh.py" "$samples/pitch.bvh" "$work/long.bvh" 100000

@@ -45,7 +45,7 @@
   for (const m of D.mouths) {
     const s = section(`Mouth shapes: ${m.id}`);
     s.append(legend([['#7a7a80', 'closed'], ['#d98b5f', 'mid'], ['#c0392b', 'open']]));
-    const plot = plotFrame({xMax: duration, yMin: 0, yMax: 1, height: 70});
+    const plot = plotFrame({xMax: duration, yMin: 0, yMax: 1, height: 70, yLabels: false});
     plot.svg.classList.add('shapes');
     plot.svg.dataset.mouth = m.id;
     for (const [begin, length, shape] of m.holds) {
@@ -53,7 +53,7 @@
       plot.svg.append(svgEl('rect', {class: 'shape-' + shape, x: x0, y: plot.top, width: Math.max(0.5, x1 - x0 - 0.5),
                                      height: plot.bottom - plot.top, 'data-begin': begin, 'data-length': length, 'data-shape': shape},
                             svgEl('title', {}, `${shape}: frames ${begin}–${begin + length - 1}`)));
-      if (x1 - x0 > 9) plot.svg.append(svgEl('text', {x: (x0 + x1) / 2, y: (plot.top + plot.bottom) / 2 + 4, 'text-anchor': 'middle'}, LETTER[shape] || '?'));
+      if (x1 - x0 > 9) plot.svg.append(svgEl('text', {class: 'letter', x: (x0 + x1) / 2, y: (plot.top + plot.bottom) / 2 + 4, 'text-anchor': 'middle'}, LETTER[shape] || '?'));
     }
     s.append(plot.svg);
     s.append(el('p', {class: 'legend'}, m.holds.map(([, , shape]) => LETTER[shape] || '?').join(' ')));

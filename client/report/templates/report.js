@@ -63,8 +63,10 @@ function plotFrame(opts) {
     svg.append(svgEl('line', {class: 'axis', x1: x(t), x2: x(t), y1: bottom, y2: bottom + 4}));
     svg.append(svgEl('text', {x: x(t), y: height - 6, 'text-anchor': 'middle'}, t.toFixed(t < 10 && xMax < 20 ? 1 : 0) + ' s'));
   }
-  svg.append(svgEl('text', {x: left - 4, y: top + 9, 'text-anchor': 'end'}, fmt(yMax)));
-  svg.append(svgEl('text', {x: left - 4, y: bottom, 'text-anchor': 'end'}, fmt(yMin)));
+  if (opts.yLabels !== false) {
+    svg.append(svgEl('text', {x: left - 4, y: top + 9, 'text-anchor': 'end'}, fmt(yMax)));
+    svg.append(svgEl('text', {x: left - 4, y: bottom, 'text-anchor': 'end'}, fmt(yMin)));
+  }
   return {svg, x, y, top, bottom, left, right};
 }
 

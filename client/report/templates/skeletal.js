@@ -21,30 +21,52 @@
       : [{name: 'front', h: 0, v: 1}, {name: 'side', h: 2, v: 1}];
   const dims = pose ? pose.dims : 3;
   for (const view of views) {
-    let hLo = Infinity, hHi = -Infinity, vLo = Infinity, vHi = -Infinity;
+    // The whole clip's extent, and the body's around its root (joint 0).
+    let hLo = Infinity, hHi = -Infinity, vLo = Infinity, vHi = -Infinity, rLo = Infinity, rHi = -Infinity;
     for (let i = 0; i < positions.length; i += dims) {
       const h = positions[i + view.h], v = positions[i + view.v];
       if (h < hLo) hLo = h; if (h > hHi) hHi = h;
       if (v < vLo) vLo = v; if (v > vHi) vHi = v;
+      const root = i - (i / dims % joints) * dims;
+      const rel = h - positions[root + view.h];
+      if (rel < rLo) rLo = rel; if (rel > rHi) rHi = rel;
     }
-    const pad = 0.05 * Math.max(hHi - hLo, vHi - vLo, 1e-9);
-    view.box = [hLo - pad, vLo - pad, hHi - hLo + 2 * pad, vHi - vLo + 2 * pad];
+    const body = Math.max(rHi - rLo, vHi - vLo, 1e-9);
+    const pad = 0.05 * body;
+    // A figure that travels far (a walk) is followed: the view keeps the body's width and
+    // moves with the root, and ticks on the ground show the travel.
+    view.follow = hHi - hLo > 2.5 * Math.max(rHi - rLo, 0.3 * body);
+    view.rel = [rLo - pad, rHi - rLo + 2 * pad];
+    view.box = view.follow ? [hLo - pad, vLo - pad, rHi - rLo + 2 * pad, vHi - vLo + 2 * pad]
+                           : [hLo - pad, vLo - pad, hHi - hLo + 2 * pad, vHi - vLo + 2 * pad];
+    view.ground = vLo;
+    view.span = [hLo - pad, hHi + pad];
+    view.tick = niceTicks(body, 4)[1] || body;
   }
   const viewSize = views.length === 1 ? 520 : 260;
-  // One <path> per view and side: "M parent L joint" for every bone.
+  // One <path> per view and side: "M parent L joint" for every bone; a ground line (y of the
+  // lowest joint over the clip) under it.
   const makeFigure = (cls) => views.map((view) => {
     const [x, y, w, h] = view.box;
     const scale = Math.min(viewSize / w, 360 / h);
     const path = svgEl('path', {class: cls + ' figure', 'data-view': view.name, 'vector-effect': 'non-scaling-stroke'});
+    const ground = svgEl('g', {class: 'floor'});
+    ground.append(svgEl('line', {class: 'floor', x1: view.span[0], x2: view.span[1], y1: view.ground, y2: view.ground, 'vector-effect': 'non-scaling-stroke'}));
+    if (view.follow) {
+      const first = Math.ceil(view.span[0] / view.tick);
+      for (let k = first; k * view.tick <= view.span[1] && k - first < 5000; ++k) {
+        ground.append(svgEl('line', {class: 'floor', x1: k * view.tick, x2: k * view.tick, y1: view.ground, y2: view.ground - 0.03 * h, 'vector-effect': 'non-scaling-stroke'}));
+      }
+    }
     // SVG y grows downward: flip the vertical axis.
-    const g = svgEl('g', {transform: `scale(1,-1) translate(0,${-(2 * y + h)})`}, path);
+    const g = svgEl('g', {transform: `scale(1,-1) translate(0,${-(2 * y + h)})`}, ground, path);
     const svg = svgEl('svg', {width: Math.round(w * scale), height: Math.round(h * scale), viewBox: `${x} ${y} ${w} ${h}`,
-                              'aria-label': view.name + ' view'}, g);
+                              'aria-label': view.name + ' view', 'data-follow': view.follow ? 1 : 0}, g);
     return {svg, path, view};
   });
   const drawPose = (figure, sourceFrame) => {
     const base = sourceFrame * joints * dims;
-    for (const {path, view} of figure) {
+    for (const {svg, path, view} of figure) {
       const parts = [];
       for (let j = 0; j < joints; ++j) {
         const p = D.joints.parents[j];
@@ -55,6 +77,10 @@
       }
       path.setAttribute('d', parts.join(''));
       path.setAttribute('data-source-frame', sourceFrame);
+      if (view.follow) {
+        const [, y, w, h] = view.box;
+        svg.setAttribute('viewBox', `${(positions[base + view.h] + view.rel[0]).toPrecision(6)} ${y} ${w} ${h}`);
+      }
     }
   };
   const before = makeFigure('bone-before'), after = makeFigure('bone-after');
@@ -119,7 +145,7 @@
   let heldCount = 0, dupCount = 0;
   for (const k of D.kinds) { if (k === 'H') ++heldCount; else if (k === 'D') ++dupCount; }
   ssdSection.append(legend([['#c9c6bd', 'ORIGINAL'], ['var(--dup)', `DUPLICATE (${dupCount})`], ['var(--held)', `HELD (${heldCount})`]]));
-  const band = plotFrame({xMax: duration, yMin: 0, yMax: 1, height: 64});
+  const band = plotFrame({xMax: duration, yMin: 0, yMax: 1, height: 64, yLabels: false});
   band.svg.id = 'kinds-band';
   let start = 0;
   for (let t = 1; t <= framesOut; ++t) {
