@@ -5,7 +5,6 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "client/files.h"
-#include "formats/curve_csv.h"
 
 namespace koma::client {
 
@@ -21,47 +20,20 @@ bool CanWriteOutput(const std::string& input, const std::string& output) {
 absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps) {
   absl::StatusOr<std::string> text = ReadFile(path);
   if (!text.ok()) return text.status();
-  CurveInput input;
-  if (IsCsvPath(path)) {
-    absl::StatusOr<CurveSet> set = formats::ParseCurveCsv(*text, csv_fps);
-    if (!set.ok()) {
-      return absl::InvalidArgumentError(absl::StrCat(path, ": ", set.status().message()));
-    }
-    input.curves = *std::move(set);
-    return input;
+  absl::StatusOr<CurveInput> input = convert::ParseCurveText(*text, IsCsvPath(path), csv_fps);
+  if (!input.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat(path, ": ", input.status().message()));
   }
-  absl::StatusOr<formats::Motion3File> file = formats::ParseMotion3(*text);
-  if (!file.ok()) {
-    return absl::InvalidArgumentError(absl::StrCat(path, ": ", file.status().message()));
-  }
-  input.curves = file->curves;
-  input.motion3 = *std::move(file);
   return input;
 }
 
 absl::Status WriteCurveOutput(const std::string& path, const CurveInput& input,
                               const std::vector<std::optional<CurveReplacement>>& replacements) {
-  const CurveSet& set = input.curves;
-  if (IsCsvPath(path)) {
-    std::vector<std::string> ids;
-    std::vector<std::vector<double>> values;
-    for (size_t i = 0; i < set.curves.size(); ++i) {
-      ids.push_back(set.curves[i].id);
-      values.push_back(replacements[i] ? replacements[i]->values
-                                       : SampleEveryFrame(set.curves[i], set.frame_count,
-                                                          set.beziers_restricted));
-    }
-    return WriteFile(path, formats::WriteCurveCsv(ids, values));
-  }
-  if (!input.motion3) {
+  if (!IsCsvPath(path) && !input.motion3) {
     return absl::InvalidArgumentError(
         absl::StrCat("-o ", path, ": a CSV input can only be written as CSV (-o OUT.csv)"));
   }
-  std::vector<std::optional<std::vector<CurvePoint>>> stepped;
-  for (const std::optional<CurveReplacement>& r : replacements) {
-    stepped.push_back(r ? std::optional<std::vector<CurvePoint>>(r->steps) : std::nullopt);
-  }
-  absl::StatusOr<std::string> text = formats::WriteMotion3(*input.motion3, stepped);
+  absl::StatusOr<std::string> text = convert::CurveOutputText(input, replacements, IsCsvPath(path));
   if (!text.ok()) return text.status();
   return WriteFile(path, *text);
 }

@@ -9,8 +9,8 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "convert/curve_text.h"
 #include "core/curves.h"
-#include "formats/motion3.h"
 
 namespace koma::client {
 
@@ -21,20 +21,13 @@ bool IsCsvPath(const std::string& path);
 // CSV, which has no motion3 document to write back.
 bool CanWriteOutput(const std::string& input, const std::string& output);
 
-struct CurveInput {
-  std::optional<formats::Motion3File> motion3;  // kept to write every other field back
-  CurveSet curves;
-};
+using convert::CurveInput;  // the parsed file (convert/curve_text.h)
 
 // A motion3.json, or a CSV (`frame,<id>,...`) at `csv_fps` frames per second. Errors name
 // the file.
 absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps);
 
-// A retimed curve: per-frame values and the same as stepped keyframes.
-struct CurveReplacement {
-  std::vector<double> values;
-  std::vector<CurvePoint> steps;
-};
+using convert::CurveReplacement;  // a retimed curve (convert/curve_text.h)
 
 // Writes `input` with replacements[i] (when set) in place of curve i: as CSV (every curve,
 // the others sampled at every frame) when `path` ends in .csv, else as motion3.json (needs a
