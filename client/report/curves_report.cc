@@ -123,6 +123,11 @@ nlohmann::json CurvesReportWriter::Data() const {
 absl::Status WriteCurvesReport(const std::string& path, const v1::RetimeCurvesRequest& request,
                                const v1::RetimeCurvesResponse& response,
                                const std::string& input_name) {
+  if (!request.has_curves()) {
+    // The file forms (motion3_json, csv_text) are not parsed here: the CLI sends the curves.
+    return absl::InvalidArgumentError(
+        absl::StrCat("--report ", path, ": the request has no parsed curves to draw"));
+  }
   return WriteReport(path, CurvesReportWriter(request, response, input_name));
 }
 

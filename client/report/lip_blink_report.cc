@@ -124,6 +124,11 @@ nlohmann::json LipBlinkReportWriter::Data() const {
 absl::Status WriteLipBlinkReport(const std::string& path, const v1::LipBlinkRequest& request,
                                  const v1::LipBlinkResponse& response,
                                  const std::string& input_name) {
+  if (!request.has_curves()) {
+    // The file forms (motion3_json, csv_text) are not parsed here: the CLI sends the curves.
+    return absl::InvalidArgumentError(
+        absl::StrCat("--report ", path, ": the request has no parsed curves to draw"));
+  }
   return WriteReport(path, LipBlinkReportWriter(request, response, input_name));
 }
 

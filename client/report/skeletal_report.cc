@@ -207,6 +207,11 @@ absl::Status WriteSkeletalReport(const std::string& path,
                                  const v1::RetimeSkeletalRequest& request,
                                  const v1::RetimeSkeletalResponse& response,
                                  const std::string& input_name) {
+  if (!request.has_motion()) {
+    // The file form (bvh_text) is not parsed here: the CLI always sends the parsed clip.
+    return absl::InvalidArgumentError(
+        absl::StrCat("--report ", path, ": the request has no parsed motion to draw"));
+  }
   return WriteReport(path, SkeletalReportWriter(request, response, input_name));
 }
 

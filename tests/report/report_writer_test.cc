@@ -2,6 +2,7 @@
 // data unchanged, the same call gives the same bytes, text from files cannot break out of the
 // page, and the shared encoders (plot thinning, packed positions, base64) are exact.
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -320,6 +321,42 @@ TEST(LipBlinkReport, CarriesTheResponse) {
   EXPECT_THAT(data["curves"][0]["before"]["y"].get<std::vector<double>>(),
               ElementsAre(0, 0.5, 1, 0));
   EXPECT_THAT(data["curves"][0]["after"]["y"].get<std::vector<double>>(), ElementsAre(0, 1, 1, 0));
+}
+
+TEST(Report, RequestsWithoutParsedDataAreRefusedNamingThePath) {
+  const std::string path = ::testing::TempDir() + "/never_written.html";
+  v1::RetimeSkeletalRequest skeletal;
+  skeletal.set_bvh_text("HIERARCHY ...");
+  absl::Status s = WriteSkeletalReport(path, skeletal, SkeletalResponse(), "a.bvh");
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()), HasSubstr(path));
+  EXPECT_EQ(WriteCurvesReport(path, v1::RetimeCurvesRequest(), v1::RetimeCurvesResponse(), "a")
+                .code(),
+            absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(
+      WriteLipBlinkReport(path, v1::LipBlinkRequest(), v1::LipBlinkResponse(), "a").code(),
+      absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(std::fopen(path.c_str(), "r"), nullptr);
+}
+
+TEST(Report, WritesTheFileWhole) {
+  const std::string path = ::testing::TempDir() + "/report_writer_test.html";
+  const v1::RetimeSkeletalRequest request = PositionsRequest(8);
+  ASSERT_TRUE(WriteSkeletalReport(path, request, SkeletalResponse(), "a.bvh").ok());
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  ASSERT_NE(file, nullptr);
+  std::string text;
+  char buffer[4096];
+  size_t n;
+  while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) text.append(buffer, n);
+  std::fclose(file);
+  std::remove(path.c_str());
+  EXPECT_EQ(text, RenderReport(SkeletalReportWriter(request, SkeletalResponse(), "a.bvh")));
+  // A folder that does not exist: an error naming the path, no file.
+  const absl::Status missing =
+      WriteSkeletalReport("/nonexistent-dir/r.html", request, SkeletalResponse(), "a.bvh");
+  EXPECT_FALSE(missing.ok());
+  EXPECT_THAT(std::string(missing.message()), HasSubstr("/nonexistent-dir/r.html"));
 }
 
 TEST(ThinnedPlot, KeepsEveryPeakWithinTheLimit) {
