@@ -204,10 +204,16 @@ function makeSheet(rows, columns, cell, rowInfo, pageSize) {
     if (p !== page) render(p);
     for (const tr of body.querySelectorAll('tr.current')) tr.classList.remove('current');
     const row = body.querySelector(`tr[data-row="${r}"]`);
-    if (row) row.classList.add('current');
+    if (row) {
+      row.classList.add('current');
+      // Keep the row in view inside the sheet's own scroll box (never scroll the page).
+      if (row.offsetTop < wrap.scrollTop + 24 || row.offsetTop > wrap.scrollTop + wrap.clientHeight - 24) {
+        wrap.scrollTop = row.offsetTop - wrap.clientHeight / 2;
+      }
+    }
   };
-  render(0);
   const wrap = el('div', {class: 'sheet-wrap'}, table);
+  render(0);
   return {element: el('div', {}, el('div', {class: 'sheet-pages'}, prev, nextPage, label), wrap), highlight, pages};
 }
 

@@ -59,11 +59,27 @@
       }
     }
     // SVG y grows downward: flip the vertical axis.
-    const g = svgEl('g', {transform: `scale(1,-1) translate(0,${-(2 * y + h)})`}, ground, path);
+    // The onion skin: the input's pose at the same time, faint, under the retimed figure.
+    const ghost = svgEl('path', {class: 'ghost', 'vector-effect': 'non-scaling-stroke'});
+    const g = svgEl('g', {transform: `scale(1,-1) translate(0,${-(2 * y + h)})`}, ground, ghost, path);
     const svg = svgEl('svg', {width: Math.round(w * scale), height: Math.round(h * scale), viewBox: `${x} ${y} ${w} ${h}`,
                               'aria-label': view.name + ' view', 'data-follow': view.follow ? 1 : 0}, g);
-    return {svg, path, view};
+    return {svg, path, ghost, view};
   });
+  const bonesOf = (frame, view) => {
+    const base = frame * joints * dims, parts = [];
+    for (let j = 0; j < joints; ++j) {
+      const p = D.joints.parents[j];
+      if (p < 0) continue;
+      const a = base + p * dims, b = base + j * dims;
+      parts.push('M' + positions[a + view.h].toPrecision(6) + ' ' + positions[a + view.v].toPrecision(6) +
+                 'L' + positions[b + view.h].toPrecision(6) + ' ' + positions[b + view.v].toPrecision(6));
+    }
+    return parts.join('');
+  };
+  const drawGhost = (figure, frame) => {
+    for (const {ghost, view} of figure) ghost.setAttribute('d', frame === null ? '' : bonesOf(frame, view));
+  };
   const drawPose = (figure, sourceFrame) => {
     const base = sourceFrame * joints * dims;
     for (const {svg, path, view} of figure) {
@@ -84,6 +100,7 @@
     }
   };
   const before = makeFigure('bone-before'), after = makeFigure('bone-after');
+  const onion = el('input', {type: 'checkbox', id: 'onion', checked: ''});
   const beforeCaption = el('figcaption', {}, 'Before (input, ' + D.fps_in + ' fps)');
   const afterCaption = el('figcaption', {}, 'After (koma, ' + D.fps_out + ' fps)');
   const beforeLabel = el('div', {class: 'muted', id: 'before-label'});
@@ -104,15 +121,30 @@
   const cursors = [];
   const onFrame = (t) => {
     const input = inputFrameAt(t), source = D.source_frames[t];
-    if (positions) { drawPose(before, input); drawPose(after, source); }
+    if (positions) {
+      drawPose(before, input);
+      drawPose(after, source);
+      drawGhost(after, onion.checked ? input : null);
+    }
     beforeLabel.textContent = `source frame ${input}`;
-    afterLabel.textContent = `source frame ${source} · ${KIND_NAME[D.kinds[t]]}`;
+    afterLabel.textContent = `drawing ${drawingOfFrame[t]} · source frame ${source} · ${KIND_NAME[D.kinds[t]]}`;
     const time = t * D.frame_time_out;
     for (const c of cursors) c.line.setAttribute('x1', c.plot.x(time)), c.line.setAttribute('x2', c.plot.x(time));
     if (sheet) sheet.highlight(grid ? D.grid_frames[t] : t);
   };
+  // Drawing numbers over the output frames: a new one wherever the source frame changes.
+  const drawingOfFrame = new Int32Array(framesOut);
+  for (let t = 0, d = 0; t < framesOut; ++t) {
+    if (t === 0 || D.source_frames[t] !== D.source_frames[t - 1]) ++d;
+    drawingOfFrame[t] = d;
+  }
   const player = makePlayer(framesOut, D.fps_out, onFrame, describe);
   playerSection.append(player.controls);
+  if (positions) {
+    onion.addEventListener('change', () => player.show(player.frame()));
+    playerSection.append(el('label', {class: 'legend'}, onion,
+      ' onion skin: the input at the same time, faint blue, behind the retimed figure (holds lag behind it, omissions jump ahead)'));
+  }
 
   // ---- SSD with omitted and hidden frames; the output's kinds -----------------------------
   const duration = Math.max(D.frames_in * D.frame_time_in, framesOut * D.frame_time_out);
