@@ -314,6 +314,13 @@ def check_player(report, timing_csv):
                 changed += 1
         if frames_before[1] == frames_before[0]:
             fail("the input figure did not move from frame 0 to 1")
+        # The onion skin is the input's pose at the same time, and goes with its checkbox.
+        ghost = "[...document.querySelectorAll('#after path.ghost')].map((p) => p.getAttribute('d')).join('|')"
+        expect("onion skin = the input's pose", b.evaluate(ghost), frames_before[-1])
+        b.evaluate("document.getElementById('onion').click()")
+        expect("onion skin off", b.evaluate(ghost).strip("|"), "")
+        b.evaluate("document.getElementById('onion').click()")
+        expect("onion skin on again", b.evaluate(ghost), frames_before[-1])
         # Stepping back, and the scrubber.
         b.evaluate("document.getElementById('step-back').click()")
         expect("counter after a step back", b.evaluate("+document.body.dataset.frame"), len(frames_after) - 2)

@@ -87,6 +87,7 @@ case "$mode" in
     "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/v5.csv" --timing-fps 0 \
       --auto-blink 1 --mode follow --report "$work/v5.html" --server "$target" >"$work/v5.txt" || fail "v5"
     "${checks[@]}" lipblink "$work/v5.html" "$work/v5.txt" || fail "lipblink follow, auto-blink"
+    "${checks[@]}" validate "$work"/v[1-5].html || fail "variants: HTML5"
     ;;
   large)
     "$python" "$here/make_long_bvh.py" "$samples/pitch.bvh" "$work/long.bvh" 100000
