@@ -5,6 +5,7 @@
   report_checks.py curves REPORT DRAWING_CSV SUMMARY [SHOT.png]
   report_checks.py lipblink REPORT SUMMARY [SHOT.png]
   report_checks.py player REPORT TIMING_CSV
+  report_checks.py bones REPORT BVH
   report_checks.py large REPORT TIMING_CSV MAX_SECONDS MAX_BYTES
 
 The oracles are the client's other outputs for the same call: the timing and drawing sheets
@@ -343,6 +344,58 @@ def check_player(report, timing_csv):
               f"stepped back, scrubbed, played to frame {stopped} and paused")
 
 
+def bvh_bone_lengths(path):
+    """Per joint (BVH declaration order): the length of its OFFSET, the bone from its parent.
+    End Sites are not joints. Only valid where non-root joints have no position channels."""
+    lengths = []
+    in_end_site = False
+    for line in open(path):
+        words = line.split()
+        if not words:
+            continue
+        if words[0] == "MOTION":
+            break
+        if words[0] == "End":
+            in_end_site = True
+        elif words[0] == "}" and in_end_site:
+            in_end_site = False
+        elif words[0] == "OFFSET" and not in_end_site:
+            x, y, z = (float(w) for w in words[1:4])
+            lengths.append((x * x + y * y + z * z) ** 0.5)
+    return lengths
+
+
+def check_bones(report, bvh):
+    """The figures are the clip's skeleton: every bone, rebuilt in 3D from the front (x, y) and
+    side (z, y) views the page draws, is as long as its BVH OFFSET in every frame stepped
+    through, within the positions' rounding. Checks forward kinematics, the packing, the
+    page's unpacking and drawing together."""
+    import cdp
+    want = bvh_bone_lengths(bvh)[1:]  # the root has no bone
+    segments = ("[...document.querySelectorAll('#%s path.figure')].map((p) => "
+                "p.getAttribute('d').split('M').filter((s) => s).map((s) => s.split(/[ L]/).map(Number)))")
+    worst = 0.0
+    with cdp.Browser() as b:
+        b.open("file://" + os.path.abspath(report))
+        step = b.evaluate("KOMA.pose.step")
+        frames = b.evaluate("+document.getElementById('scrubber').max") + 1
+        for t in range(0, frames, max(1, frames // 25)):
+            b.evaluate(f"(() => {{ const s = document.getElementById('scrubber'); s.value = {t}; s.dispatchEvent(new Event('input')); }})()")
+            for side in ("before", "after"):
+                front, profile = b.evaluate(segments % side)
+                expect(f"frame {t} {side}: bones", len(front), len(want))
+                for i, ((x1, y1, x2, y2), (z1, _, z2, _), length) in enumerate(zip(front, profile, want)):
+                    got = ((x2 - x1) ** 2 + (y2 - y1) ** 2 + (z2 - z1) ** 2) ** 0.5
+                    worst = max(worst, abs(got - length))
+                    # Each end rounded by half a step per axis: at most sqrt(3) steps apart.
+                    if abs(got - length) > 1.8 * step:
+                        fail(f"frame {t} {side}: bone {i + 1} is {got:.4f} long, its OFFSET {length:.4f} (step {step})")
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+    print(f"ok: {report}: {len(want)} bones as long as their OFFSETs in every frame checked "
+          f"(worst {worst:.4f}, step {step:.4f})")
+
+
 def check_large(report, timing_csv, max_seconds, max_bytes):
     import cdp
     size = os.path.getsize(report)
@@ -381,6 +434,8 @@ def main(argv):
         check_lipblink(*args)
     elif command == "player":
         check_player(*args)
+    elif command == "bones":
+        check_bones(*args)
     elif command == "large":
         check_large(args[0], args[1], float(args[2]), int(args[3]))
     else:

@@ -7,7 +7,8 @@
 #            unwritable --report fails before the call
 #   browser  each sample's report in chromium: figures and counts against the timing and
 #            drawing sheets and the printed summary, a screenshot that is not blank
-#   player   stepping, scrubbing and playing the pitch's player
+#   player   stepping, scrubbing and playing the pitch's player; every bone as long as its
+#            BVH OFFSET in the figures drawn
 #   variants the browser checks on other options of each command
 #   large    a 100,000-frame clip: report under 20 MB, ready in chromium in under 5 s
 # KOMA_REPORT_SHOTS=DIR keeps the screenshots (else they go with the scratch directory).
@@ -66,6 +67,8 @@ case "$mode" in
   player)
     run_samples ""
     "${checks[@]}" player "$work/pitch.html" "$work/pitch.csv" || fail "player"
+    "${checks[@]}" bones "$work/pitch.html" "$samples/pitch.bvh" || fail "pitch bones"
+    "${checks[@]}" bones "$work/mocap.html" "$samples/mocap_120fps.bvh" || fail "mocap bones"
     ;;
   variants)
     # Other calls: the TIMING_RATE output, no film grid, no duplicates, holds first, curves
