@@ -93,11 +93,17 @@ nlohmann::json LipBlinkReportWriter::Data() const {
     for (int k = 0; k < q.curves().curves_size(); ++k) {
       if (q.curves().curves(k).id() == c.id()) before = SampleInputCurve(q.curves(), k);
     }
+    // The face player needs every frame; the plots, what a screen shows.
+    std::vector<double> every_before, every_after;
+    for (double v : before) every_before.push_back(Round6(v));
+    for (double v : c.values()) every_after.push_back(Round6(v));
     curves.push_back(
         {{"id", c.id()},
          {"before", ThinnedPlot(before, 1.0 / fps)},
          {"after", ThinnedPlot(absl::MakeConstSpan(c.values().data(), c.values_size()),
-                               1.0 / fps)}});
+                               1.0 / fps)},
+         {"frames_before", every_before},
+         {"frames_after", every_after}});
   }
 
   nlohmann::json counts = nlohmann::json::array();

@@ -3,7 +3,7 @@
   report_checks.py validate REPORT...                 HTML5, html5lib's strict parser
   report_checks.py skeletal REPORT TIMING_CSV SUMMARY [SHOT.png]
   report_checks.py curves REPORT DRAWING_CSV SUMMARY [SHOT.png]
-  report_checks.py lipblink REPORT SUMMARY [SHOT.png]
+  report_checks.py lipblink REPORT SUMMARY [SHOT.png [VALUES_CSV]]
   report_checks.py player REPORT TIMING_CSV
   report_checks.py bones REPORT BVH
   report_checks.py large REPORT TIMING_CSV MAX_SECONDS MAX_BYTES
@@ -254,7 +254,38 @@ def check_curves(report, drawing_csv, summary_path, shot=None):
             fail(f"script errors: {b.errors}")
 
 
-def check_lipblink(report, summary_path, shot=None):
+def check_face(browser, values_csv, mouths, eyes):
+    """Steps the face player through every frame: the retimed mouth and eyes show the values
+    the client wrote to its CSV output, and open wider exactly when those values are larger."""
+    rows = read_csv(values_csv)
+    mouth = mouths[0][0] if mouths else None
+    eye_ids = [e[0] for e in eyes][:2]
+    b = browser
+    b.evaluate("(() => { const s = document.getElementById('scrubber'); s.value = 0; s.dispatchEvent(new Event('input')); })()")
+    shown = []
+    for t, row in enumerate(rows):
+        if t > 0:
+            b.evaluate("document.getElementById('step-forward').click()")
+        got = b.evaluate("[...document.querySelectorAll('#face-after svg.face .mouth'), ...document.querySelectorAll('#face-after svg.face .eye')].map((e) => [e.getAttribute('class'), +e.dataset.value, +e.getAttribute('ry')])")
+        mouth_value, mouth_ry = got[0][1], got[0][2]
+        if mouth is not None:
+            want = float(row[mouth])
+            if abs(mouth_value - want) > 1e-5 * max(1.0, abs(want)):
+                fail(f"face frame {t}: mouth value {mouth_value}, the CSV says {want}")
+            shown.append((want, mouth_ry))
+        for i, (cls, value, _) in enumerate(got[1:]):
+            eye = eye_ids[min(i, len(eye_ids) - 1)]
+            want = float(row[eye])
+            if abs(value - want) > 1e-5 * max(1.0, abs(want)):
+                fail(f"face frame {t}: eye {i} ({eye}) value {value}, the CSV says {want}")
+    for (v1, r1) in shown:
+        for (v2, r2) in shown:
+            if v1 < v2 and r1 > r2:
+                fail(f"face: mouth value {v1} drawn wider ({r1}) than {v2} ({r2})")
+    print(f"ok: face player: {len(rows)} frames, mouth and eyes as in the CSV output")
+
+
+def check_lipblink(report, summary_path, shot=None, values_csv=None):
     import cdp
     summary = open(summary_path).read()
     mouths = re.findall(r"  mouth (\S+): speech at (?:grid )?frames (.*?); (\d+) holds: (.*)", summary)
@@ -276,6 +307,8 @@ def check_lipblink(report, summary_path, shot=None):
             expect(f"{eye}: blink count", len(got), int(count))
         plots = b.evaluate("document.querySelectorAll('svg.curve-plot').length")
         expect("curve plots", plots, len(mouths) + len(eyes))
+        if values_csv:
+            check_face(b, values_csv, mouths, eyes)
         print(f"ok: {report}: {len(mouths)} mouth and {len(eyes)} eye curves, shapes, speech and blinks as summarised")
         if shot:
             check_screenshot(b, shot)

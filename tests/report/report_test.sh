@@ -33,7 +33,7 @@ run_samples() {
   "$koma" curves "$samples/arm_head.motion3.json" -o "$work/arm.motion3.json" --timing "$work/arm.csv" \
     --on 3 --tame 1.5 --tsume 1.5 --report "$work/arm$tag.html" --server "$target" >"$work/arm.txt" \
     || fail "koma curves"
-  "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/talk.motion3.json" \
+  "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/talk_values.csv" \
     --report "$work/talk$tag.html" --server "$target" >"$work/talk.txt" || fail "koma lipblink"
 }
 
@@ -62,7 +62,8 @@ case "$mode" in
     "${checks[@]}" skeletal "$work/pitch.html" "$work/pitch.csv" "$work/pitch.txt" "$shots/pitch.png" || fail "pitch"
     "${checks[@]}" skeletal "$work/mocap.html" "$work/mocap.csv" "$work/mocap.txt" "$shots/mocap.png" || fail "mocap"
     "${checks[@]}" curves "$work/arm.html" "$work/arm.csv" "$work/arm.txt" "$shots/arm.png" || fail "arm"
-    "${checks[@]}" lipblink "$work/talk.html" "$work/talk.txt" "$shots/talk.png" || fail "talk"
+    "${checks[@]}" lipblink "$work/talk.html" "$work/talk.txt" "$shots/talk.png" \
+      "$work/talk_values.csv" || fail "talk"
     ;;
   player)
     run_samples ""
@@ -89,7 +90,7 @@ case "$mode" in
     "${checks[@]}" curves "$work/v4.html" "$work/v4_sheet.csv" "$work/v4.txt" || fail "curves on twos"
     "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/v5.csv" --timing-fps 0 \
       --auto-blink 1 --mode follow --report "$work/v5.html" --server "$target" >"$work/v5.txt" || fail "v5"
-    "${checks[@]}" lipblink "$work/v5.html" "$work/v5.txt" || fail "lipblink follow, auto-blink"
+    "${checks[@]}" lipblink "$work/v5.html" "$work/v5.txt" "" "$work/v5.csv" || fail "lipblink follow, auto-blink"
     "${checks[@]}" validate "$work"/v[1-5].html || fail "variants: HTML5"
     ;;
   large)

@@ -321,6 +321,11 @@ TEST(LipBlinkReport, CarriesTheResponse) {
   EXPECT_THAT(data["curves"][0]["before"]["y"].get<std::vector<double>>(),
               ElementsAre(0, 0.5, 1, 0));
   EXPECT_THAT(data["curves"][0]["after"]["y"].get<std::vector<double>>(), ElementsAre(0, 1, 1, 0));
+  // The face player's every frame.
+  EXPECT_THAT(data["curves"][0]["frames_before"].get<std::vector<double>>(),
+              ElementsAre(0, 0.5, 1, 0));
+  EXPECT_THAT(data["curves"][0]["frames_after"].get<std::vector<double>>(),
+              ElementsAre(0, 1, 1, 0));
 }
 
 TEST(Report, RequestsWithoutParsedDataAreRefusedNamingThePath) {

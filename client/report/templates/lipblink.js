@@ -5,6 +5,66 @@
   const sec = (frame) => frame / D.unit_fps;  // response frame numbers (grid frames with a grid)
   const trackOf = (id) => D.mouths.find((m) => m.id === id) || D.eyes.find((e) => e.id === id);
 
+  // ---- the face player ------------------------------------------------------------------------
+  // A plain face per side: the mouth opens with the first mouth curve, the eyes with the eye
+  // curves (one curve: both eyes), each scaled between its track's closed and open levels.
+  const mouthTrack = D.mouths[0], eyeTracks = D.eyes.slice(0, 2);
+  const curveOf = (id) => D.curves.find((c) => c.id === id);
+  const level = (track, v) => {
+    const span = track.levels.open - track.levels.closed;
+    const x = span !== 0 ? (v - track.levels.closed) / span : 0;
+    return Math.max(0, Math.min(1, x));
+  };
+  const faceSection = section('Face: before and after');
+  const makeFace = (side) => {
+    const svg = svgEl('svg', {width: 220, height: 220, viewBox: '0 0 220 220', class: 'face', 'data-side': side});
+    svg.append(svgEl('circle', {cx: 110, cy: 110, r: 96, class: 'head'}));
+    const eyes = [70, 150].map((cx) => {
+      const eye = svgEl('ellipse', {cx, cy: 88, rx: 16, ry: 12, class: 'eye ' + side});
+      svg.append(eye);
+      return eye;
+    });
+    const mouth = svgEl('ellipse', {cx: 110, cy: 155, rx: 30, ry: 2, class: 'mouth ' + side});
+    svg.append(mouth);
+    const label = el('div', {class: 'muted'});
+    return {svg, eyes, mouth, label};
+  };
+  const faces = {before: makeFace('before'), after: makeFace('after')};
+  faceSection.append(el('div', {class: 'player'},
+    el('figure', {id: 'face-before'}, el('figcaption', {}, 'Before (input)'), faces.before.svg, faces.before.label),
+    el('figure', {id: 'face-after'}, el('figcaption', {}, 'After (koma)'), faces.after.svg, faces.after.label)));
+  const SHAPES = ['closed', 'mid', 'open'];
+  const nearestShape = (track, v) => {
+    const levels = [track.levels.closed, track.levels.mid, track.levels.open];
+    let best = 0;
+    for (let i = 1; i < 3; ++i) if (Math.abs(v - levels[i]) < Math.abs(v - levels[best])) best = i;
+    return SHAPES[best];
+  };
+  const drawFace = (face, key, t) => {
+    const parts = [];
+    if (mouthTrack && curveOf(mouthTrack.id)) {
+      const v = curveOf(mouthTrack.id)[key][t];
+      face.mouth.setAttribute('ry', (2 + 26 * level(mouthTrack, v)).toFixed(2));
+      face.mouth.dataset.value = v;
+      parts.push('mouth ' + (key === 'frames_after' ? nearestShape(mouthTrack, v) : v.toFixed(2)));
+    }
+    face.eyes.forEach((eye, i) => {
+      const track = eyeTracks[Math.min(i, eyeTracks.length - 1)];
+      if (!track || !curveOf(track.id)) return;
+      const v = curveOf(track.id)[key][t];
+      eye.setAttribute('ry', (1 + 13 * level(track, v)).toFixed(2));
+      eye.dataset.value = v;
+    });
+    face.label.textContent = parts.join(' · ');
+  };
+  const facePlayer = makePlayer(D.frames, D.fps, (t) => {
+    drawFace(faces.before, 'frames_before', t);
+    drawFace(faces.after, 'frames_after', t);
+  }, (t) => `frame ${t} / ${D.frames - 1} · ${seconds(t / D.fps)}` +
+            (D.timing_fps > 0 ? ` · grid frame ${Math.floor(t * D.timing_fps / D.fps + 1e-9)}` : ''));
+  faceSection.append(facePlayer.controls);
+  facePlayer.show(0);
+
   const curvesSection = section('Mouth and eyes before and after');
   curvesSection.append(legend([['var(--before)', 'before (input)'], ['var(--after)', 'after (koma)'],
                                ['var(--speech)', 'speech'], ['var(--held)', 'blinks']]));
