@@ -7,6 +7,7 @@
   report_checks.py player REPORT TIMING_CSV
   report_checks.py bones REPORT BVH
   report_checks.py large REPORT TIMING_CSV MAX_SECONDS MAX_BYTES
+  report_checks.py opens REPORT MAX_SECONDS MAX_BYTES
 
 The oracles are the client's other outputs for the same call: the timing and drawing sheets
 (formats/ writers) and the summary it prints, never the report's own data. Exit 1 with
@@ -453,6 +454,25 @@ def check_large(report, timing_csv, max_seconds, max_bytes):
           f"(limits {max_bytes / 1e6:.0f} MB, {max_seconds} s); SSD plot {points} points; X-sheet {pages}")
 
 
+def check_opens(report, max_seconds, max_bytes):
+    """Any report: under max_bytes, ready within max_seconds, every plot line thinned."""
+    import cdp
+    size = os.path.getsize(report)
+    if size > max_bytes:
+        fail(f"{report}: {size} bytes, over {max_bytes}")
+    with cdp.Browser(timeout_s=60) as b:
+        seconds = b.open("file://" + os.path.abspath(report), ready_timeout_s=max_seconds)
+        points = b.evaluate("Math.max(0, ...[...document.querySelectorAll('path.before, path.after')].map((p) => (p.getAttribute('d').match(/[MLH]/g) || []).length))")
+        # A thinned plot has at most 2000 points; a stepped one two commands per point.
+        if points > 2 * 2000 + 2:
+            fail(f"{report}: a plot line has {points} points")
+        rows = b.evaluate("document.getElementById('sheet-page') ? document.getElementById('sheet-page').textContent : 'no sheet'")
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+    print(f"ok: {report}: {size / 1e6:.1f} MB, ready in {seconds:.2f} s (limits {max_bytes / 1e6:.0f} MB, "
+          f"{max_seconds} s); longest plot line {points} points; sheet {rows}")
+
+
 def main(argv):
     if len(argv) < 2:
         fail(__doc__)
@@ -469,6 +489,8 @@ def main(argv):
         check_player(*args)
     elif command == "bones":
         check_bones(*args)
+    elif command == "opens":
+        check_opens(args[0], float(args[1]), int(args[2]))
     elif command == "large":
         check_large(args[0], args[1], float(args[2]), int(args[3]))
     else:

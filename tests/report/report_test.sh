@@ -10,7 +10,7 @@
 #   player   stepping, scrubbing and playing the pitch's player; every bone as long as its
 #            BVH OFFSET in the figures drawn
 #   variants the browser checks on other options of each command
-#   large    a 100,000-frame clip: report under 20 MB, ready in chromium in under 5 s
+#   large    100,000-frame inputs to each RPC: report under 20 MB, ready in chromium in under 5 s
 # KOMA_REPORT_SHOTS=DIR keeps the screenshots (else they go with the scratch directory).
 set -euo pipefail
 mode=$1 server_bin=$2 koma=$3 samples=$4 python=$5
@@ -99,6 +99,15 @@ case "$mode" in
       --report "$work/long.html" --server "$target" --deadline 100 >"$work/long.txt" || fail "koma skeletal long"
     "${checks[@]}" validate "$work/long.html" || fail "long: HTML5"
     "${checks[@]}" large "$work/long.html" "$work/long.csv" 5 20000000 || fail "long"
+    # The same for 100,000 frames of curves (30 fps, 55 minutes) through the other two RPCs.
+    "$python" "$here/make_long_curves.py" 100000 "$work/long_talk.csv" "$work/long_curves.csv"
+    "$koma" lipblink "$work/long_talk.csv" -o "$work/long_talk_out.csv" --report "$work/long_talk.html" \
+      --server "$target" --deadline 100 >"$work/long_talk.txt" || fail "koma lipblink long"
+    "${checks[@]}" opens "$work/long_talk.html" 5 20000000 || fail "long lipblink"
+    "$koma" curves "$work/long_curves.csv" -o "$work/long_curves_out.csv" --keys 0,50000,99999 \
+      --report "$work/long_curves.html" --server "$target" --deadline 100 >"$work/long_curves.txt" \
+      || fail "koma curves long"
+    "${checks[@]}" opens "$work/long_curves.html" 5 20000000 || fail "long curves"
     ;;
   *)
     fail "unknown mode $mode"
