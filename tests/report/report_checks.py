@@ -372,6 +372,18 @@ def check_player(report, timing_csv):
             fail(f"play did not advance the player within 5 s (frame {stopped})")
         time.sleep(0.3)
         expect("frame after pause", b.evaluate("+document.body.dataset.frame"), stopped)
+        # The keyboard: arrows step once per press, from the page and from the focused scrubber.
+        def press(key, code):
+            for kind in ("keyDown", "keyUp"):
+                b.call("Input.dispatchKeyEvent", type=kind, key=key, code=key, windowsVirtualKeyCode=code)
+        b.evaluate("(() => { const s = document.getElementById('scrubber'); s.value = 10; s.dispatchEvent(new Event('input')); s.blur(); })()")
+        press("ArrowRight", 39)
+        press("ArrowRight", 39)
+        press("ArrowLeft", 37)
+        expect("frame after right, right, left", b.evaluate("+document.body.dataset.frame"), 11)
+        b.evaluate("document.getElementById('scrubber').focus()")
+        press("ArrowRight", 39)
+        expect("frame after right on the focused scrubber", b.evaluate("+document.body.dataset.frame"), 12)
         if b.errors:
             fail(f"script errors: {b.errors}")
         print(f"ok: {report}: stepped {len(frames_after) - 1} frames ({changed} new drawings, {held} held poses), "

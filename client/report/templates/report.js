@@ -158,6 +158,8 @@ function makePlayer(frames, fps, onFrame, describe) {
   next.addEventListener('click', () => { setPlaying(false); show(frame + 1); });
   scrub.addEventListener('input', () => { setPlaying(false); show(+scrub.value); });
   document.addEventListener('keydown', (e) => {
+    // A focused control already handles its own keys (the scrubber its arrows, a button Space).
+    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLButtonElement) return;
     if (e.key === 'ArrowRight') next.click();
     else if (e.key === 'ArrowLeft') back.click();
     else if (e.key === ' ') { e.preventDefault(); play.click(); }
