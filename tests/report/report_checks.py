@@ -264,6 +264,8 @@ def check_face(browser, values_csv, mouths, eyes):
     b = browser
     b.evaluate("(() => { const s = document.getElementById('scrubber'); s.value = 0; s.dispatchEvent(new Event('input')); })()")
     shown = []
+    cursor_js = "[...document.querySelectorAll('svg.curve-plot line.cursor')].map((l) => +l.getAttribute('x1'))"
+    cursors_at_start = b.evaluate(cursor_js)
     for t, row in enumerate(rows):
         if t > 0:
             b.evaluate("document.getElementById('step-forward').click()")
@@ -279,6 +281,11 @@ def check_face(browser, values_csv, mouths, eyes):
             want = float(row[eye])
             if abs(value - want) > 1e-5 * max(1.0, abs(want)):
                 fail(f"face frame {t}: eye {i} ({eye}) value {value}, the CSV says {want}")
+    # The plots' time cursors follow the player: all at one x, further right at the end.
+    cursors_at_end = b.evaluate(cursor_js)
+    expect("a cursor per plot", len(cursors_at_end), len(mouths) + len(eyes))
+    if len(set(cursors_at_end)) != 1 or not cursors_at_end[0] > cursors_at_start[0]:
+        fail(f"face: plot cursors at {cursors_at_start} at the start and {cursors_at_end} at the end")
     for (v1, r1) in shown:
         for (v2, r2) in shown:
             if v1 < v2 and r1 > r2:

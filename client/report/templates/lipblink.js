@@ -57,13 +57,22 @@
     });
     face.label.textContent = parts.join(' · ');
   };
+  const cursors = [];  // a time cursor on every plot, following the player
   const facePlayer = makePlayer(D.frames, D.fps, (t) => {
     drawFace(faces.before, 'frames_before', t);
     drawFace(faces.after, 'frames_after', t);
+    for (const c of cursors) {
+      c.line.setAttribute('x1', c.plot.x(t / D.fps));
+      c.line.setAttribute('x2', c.plot.x(t / D.fps));
+    }
   }, (t) => `frame ${t} / ${D.frames - 1} · ${seconds(t / D.fps)}` +
             (D.timing_fps > 0 ? ` · grid frame ${Math.floor(t * D.timing_fps / D.fps + 1e-9)}` : ''));
   faceSection.append(facePlayer.controls);
-  facePlayer.show(0);
+  const addCursor = (plot) => {
+    const line = svgEl('line', {class: 'cursor', y1: plot.top, y2: plot.bottom});
+    plot.svg.append(line);
+    cursors.push({plot, line});
+  };
 
   const curvesSection = section('Mouth and eyes before and after');
   curvesSection.append(legend([['var(--before)', 'before (input)'], ['var(--after)', 'after (koma)'],
@@ -95,6 +104,7 @@
     }
     plot.svg.append(svgEl('path', {class: 'before', d: pathOf(plot, c.before.x, c.before.y, false)}));
     plot.svg.append(svgEl('path', {class: 'after', d: pathOf(plot, c.after.x, c.after.y, true, duration)}));
+    addCursor(plot);
     const what = isMouth ? `${track.speech.length} speech intervals, ${track.holds.length} mouth drawings`
                          : track ? `${track.blinks.length} blinks` : '';
     curvesSection.append(el('h3', {}, `${c.id} — ${what}`), plot.svg);
@@ -115,11 +125,13 @@
                             svgEl('title', {}, `${shape}: frames ${begin}–${begin + length - 1}`)));
       if (x1 - x0 > 9) plot.svg.append(svgEl('text', {class: 'letter', x: (x0 + x1) / 2, y: (plot.top + plot.bottom) / 2 + 4, 'text-anchor': 'middle'}, LETTER[shape] || '?'));
     }
+    addCursor(plot);
     s.append(plot.svg);
     s.append(el('p', {class: 'legend'}, m.holds.map(([, , shape]) => LETTER[shape] || '?').join(' ')));
   }
   if (D.timing_fps > 0) {
     section('Film grid', el('p', {}, `Speech, holds and blinks are counted on the ${D.timing_fps} fps film grid: frame numbers above are grid frames (${(1000 / D.timing_fps).toFixed(1)} ms each).`));
   }
+  facePlayer.show(0);
   reportReady();
 })(KOMA);
