@@ -6,6 +6,7 @@
   report_checks.py lipblink REPORT SUMMARY [SHOT.png [VALUES_CSV]]
   report_checks.py player REPORT TIMING_CSV
   report_checks.py bones REPORT BVH
+  report_checks.py camera REPORT
   report_checks.py large REPORT TIMING_CSV MAX_SECONDS MAX_BYTES
   report_checks.py opens REPORT MAX_SECONDS MAX_BYTES
 
@@ -449,6 +450,43 @@ def check_bones(report, bvh):
           f"(worst {worst:.4f}, step {step:.4f})")
 
 
+def check_camera(report):
+    """write_camera_report's call: one 'camera' view per side, each bone drawn where the
+    camera puts it (recomputed here), the retimed figure on twos."""
+    import cdp
+    import math
+
+    def project(x, y, z):
+        w = 1 + 0.01 * z
+        return 0.1 * x / w, 0.2 * y / w
+
+    def pose(f):
+        return [project(0.5 * f, 0, 0), project(0.5 * f + math.sin(f), 10, math.cos(f))]
+
+    with cdp.Browser() as b:
+        b.open("file://" + os.path.abspath(report))
+        views = b.evaluate("[...document.querySelectorAll('path.figure')].map((p) => p.dataset.view)")
+        expect("views", views, ["camera", "camera"])
+        step = b.evaluate("KOMA.pose.step")
+        worst = 0.0
+        for t in range(48):
+            if t > 0:
+                b.evaluate("document.getElementById('step-forward').click()")
+            for side, frame in (("before", t), ("after", t - t % 2)):
+                d = b.evaluate(f"document.querySelector('#{side} path.figure').getAttribute('d')")
+                got = [float(v) for v in re.split(r"[ML ]+", d) if v]
+                want = [c for point in pose(frame) for c in point]
+                for g, w in zip(got, want):
+                    worst = max(worst, abs(g - w))
+                    if abs(g - w) > step / 2 + 1e-5:
+                        fail(f"frame {t} {side}: drew {got}, the camera puts the bone at {want} (step {step})")
+                expect(f"frame {t} {side}: coordinates", len(got), 4)
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+    print(f"ok: {report}: one camera view per side, 48 frames projected within half a step "
+          f"(worst {worst:.2e}, step {step:.2e}), the retimed figure on twos")
+
+
 def check_large(report, timing_csv, max_seconds, max_bytes):
     import cdp
     size = os.path.getsize(report)
@@ -506,6 +544,8 @@ def main(argv):
         check_lipblink(*args)
     elif command == "player":
         check_player(*args)
+    elif command == "camera":
+        check_camera(*args)
     elif command == "bones":
         check_bones(*args)
     elif command == "opens":

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The reports of `koma ... --report` (docs/report.md) on the bundled samples, end to end: the
 # real koma_server on a loopback port, the real koma client, Debian's chromium headless.
-#   report_test.sh MODE KOMA_SERVER KOMA SAMPLES_DIR PYTHON
+#   report_test.sh MODE KOMA_SERVER KOMA SAMPLES_DIR PYTHON WRITE_CAMERA_REPORT
 # MODE:
 #   files    same call -> same report bytes; HTML5 (html5lib strict); self-contained; an
 #            unwritable --report fails before the call
@@ -10,10 +10,11 @@
 #   player   stepping, scrubbing and playing the pitch's player; every bone as long as its
 #            BVH OFFSET in the figures drawn
 #   variants the browser checks on other options of each command
+#   camera   a call with a camera (write_camera_report): one projected view, positions right
 #   large    100,000-frame inputs to each RPC: report under 20 MB, ready in chromium in under 5 s
 # KOMA_REPORT_SHOTS=DIR keeps the screenshots (else they go with the scratch directory).
 set -euo pipefail
-mode=$1 server_bin=$2 koma=$3 samples=$4 python=$5
+mode=$1 server_bin=$2 koma=$3 samples=$4 python=$5 camera_tool=$6
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=../e2e/lib.sh
 source "$here/../e2e/lib.sh"
@@ -21,7 +22,8 @@ checks=("$python" "$here/report_checks.py")
 shots=${KOMA_REPORT_SHOTS:-$work}
 mkdir -p "$shots"
 
-start_server "$server_bin"
+# Every mode but camera calls the real server.
+[ "$mode" = camera ] || start_server "$server_bin"
 
 # run NAME: the four sample calls, each with its report, sheets and printed summary in $work.
 run_samples() {
@@ -109,8 +111,13 @@ case "$mode" in
       || fail "koma curves long"
     "${checks[@]}" opens "$work/long_curves.html" 5 20000000 || fail "long curves"
     ;;
+  camera)
+    "$camera_tool" "$work/camera.html" || fail "write_camera_report"
+    "${checks[@]}" validate "$work/camera.html" || fail "camera: HTML5"
+    "${checks[@]}" camera "$work/camera.html" || fail "camera"
+    ;;
   *)
     fail "unknown mode $mode"
     ;;
 esac
-stop_server
+[ -z "$server_pid" ] || stop_server
