@@ -249,6 +249,23 @@ def check_curves(report, drawing_csv, summary_path, shot=None):
             for k in shown:
                 expect(f"sheet row {i}: drawing of output frame {k}", int(rows[k]["drawing"]), drawing)
         expect("drawings numbered in the sheet", numbered, int(timings[0][1]))
+        # The player: the counter names each frame's drawing as the drawing sheet CSV does, and
+        # the sheet's current row is the one that lists the frame.
+        b.evaluate("(() => { const s = document.getElementById('scrubber'); s.value = 0; s.dispatchEvent(new Event('input')); })()")
+        for t in range(min(frames, 60)):
+            if t > 0:
+                b.evaluate("document.getElementById('step-forward').click()")
+            counter = b.evaluate("document.getElementById('counter').textContent")
+            m = re.search(r"drawing (\d+) on", counter)
+            expect(f"frame {t}: drawing in the counter", int(m.group(1)) - 1, int(rows[t]["drawing"]))
+            row = int(b.evaluate("document.querySelector('#sheet tr.current').dataset.row"))
+            if grid:
+                span = sheet[row][3][0]
+                shown = [] if span == "–" else ranges(span.replace("–", "-"))
+            else:
+                shown = [row]
+            if t not in shown:
+                fail(f"frame {t}: the sheet's current row {row} lists frames {shown}")
         print(f"ok: {report}: {len(plots)} curves, {len(sheet)} sheet rows, {numbered} drawings, {len(keys)} key poses")
         if shot:
             check_screenshot(b, shot)
