@@ -99,6 +99,8 @@
       }
     }
   };
+  const VIEW_NAME = {front: 'front (x, y)', side: 'side (z, y)', camera: 'through the camera'};
+  const viewWithName = (f) => el('div', {}, f.svg, el('div', {class: 'legend'}, VIEW_NAME[f.view.name]));
   const before = makeFigure('bone-before'), after = makeFigure('bone-after');
   const onion = el('input', {type: 'checkbox', id: 'onion', checked: ''});
   const beforeCaption = el('figcaption', {}, 'Before (input, ' + D.fps_in + ' fps)');
@@ -106,9 +108,9 @@
   const beforeLabel = el('div', {class: 'muted', id: 'before-label'});
   const afterLabel = el('div', {class: 'muted', id: 'after-label'});
   playerSection.append(el('div', {class: 'player'},
-    el('figure', {id: 'before'}, beforeCaption, el('div', {class: 'views'}, ...before.map((f) => f.svg)), beforeLabel),
-    el('figure', {id: 'after'}, afterCaption, el('div', {class: 'views'}, ...after.map((f) => f.svg)), afterLabel)));
-  if (views.length > 1) playerSection.append(el('p', {class: 'legend'}, 'Each side: front view (x, y) and side view (z, y), orthographic.'));
+    el('figure', {id: 'before'}, beforeCaption, el('div', {class: 'views'}, ...before.map(viewWithName)), beforeLabel),
+    el('figure', {id: 'after'}, afterCaption, el('div', {class: 'views'}, ...after.map(viewWithName)), afterLabel)));
+  if (views.length > 1) playerSection.append(el('p', {class: 'legend'}, 'Orthographic views, y up as in BVH.'));
 
   // Input frame shown at output frame t's time (the rates differ with --output-rate timing).
   const inputFrameAt = (t) => Math.min(D.frames_in - 1, Math.floor(t * D.frame_time_out / D.frame_time_in + 1e-6));
