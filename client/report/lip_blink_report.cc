@@ -14,10 +14,14 @@ namespace {
 
 const char* ShapeName(int shape) {
   switch (shape) {
-    case v1::MOUTH_CLOSED: return "closed";
-    case v1::MOUTH_MID: return "mid";
-    case v1::MOUTH_OPEN: return "open";
-    default: return "unspecified";
+    case v1::MOUTH_CLOSED:
+      return "closed";
+    case v1::MOUTH_MID:
+      return "mid";
+    case v1::MOUTH_OPEN:
+      return "open";
+    default:
+      return "unspecified";
   }
 }
 
@@ -45,16 +49,15 @@ nlohmann::json LipBlinkReportWriter::Data() const {
   options.push_back({"speech", q.mouth().speech_size() > 0 ? "given" : "detected"});
   options.push_back({"linked eyes", !q.eyes().has_linked() || q.eyes().linked()});
   options.push_back(
-      {"auto-blink", q.eyes().auto_blink().enabled()
-                         ? absl::StrFormat("every %.6g s",
-                                           q.eyes().auto_blink().has_mean_interval_s()
-                                               ? q.eyes().auto_blink().mean_interval_s()
-                                               : 4.0)
-                         : std::string("off")});
+      {"auto-blink",
+       q.eyes().auto_blink().enabled()
+           ? absl::StrFormat("every %.6g s", q.eyes().auto_blink().has_mean_interval_s()
+                                                 ? q.eyes().auto_blink().mean_interval_s()
+                                                 : 4.0)
+           : std::string("off")});
   options.push_back({"seed", absl::StrCat(r.seed())});
-  options.push_back(
-      {"timing_fps", grid ? absl::StrFormat("%.6g (film grid)", r.timing_fps())
-                          : std::string("0 (counted in source frames)")});
+  options.push_back({"timing_fps", grid ? absl::StrFormat("%.6g (film grid)", r.timing_fps())
+                                        : std::string("0 (counted in source frames)")});
 
   int holds = 0, blinks = 0;
   nlohmann::json mouths = nlohmann::json::array();
@@ -100,8 +103,7 @@ nlohmann::json LipBlinkReportWriter::Data() const {
     curves.push_back(
         {{"id", c.id()},
          {"before", ThinnedPlot(before, 1.0 / fps)},
-         {"after", ThinnedPlot(absl::MakeConstSpan(c.values().data(), c.values_size()),
-                               1.0 / fps)},
+         {"after", ThinnedPlot(absl::MakeConstSpan(c.values().data(), c.values_size()), 1.0 / fps)},
          {"frames_before", every_before},
          {"frames_after", every_after}});
   }

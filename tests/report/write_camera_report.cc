@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
       motion->mutable_positions()->add_values(v);
     }
   }
-  for (double v : {0.1, 0.0, 0.0, 0.0, 0.0, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0, 0.01, 0.0, 0.0, 0.0, 1.0}) {
+  for (double v :
+       {0.1, 0.0, 0.0, 0.0, 0.0, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0, 0.01, 0.0, 0.0, 0.0, 1.0}) {
     request.add_camera(v);
   }
   koma::v1::RetimeSkeletalResponse response;
