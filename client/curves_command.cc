@@ -124,7 +124,9 @@ int RunCurves(const CurvesArgs& args) {
   if (!input.ok()) return ReportError(input.status());
   v1::RetimeCurvesRequest request = MakeRequest(args, input->curves);
   if (!AddCurveOverrides(args.curve_on, request)) return kUsageError;
-  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) return ReportError(s);
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) {
+    return ReportError(s);
+  }
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return ReportError(stub.status());

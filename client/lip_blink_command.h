@@ -13,7 +13,7 @@ namespace koma::client {
 struct LipBlinkArgs {
   std::string input;                        // .motion3.json or .csv
   std::string output;                       // .motion3.json (needs a motion3 input) or .csv
-  std::string report;                        // --report: HTML report to write; empty: none
+  std::string report;                       // --report: HTML report to write; empty: none
   std::vector<std::string> mouth_ids;       // --mouth; empty: ParamMouthOpenY
   std::vector<std::string> eye_ids;         // --eyes; empty: ParamEyeLOpen, ParamEyeROpen
   std::string mode = "random";              // --mode random|follow

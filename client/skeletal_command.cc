@@ -130,7 +130,9 @@ int RunSkeletal(const SkeletalArgs& args) {
     return ReportError(
         absl::InvalidArgumentError(absl::StrCat(args.input, ": ", clip.status().message())));
   }
-  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) return ReportError(s);
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) {
+    return ReportError(s);
+  }
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return ReportError(stub.status());
   grpc::ClientContext context;
