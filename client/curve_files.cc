@@ -4,9 +4,23 @@
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "client/file_format.h"
 #include "client/files.h"
 
 namespace koma::client {
+namespace {
+
+std::string DisplayName(const std::string& path) {
+  return IsStdio(path) ? "standard input" : path;
+}
+
+}  // namespace
+
+CurveFormat CurveFormatFromFlag(const std::string& value) {
+  if (value == "motion3") return CurveFormat::kMotion3;
+  if (value == "csv") return CurveFormat::kCsv;
+  return CurveFormat::kAuto;
+}
 
 bool IsCsvPath(const std::string& path) { return absl::EndsWithIgnoreCase(path, ".csv"); }
 
@@ -17,23 +31,61 @@ bool CanWriteOutput(const std::string& input, const std::string& output) {
   return false;
 }
 
-absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps) {
+absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps,
+                                          CurveFormat format, absl::string_view command) {
   absl::StatusOr<std::string> text = ReadFile(path);
   if (!text.ok()) return text.status();
-  absl::StatusOr<CurveInput> input = convert::ParseCurveText(*text, IsCsvPath(path), csv_fps);
-  if (!input.ok()) {
-    return absl::InvalidArgumentError(absl::StrCat(path, ": ", input.status().message()));
+  if (absl::Status s = CheckInputFormat(path, *text, command); !s.ok()) return s;
+  if (format == CurveFormat::kAuto) {
+    switch (SniffFormat(*text)) {
+      case FileFormat::kMotion3:
+        format = CurveFormat::kMotion3;
+        break;
+      case FileFormat::kCsv:
+        format = CurveFormat::kCsv;
+        break;
+      default:
+        format = IsCsvPath(path) ? CurveFormat::kCsv : CurveFormat::kMotion3;
+    }
   }
+  const bool csv = format == CurveFormat::kCsv;
+  absl::StatusOr<convert::CurveInput> parsed = convert::ParseCurveText(*text, csv, csv_fps);
+  if (!parsed.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat(DisplayName(path),
+                                                   csv ? " (CSV): " : " (motion3.json): ",
+                                                   parsed.status().message()));
+  }
+  CurveInput input;
+  static_cast<convert::CurveInput&>(input) = *std::move(parsed);
+  input.format = format;
   return input;
 }
 
-absl::Status WriteCurveOutput(const std::string& path, const CurveInput& input,
-                              const std::vector<std::optional<CurveReplacement>>& replacements) {
-  if (!IsCsvPath(path) && !input.motion3) {
+absl::StatusOr<CurveFormat> CurveOutputFormat(const std::string& path, CurveFormat format,
+                                              const CurveInput& input) {
+  if (format == CurveFormat::kAuto) {
+    if (absl::EndsWithIgnoreCase(path, ".bvh")) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "-o ", path, ": curves are written as motion3.json or CSV, not BVH"));
+    }
+    format = IsCsvPath(path) ? CurveFormat::kCsv
+             : IsStdio(path) ? input.format
+                             : CurveFormat::kMotion3;
+  }
+  if (format == CurveFormat::kMotion3 && !input.motion3) {
     return absl::InvalidArgumentError(
         absl::StrCat("-o ", path, ": a CSV input can only be written as CSV (-o OUT.csv)"));
   }
-  absl::StatusOr<std::string> text = convert::CurveOutputText(input, replacements, IsCsvPath(path));
+  return format;
+}
+
+absl::Status WriteCurveOutput(const std::string& path, const CurveInput& input,
+                              const std::vector<std::optional<CurveReplacement>>& replacements,
+                              CurveFormat format) {
+  absl::StatusOr<CurveFormat> resolved = CurveOutputFormat(path, format, input);
+  if (!resolved.ok()) return resolved.status();
+  absl::StatusOr<std::string> text =
+      convert::CurveOutputText(input, replacements, *resolved == CurveFormat::kCsv);
   if (!text.ok()) return text.status();
   return WriteFile(path, *text);
 }

@@ -24,6 +24,9 @@ if [ "${1:-}" != "--build-only" ]; then
              python3-yaml python3-pytest openssl blender
              buildah podman runc debootstrap nginx
              chromium python3-html5lib python3-pil fonts-dejavu-core)
+  # python3-jsonschema: the client tests validate `koma ... --json` against
+  # docs/summary.schema.json.
+  packages+=(python3-jsonschema)
 fi
 
 missing=()

@@ -20,6 +20,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
+#include "koma/version.h"
 #include "server/logging.h"
 #include "server/malloc_tuning.h"
 #include "server/mutex_tuning.h"
@@ -198,6 +199,9 @@ int main(int argc, char** argv) {
     return absl::EndsWith(file, "server/main.cc");
   };
   usage.contains_helpshort_flags = usage.contains_help_flags;
+  // --version: Abseil's default prints the program name and "Debug build (NDEBUG not
+  // #defined)" (Debian's Abseil is built without NDEBUG), whatever this build is.
+  usage.version_string = [] { return std::string("koma_server ") + koma::kVersion + "\n"; };
   absl::SetFlagsUsageConfig(usage);
   absl::SetProgramUsageMessage(
       "koma_server [--address=HOST:PORT] [flags]: the koma gRPC service. Every flag can also be "

@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_replace.h"
 #include "client/report/templates.h"
+#include "koma/version.h"
 
 namespace koma::client::report {
 namespace {
@@ -29,10 +30,11 @@ nlohmann::json Header(std::string_view rpc, std::string_view input_name,
                       const nlohmann::json& options, const nlohmann::json& counts) {
   nlohmann::json header;
   header["rpc"] = rpc;
-  header["input"] = input_name;
+  // "-" is how the CLI names standard input.
+  header["input"] = input_name == "-" ? std::string_view("standard input") : input_name;
   header["options"] = options;
   header["counts"] = counts;
-  header["version"] = KOMA_VERSION;
+  header["version"] = kVersion;
   return header;
 }
 
