@@ -234,6 +234,12 @@ TEST(Report, FileNamesCannotBreakOutOfThePage) {
   EXPECT_THAT(page, HasSubstr("function skeletalReport"));
 }
 
+TEST(Report, StandardInputIsNamed) {
+  const nlohmann::json data =
+      PageData(RenderReport(SkeletalReportWriter(PositionsRequest(4), SkeletalResponse(), "-")));
+  EXPECT_EQ(data["header"]["input"], "standard input");
+}
+
 TEST(CurvesReport, CarriesTheResponse) {
   v1::RetimeCurvesRequest request;
   v1::CurveSet* set = request.mutable_curves();
