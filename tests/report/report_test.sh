@@ -93,7 +93,15 @@ case "$mode" in
     "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/v5.csv" --timing-fps 0 \
       --auto-blink 1 --mode follow --report "$work/v5.html" --server "$target" >"$work/v5.txt" || fail "v5"
     "${checks[@]}" lipblink "$work/v5.html" "$work/v5.txt" "" "$work/v5.csv" || fail "lipblink follow, auto-blink"
-    "${checks[@]}" validate "$work"/v[1-5].html || fail "variants: HTML5"
+    # Through a camera (one projected view per side), and with no motion in the answer.
+    "$koma" skeletal "$samples/pitch.bvh" -o "$work/v6.bvh" --timing "$work/v6.csv" \
+      --camera 0.01,0,0,0,0,0.01,0,0,0,0,0.01,0,0,0,0,1 --report "$work/v6.html" --server "$target" \
+      >"$work/v6.txt" || fail "v6"
+    "${checks[@]}" skeletal "$work/v6.html" "$work/v6.csv" "$work/v6.txt" || fail "--camera"
+    "$koma" skeletal "$samples/mocap_120fps.bvh" --timing-only --timing "$work/v7.csv" \
+      --report "$work/v7.html" --server "$target" >"$work/v7.txt" || fail "v7"
+    "${checks[@]}" skeletal "$work/v7.html" "$work/v7.csv" "$work/v7.txt" || fail "--timing-only"
+    "${checks[@]}" validate "$work"/v[1-7].html || fail "variants: HTML5"
     ;;
   large)
     "$python" "$here/make_long_bvh.py" "$samples/pitch.bvh" "$work/long.bvh" 100000
