@@ -55,6 +55,14 @@ std::string RenderReport(const ReportWriter& writer) {
 
 absl::Status WriteReport(const std::string& path, const ReportWriter& writer) {
   const std::string page = RenderReport(writer);
+  if (path == "-") {  // the CLI's name for standard output (its summary then goes to stderr)
+    if (std::fwrite(page.data(), 1, page.size(), stdout) != page.size() ||
+        std::fflush(stdout) != 0) {
+      return absl::InternalError(
+          absl::StrCat("--report -: cannot write standard output: ", std::strerror(errno)));
+    }
+    return absl::OkStatus();
+  }
   const std::string temporary = path + ".tmp";
   std::FILE* file = std::fopen(temporary.c_str(), "wb");
   if (file == nullptr) {

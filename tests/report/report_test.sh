@@ -58,6 +58,17 @@ case "$mode" in
     grep -qF "$work/no/such/dir/r.html" "$work/err.txt" || fail "unwritable --report: $(cat "$work/err.txt")"
     [ ! -e "$work/x.bvh" ] || fail "unwritable --report: the BVH was written anyway"
     echo "ok: unwritable --report refused before the call: $(cat "$work/err.txt")"
+    # --report - writes the page to standard output (the summary goes to stderr), the same bytes.
+    "$koma" skeletal "$samples/pitch.bvh" -o "$work/y.bvh" --report - --server "$target" \
+      >"$work/stdout.html" 2>"$work/stderr.txt" || fail "--report -: $(cat "$work/stderr.txt")"
+    cmp "$work/stdout.html" "$work/pitch.html" || fail "--report - differs from the file report"
+    grep -qF "report: -" "$work/stderr.txt" || fail "--report -: summary not on stderr"
+    code=0
+    "$koma" skeletal "$samples/pitch.bvh" -o - --report - --server "$target" >/dev/null \
+      2>"$work/err.txt" || code=$?
+    [ "$code" = 2 ] || fail "-o - --report -: exit $code, want 2"
+    grep -qF -- "--report -" "$work/err.txt" || fail "-o - --report -: $(cat "$work/err.txt")"
+    echo "ok: --report - writes standard output; with -o - too it is refused: $(cat "$work/err.txt")"
     ;;
   browser)
     run_samples ""
