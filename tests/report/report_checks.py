@@ -294,7 +294,7 @@ def check_face(browser, values_csv, mouths, eyes):
             if abs(mouth_value - want) > 1e-5 * max(1.0, abs(want)):
                 fail(f"face frame {t}: mouth value {mouth_value}, the CSV says {want}")
             shown.append((want, mouth_ry))
-        for i, (cls, value, _) in enumerate(got[1:]):
+        for i, (cls, value, _) in enumerate(got[1:] if eye_ids else []):
             eye = eye_ids[min(i, len(eye_ids) - 1)]
             want = float(row[eye])
             if abs(value - want) > 1e-5 * max(1.0, abs(want)):

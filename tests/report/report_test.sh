@@ -112,7 +112,18 @@ case "$mode" in
     "$koma" skeletal "$samples/mocap_120fps.bvh" --timing-only --timing "$work/v7.csv" \
       --report "$work/v7.html" --server "$target" >"$work/v7.txt" || fail "v7"
     "${checks[@]}" skeletal "$work/v7.html" "$work/v7.csv" "$work/v7.txt" || fail "--timing-only"
-    "${checks[@]}" validate "$work"/v[1-7].html || fail "variants: HTML5"
+    # LipBlink with only a mouth, and with only eyes (200 frames of make_long_curves' talk).
+    "$python" "$here/make_long_curves.py" 200 "$work/talk200.csv" "$work/curves200.csv"
+    cut -d, -f1,2 "$work/talk200.csv" >"$work/mouth_only.csv"
+    cut -d, -f1,3,4 "$work/talk200.csv" >"$work/eyes_only.csv"
+    for part in mouth_only eyes_only; do
+      "$koma" lipblink "$work/$part.csv" -o "$work/${part}_out.csv" --report "$work/$part.html" \
+        --server "$target" >"$work/$part.txt" || fail "koma lipblink $part"
+      "${checks[@]}" lipblink "$work/$part.html" "$work/$part.txt" "" "$work/${part}_out.csv" \
+        || fail "lipblink $part"
+    done
+    "${checks[@]}" validate "$work"/v[1-7].html "$work/mouth_only.html" "$work/eyes_only.html" \
+      || fail "variants: HTML5"
     ;;
   large)
     "$python" "$here/make_long_bvh.py" "$samples/pitch.bvh" "$work/long.bvh" 100000
