@@ -30,7 +30,8 @@ nlohmann::json Header(std::string_view rpc, std::string_view input_name,
                       const nlohmann::json& options, const nlohmann::json& counts) {
   nlohmann::json header;
   header["rpc"] = rpc;
-  header["input"] = input_name;
+  // "-" is how the CLI names standard input.
+  header["input"] = input_name == "-" ? std::string_view("standard input") : input_name;
   header["options"] = options;
   header["counts"] = counts;
   header["version"] = kVersion;
@@ -54,6 +55,14 @@ std::string RenderReport(const ReportWriter& writer) {
 
 absl::Status WriteReport(const std::string& path, const ReportWriter& writer) {
   const std::string page = RenderReport(writer);
+  if (path == "-") {  // the CLI's name for standard output (its summary then goes to stderr)
+    if (std::fwrite(page.data(), 1, page.size(), stdout) != page.size() ||
+        std::fflush(stdout) != 0) {
+      return absl::InternalError(
+          absl::StrCat("--report -: cannot write standard output: ", std::strerror(errno)));
+    }
+    return absl::OkStatus();
+  }
   const std::string temporary = path + ".tmp";
   std::FILE* file = std::fopen(temporary.c_str(), "wb");
   if (file == nullptr) {

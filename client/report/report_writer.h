@@ -36,7 +36,7 @@ nlohmann::json Header(std::string_view rpc, std::string_view input_name,
 std::string RenderReport(const ReportWriter& writer);
 
 // Writes RenderReport(writer) to `path` (through "<path>.tmp" and a rename, so a failed run
-// leaves no half page). Errors name the path.
+// leaves no half page), or to standard output when `path` is "-". Errors name the path.
 absl::Status WriteReport(const std::string& path, const ReportWriter& writer);
 
 }  // namespace koma::client::report
