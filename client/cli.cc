@@ -1,7 +1,6 @@
 #include "client/cli.h"
 
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cstdio>
 #include <set>
@@ -94,8 +93,7 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
                             "koma --help");
         }
       }
-      return UsageError("koma",
-                        absl::StrCat("unknown option ", name, DidYouMean(name, global)),
+      return UsageError("koma", absl::StrCat("unknown option ", name, DidYouMean(name, global)),
                         "koma --help");
     }
     if (absl::StartsWith(arg, "-") && arg.size() > 1) continue;  // CLI11 names it
@@ -113,9 +111,9 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
         "koma",
         absl::StrCat("unknown command \"", typed, "\"",
                      close.empty() ? "" : absl::StrCat("; did you mean \"", close, "\"?"),
-                     close.empty() ? absl::StrCat(" (commands: ",
-                                                  absl::StrJoin(CommandNames(), ", "), ")")
-                                   : ""),
+                     close.empty()
+                         ? absl::StrCat(" (commands: ", absl::StrJoin(CommandNames(), ", "), ")")
+                         : ""),
         "koma --help");
   }
   *command = typed;
@@ -138,16 +136,17 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
 // CLI11's own messages, in koma's words where they are terse.
 std::string ParseErrorText(const CLI::ParseError& e) {
   const std::string what = e.what();
-  if (e.get_name() == "RequiredError" && absl::StartsWith(what, "input")) {
+  if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && absl::StartsWith(what, "input")) {
     return "the input file is required (a path, or - for standard input)";
   }
-  if (e.get_name() == "ExtrasError") {
+  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
     std::string extras = what;
-    const std::string prefix = "The following arguments were not expected: ";
-    if (absl::StartsWith(extras, prefix)) extras = extras.substr(prefix.size());
+    const size_t colon = extras.find(": ");
+    if (colon != std::string::npos) extras = extras.substr(colon + 2);
     return absl::StrCat("unexpected argument(s): ", extras, " (one input file per call)");
   }
-  if (e.get_name() == "ArgumentMismatch") return absl::StrCat("a value is missing: ", what);
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr)
+    return absl::StrCat("a value is missing: ", what);
   return what;
 }
 

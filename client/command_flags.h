@@ -6,7 +6,6 @@
 #define KOMA_CLIENT_COMMAND_FLAGS_H_
 
 #include <CLI/CLI.hpp>
-
 #include <string>
 
 #include "client/curves_command.h"

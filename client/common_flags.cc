@@ -8,7 +8,8 @@ void AddCommonFlags(CLI::App* cmd, std::string* server, double* deadline_seconds
   cmd->add_option("--server", *server,
                   "server host:port, or a list a:p,b:p balanced round-robin (default "
                   "$KOMA_SERVER or 127.0.0.1:50051)")
-      ->type_name("HOST:PORT");
+      ->type_name("HOST:PORT")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   AddNumberWithDefault(cmd, "--deadline", deadline_seconds, Above(0),
                        "RPC deadline in seconds (default " + default_deadline + ")")
       ->type_name("SECONDS");

@@ -5,11 +5,11 @@
 
 #include <optional>
 #include <string>
-#include "absl/strings/string_view.h"
 #include <vector>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "core/curves.h"
 #include "formats/motion3.h"
 
@@ -32,7 +32,7 @@ bool CanWriteOutput(const std::string& input, const std::string& output);
 struct CurveInput {
   std::optional<formats::Motion3File> motion3;  // kept to write every other field back
   CurveSet curves;
-  CurveFormat format = CurveFormat::kMotion3;   // what was read: kMotion3 or kCsv
+  CurveFormat format = CurveFormat::kMotion3;  // what was read: kMotion3 or kCsv
 };
 
 // A motion3.json, or a CSV (`frame,<id>,...`) at `csv_fps` frames per second. The format:

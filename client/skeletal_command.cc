@@ -38,9 +38,9 @@ absl::StatusOr<std::vector<double>> JointWeights(const std::vector<std::string>&
       weights.push_back(*w);
     }
     if (weights.size() != skeleton.joints.size()) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          kFlag, ": ", weights.size(), " weights for ", skeleton.joints.size(),
-          " joints: give one per joint in file order, or NAME=W for some joints"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(kFlag, ": ", weights.size(), " weights for ", skeleton.joints.size(),
+                       " joints: give one per joint in file order, or NAME=W for some joints"));
     }
     return weights;
   }
@@ -85,7 +85,7 @@ absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path) {
 }
 
 absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArgs& args,
-                                                                const SkeletalClip& clip) {
+                                                               const SkeletalClip& clip) {
   v1::RetimeSkeletalRequest request;
   *request.mutable_motion() = ToProto(clip);
   if (args.omissions) request.set_omissions(*args.omissions);
@@ -182,7 +182,8 @@ int RunSkeletal(const SkeletalArgs& args) {
   const grpc::Status status = (*stub)->RetimeSkeletal(&context, *request, &response);
   if (!status.ok()) return out.RpcFailure(status);
   if (absl::Status s = WriteSkeletalOutputs(args, *clip, response); !s.ok()) return out.Failure(s);
-  out.Success(SkeletalSummaryText(args, *clip, response), SkeletalSummaryJson(args, *clip, response),
+  out.Success(SkeletalSummaryText(args, *clip, response),
+              SkeletalSummaryJson(args, *clip, response),
               IsStdio(args.output) || IsStdio(args.timing));
   return kExitOk;
 }

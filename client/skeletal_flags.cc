@@ -9,8 +9,7 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
   cmd->add_option("input", args.input, "BVH file to retime; - reads standard input")
       ->required()
       ->type_name("IN.bvh");
-  cmd->add_option("-o,--output", args.output,
-                  "retimed BVH file to write; - writes standard output")
+  cmd->add_option("-o,--output", args.output, "retimed BVH file to write; - writes standard output")
       ->type_name("OUT.bvh");
   cmd->add_option("--timing", args.timing,
                   "timing sheet CSV to write (output_frame,source_frame,kind,time_s); - writes "
