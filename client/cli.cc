@@ -23,7 +23,7 @@ constexpr const char* kGlossary =
     "(holds, --hold), repeating a frame where the motion is stillest; genga, the key poses; "
     "tame, a slow start out of a key; tsume, a slow arrival into the next key; the film grid "
     "(--timing-fps), the 24 fps grid drawings are counted on. Exit codes: 0 ok, 1 failure "
-    "(RPC error, unreadable or malformed file), 2 usage error. Full reference: docs/usage.md.";
+    "(RPC error, unreadable or malformed file), 2 usage error. Full reference: docs/usage.md.\n";
 
 // Options of the top-level app that take a value (and so consume the next argument).
 const std::set<std::string>& GlobalValueOptions() {
@@ -124,11 +124,25 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
   for (size_t j = i + 1; j < args.size(); ++j) {
     const std::string& arg = args[j];
     if (arg == "--") break;
-    if (!absl::StartsWith(arg, "--")) continue;
+    const bool is_short = arg.size() == 2 && arg[0] == '-' && arg[1] != '-';
+    if (!absl::StartsWith(arg, "--") && !is_short) continue;
     const std::string name = arg.substr(0, arg.find('='));
-    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
-    return UsageError(who, absl::StrCat("unknown option ", name, DidYouMean(name, known)),
-                      who + " --help");
+    if (!is_short && std::find(known.begin(), known.end(), name) == known.end()) {
+      return UsageError(who, absl::StrCat("unknown option ", name, DidYouMean(name, known)),
+                        who + " --help");
+    }
+    // CLI11 takes the next argument as the value even when it is an option ("-o --json"
+    // would write a file named "--json"): refuse that.
+    const CLI::Option* option = sub->get_option_no_throw(name);
+    if (option == nullptr) option = app.get_option_no_throw(name);
+    if (option != nullptr && name == arg && option->get_items_expected_min() > 0 &&
+        j + 1 < args.size()) {
+      const std::string next = args[j + 1].substr(0, args[j + 1].find('='));
+      if (std::find(known.begin(), known.end(), next) != known.end()) {
+        return UsageError(who, absl::StrCat(name, " needs a value (", next, " is an option)"),
+                          who + " --help");
+      }
+    }
   }
   return -1;
 }
@@ -145,8 +159,14 @@ std::string ParseErrorText(const CLI::ParseError& e) {
     if (colon != std::string::npos) extras = extras.substr(colon + 2);
     return absl::StrCat("unexpected argument(s): ", extras, " (one input file per call)");
   }
-  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr)
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr) {
+    // CLI11: "--omit: 1 required N missing".
+    const size_t colon = what.find(": ");
+    if (colon != std::string::npos && absl::StrContains(what, "missing")) {
+      return absl::StrCat(what.substr(0, colon), " needs a value");
+    }
     return absl::StrCat("a value is missing: ", what);
+  }
   return what;
 }
 

@@ -103,6 +103,10 @@ MISUSE = [
      'koma skeletal: --joint-weights: the clip has no joint "Hip"; did you mean "Hips"?'),
     (["skeletal", BVH], 2,
      "koma skeletal: -o/--output OUT.bvh is required (or --timing-only with --timing OUT.csv)"),
+    (["skeletal", BVH, "-o", "{W}/o.bvh", "--omit"], 2,
+     "koma skeletal: --omit needs a value (--server is an option)"),
+    (["skeletal", BVH, "-o", "--json"], 2, "koma skeletal: -o needs a value (--json is an option)"),
+    (["health", "--server", DEAD, "--deadline"], 2, "koma health: --deadline needs a value"),
     (["skeletal"], 2, "koma skeletal: the input file is required (a path, or - for standard input)"),
     (["skeletal", BVH, "other.bvh", "-o", "{W}/o.bvh"], 2,
      "koma skeletal: unexpected argument(s): other.bvh (one input file per call)"),
@@ -355,6 +359,22 @@ check(open(w("real.bvh"), "rb").read() == open(w("file.bvh"), "rb").read(), "lin
 code, out, _ = run(["skeletal", BVH, "-o", "/dev/stdout", "--server", target, "-q"])
 check(code == 0 and out == open(w("file.bvh"), "rb").read(), "-o /dev/stdout")
 check(os.path.islink("/dev/stdout"), "/dev/stdout is no longer a link")
+
+# Awkward CSV from a spreadsheet: a byte order mark, ';' separators, decimal commas, an id
+# with a comma. koma reads it, writes RFC 4180 CSV (the id quoted), and reads that back.
+rows = ["frame;Param,X;ParamAngleY"] + [f"{f};{f % 7},5;{-f}" for f in range(40)]
+open(w("excel.csv"), "wb").write(b"\xef\xbb\xbf" + "\r\n".join(rows).encode() + b"\r\n")
+code, _, err = run(["curves", w("excel.csv"), "-o", w("excel_out.csv"), "--timing-fps", "0",
+                    "--server", target, "-q"])
+check(code == 0, f"curves on an Excel CSV: {err}")
+with open(w("excel_out.csv"), newline="") as f:
+    table = list(csv.reader(f))
+check(table[0] == ["frame", "Param,X", "ParamAngleY"], f"header {table[0]}")
+check(open(w("excel_out.csv")).readline() == 'frame,"Param,X",ParamAngleY\n', "quoted id")
+check(len(table) == 41 and float(table[1][1]) == 0.5, table[1])
+code, _, err = run(["curves", w("excel_out.csv"), "-o", w("excel_again.csv"), "--timing-fps",
+                    "0", "--server", target, "-q"])
+check(code == 0, f"koma reads back its own CSV: {err}")
 
 # ---------------------------------------------------------------------------------------------
 # 5. Every request flag, through the real server.
