@@ -19,7 +19,7 @@ namespace {
 
 constexpr const char* kGlossary =
     "Terms: koma-uchi, drawings held 1 ('on ones'), 2 ('on twos') or 3 frames ('on threes'); "
-    "nakanuki (inbetween omission, --omit), removing the fastest inbetween frames; koma-dori "
+    "nakanashi (inbetween omission, --omit), removing the fastest inbetween frames; koma-dori "
     "(holds, --hold), repeating a frame where the motion is stillest; genga, the key poses; "
     "tame, a slow start out of a key; tsume, a slow arrival into the next key; the film grid "
     "(--timing-fps), the 24 fps grid drawings are counted on. Exit codes: 0 ok, 1 failure "

@@ -18,7 +18,7 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
   cmd->add_flag("--timing-only", args.timing_only,
                 "ask for no motion (return_motion false) and write only --timing");
   AddWholeNumber(cmd, "--omit,--omissions", &args.omissions, 0, INT32_MAX,
-                 "Nio, inbetween omissions (nakanuki): frames removed where the motion is "
+                 "Nio, inbetween omissions (nakanashi): frames removed where the motion is "
                  "fastest (default min(4, frames - 3))");
   AddWholeNumber(cmd, "--hold,--holds", &args.holds, 0, INT32_MAX,
                  "Nhf, hold steps (koma-dori): frames that repeat their predecessor where the "
