@@ -71,6 +71,7 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   AddChoice(cmd, "--format", &args.format, {"motion3", "csv"},
             "format of the output -o - (default: the input's; an input's format is read from its "
             "contents)");
+  AddPresetFlag(cmd);
   AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "60");
   return cmd;
 }

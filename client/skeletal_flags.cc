@@ -59,6 +59,7 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
          "source (default: the BVH's rate and length) or timing (one frame per grid frame)")
       ->type_name("source|timing")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  AddPresetFlag(cmd);
   AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "60");
   return cmd;
 }

@@ -48,6 +48,10 @@ with open(w("broken.bvh"), "w") as f:
 with open(w("bad.csv"), "w") as f:
     f.write("frame,A\n0,1\n2,3\n")
 os.makedirs(w("folder"), exist_ok=True)
+with open(w("typo.toml"), "w") as f:
+    f.write("[skeletal]\nomisions = 6\n")
+with open(w("section.toml"), "w") as f:
+    f.write("[skeletl]\nomissions = 6\n")
 
 MISUSE = [
     ([], 2, "koma: a command is required: skeletal, curves, lipblink, health"),
@@ -147,6 +151,14 @@ MISUSE = [
     (["health", "--server", "127.0.0.1:1,localhost:2"], 2,
      'koma health: server list: must be all IPv4 (127.0.0.1:p,127.0.0.1:q) or all bracketed IPv6 '
      '([::1]:p,[::1]:q); for names use dns:///name:port, got "127.0.0.1:1,localhost:2"'),
+    (["skeletal", BVH, "-o", "{W}/o.bvh", "--preset", "fast"], 2,
+     'koma skeletal: --preset: "fast" is not one of twos, threes, snappy, subtle'),
+    (["--config", "{W}/typo.toml", "skeletal", BVH, "-o", "{W}/o.bvh"], 2,
+     "koma: --config {W}/typo.toml: [skeletal] omisions: unknown option; did you mean omissions?"),
+    (["--config", "{W}/section.toml", "skeletal", BVH, "-o", "{W}/o.bvh"], 2,
+     "koma: --config {W}/section.toml: unknown section [skeletl]; did you mean skeletal?"),
+    (["--config", "{W}/none.toml", "skeletal", BVH, "-o", "{W}/o.bvh"], 2,
+     "koma: --config {W}/none.toml: cannot read: No such file or directory"),
     (["--tls-cert", "{W}/none.pem", "health"], 2,
      "koma: --tls-cert and --tls-key: give both or neither"),
 ]
@@ -303,6 +315,25 @@ for eye in lb["eyes"]:
         for f in range(blink["closed_begin"], blink["closed_end"] + 1):
             check(float(out_rows[f][eye["id"]]) == eye["closed_level"], f"{eye['id']} frame {f} closed")
 check(all(b["closed_begin"] <= b["closed_end"] for e in lb["eyes"] for b in e["blinks"]), "blinks")
+
+# Studio defaults: a --config file (or $KOMA_CONFIG) < --preset < flags on the line.
+with open(w("koma.toml"), "w") as f:
+    f.write(f'[skeletal]\nomissions = 5\nmax-hold = 1\nserver = "{DEAD}"\n')
+def settings(args, env=None):
+    code, out, err = run(args + ["--json"], env=env)
+    check(code == 0, f"{args}: {err}")
+    obj = json.loads(out)
+    return obj["omissions_requested"], obj["max_hold"]
+base = ["skeletal", BVH, "-o", w("cfg.bvh")]
+check(settings(["--config", w("koma.toml")] + base + ["--server", target]) == (5, 1), "config")
+env = dict(os.environ, KOMA_CONFIG=w("koma.toml"))
+check(settings(base + ["--server", target], env=env) == (5, 1), "$KOMA_CONFIG")
+check(settings(base + ["--server", target, "--preset", "twos"], env=env) == (5, 2),
+      "preset over config")
+check(settings(base + ["--server", target, "--preset", "snappy"], env=env) == (6, 3), "snappy")
+check(settings(base + ["--server", target, "--preset", "snappy", "--max-hold", "2"], env=env)
+      == (6, 2), "flags over preset")
+check(settings(base + ["--preset=subtle", "--server", target]) == (2, 2), "subtle")
 
 # health
 h, _ = summary(["health", "--server", target])
