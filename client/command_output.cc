@@ -98,4 +98,8 @@ void CommandOutput::Success(const std::string& text, nlohmann::json summary,
   std::fflush(stdout);
 }
 
+std::string ReportLine(const std::string& report_path) {
+  return report_path.empty() ? std::string() : "  report: " + report_path + "\n";
+}
+
 }  // namespace koma::client

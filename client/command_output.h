@@ -52,6 +52,9 @@ class CommandOutput {
   std::string server_;
 };
 
+// "  report: PATH\n" for the human summary when --report was given, else "".
+std::string ReportLine(const std::string& report_path);
+
 }  // namespace koma::client
 
 #endif  // KOMA_CLIENT_COMMAND_OUTPUT_H_

@@ -6,7 +6,6 @@
 #include "absl/strings/str_cat.h"
 #include "client/file_format.h"
 #include "client/files.h"
-#include "formats/curve_csv.h"
 
 namespace koma::client {
 namespace {
@@ -47,24 +46,16 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
         format = IsCsvPath(path) ? CurveFormat::kCsv : CurveFormat::kMotion3;
     }
   }
+  const bool csv = format == CurveFormat::kCsv;
+  absl::StatusOr<convert::CurveInput> parsed = convert::ParseCurveText(*text, csv, csv_fps);
+  if (!parsed.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat(DisplayName(path),
+                                                   csv ? " (CSV): " : " (motion3.json): ",
+                                                   parsed.status().message()));
+  }
   CurveInput input;
+  static_cast<convert::CurveInput&>(input) = *std::move(parsed);
   input.format = format;
-  if (format == CurveFormat::kCsv) {
-    absl::StatusOr<CurveSet> set = formats::ParseCurveCsv(*text, csv_fps);
-    if (!set.ok()) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(DisplayName(path), " (CSV): ", set.status().message()));
-    }
-    input.curves = *std::move(set);
-    return input;
-  }
-  absl::StatusOr<formats::Motion3File> file = formats::ParseMotion3(*text);
-  if (!file.ok()) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(DisplayName(path), " (motion3.json): ", file.status().message()));
-  }
-  input.curves = file->curves;
-  input.motion3 = *std::move(file);
   return input;
 }
 
@@ -91,23 +82,8 @@ absl::Status WriteCurveOutput(const std::string& path, const CurveInput& input,
                               CurveFormat format) {
   absl::StatusOr<CurveFormat> resolved = CurveOutputFormat(path, format, input);
   if (!resolved.ok()) return resolved.status();
-  const CurveSet& set = input.curves;
-  if (*resolved == CurveFormat::kCsv) {
-    std::vector<std::string> ids;
-    std::vector<std::vector<double>> values;
-    for (size_t i = 0; i < set.curves.size(); ++i) {
-      ids.push_back(set.curves[i].id);
-      values.push_back(replacements[i] ? replacements[i]->values
-                                       : SampleEveryFrame(set.curves[i], set.frame_count,
-                                                          set.beziers_restricted));
-    }
-    return WriteFile(path, formats::WriteCurveCsv(ids, values));
-  }
-  std::vector<std::optional<std::vector<CurvePoint>>> stepped;
-  for (const std::optional<CurveReplacement>& r : replacements) {
-    stepped.push_back(r ? std::optional<std::vector<CurvePoint>>(r->steps) : std::nullopt);
-  }
-  absl::StatusOr<std::string> text = formats::WriteMotion3(*input.motion3, stepped);
+  absl::StatusOr<std::string> text =
+      convert::CurveOutputText(input, replacements, *resolved == CurveFormat::kCsv);
   if (!text.ok()) return text.status();
   return WriteFile(path, *text);
 }

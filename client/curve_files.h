@@ -10,8 +10,8 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
+#include "convert/curve_text.h"
 #include "core/curves.h"
-#include "formats/motion3.h"
 
 namespace koma::client {
 
@@ -29,9 +29,8 @@ bool IsCsvPath(const std::string& path);
 // only; the commands use CurveOutputFormat.
 bool CanWriteOutput(const std::string& input, const std::string& output);
 
-struct CurveInput {
-  std::optional<formats::Motion3File> motion3;  // kept to write every other field back
-  CurveSet curves;
+// The parsed file (convert/curve_text.h) and the format it was read as.
+struct CurveInput : convert::CurveInput {
   CurveFormat format = CurveFormat::kMotion3;  // what was read: kMotion3 or kCsv
 };
 
@@ -51,11 +50,7 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
 absl::StatusOr<CurveFormat> CurveOutputFormat(const std::string& path, CurveFormat format,
                                               const CurveInput& input);
 
-// A retimed curve: per-frame values and the same as stepped keyframes.
-struct CurveReplacement {
-  std::vector<double> values;
-  std::vector<CurvePoint> steps;
-};
+using convert::CurveReplacement;  // a retimed curve (convert/curve_text.h)
 
 // Writes `input` with replacements[i] (when set) in place of curve i: as CSV (every curve,
 // the others sampled at every frame), else as motion3.json (needs a motion3 input; the

@@ -11,6 +11,7 @@
 #include "client/curves_summary.h"
 #include "client/files.h"
 #include "client/flag_values.h"
+#include "client/report/curves_report.h"
 #include "formats/drawing_sheet.h"
 #include "koma/v1/retime.grpc.pb.h"
 
@@ -151,7 +152,7 @@ int RunCurves(const CurvesArgs& args) {
   }
   absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args, input->curves);
   if (!request.ok()) return out.UsageFailure(request.status());
-  if (absl::Status s = CheckWritable({args.output, args.timing}); !s.ok()) return out.Failure(s);
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) return out.Failure(s);
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return out.UsageFailure(stub.status());
@@ -162,7 +163,13 @@ int RunCurves(const CurvesArgs& args) {
   if (!status.ok()) return out.RpcFailure(status);
 
   if (absl::Status s = WriteCurvesOutputs(args, *input, response); !s.ok()) return out.Failure(s);
-  out.Success(CurvesSummaryText(args, input->curves, response),
+  if (!args.report.empty()) {
+    if (absl::Status s = report::WriteCurvesReport(args.report, *request, response, args.input);
+        !s.ok()) {
+      return out.Failure(s);
+    }
+  }
+  out.Success(CurvesSummaryText(args, input->curves, response) + ReportLine(args.report),
               CurvesSummaryJson(args, input->curves, response),
               IsStdio(args.output) || IsStdio(args.timing));
   return kExitOk;

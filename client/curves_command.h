@@ -31,6 +31,7 @@ struct CurvesArgs {
   std::string input;                      // .motion3.json or .csv; "-": standard input
   std::string output;                     // .motion3.json (needs a motion3 input) or .csv; "-"
   std::string timing;                     // drawing sheet CSV to write; empty: none; "-"
+  std::string report;                     // --report: HTML report to write; empty: none
   std::optional<int> frames_per_drawing;  // --on / --frames-per-drawing; unset: server's 3
   std::vector<int> keys;                  // --keys / --key-frames; empty: keyframe times
   std::optional<double> tame;             // --tame; unset: 1

@@ -19,6 +19,9 @@ CLI::App* AddCurvesCommand(CLI::App& app, CurvesArgs& args) {
                   "writes standard output")
       ->type_name("OUT.csv");
   cmd->add_flag("--timing-only", args.timing_only, "write only the --timing sheet, no curves");
+  cmd->add_option("--report", args.report,
+                  "before/after HTML report to write, one self-contained file (docs/report.md)")
+      ->type_name("OUT.html");
   AddWholeNumber(cmd, "--on,--frames-per-drawing", &args.frames_per_drawing, 1, INT32_MAX,
                  "koma-uchi: frames each drawing is held, 2 'on twos', 3 'on threes' (grid "
                  "frames with a film grid; default 3)");

@@ -11,6 +11,7 @@
 #include "client/curves_convert.h"
 #include "client/files.h"
 #include "client/lip_blink_summary.h"
+#include "client/report/lip_blink_report.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
@@ -102,20 +103,26 @@ int RunLipBlink(const LipBlinkArgs& args) {
   absl::StatusOr<CurveFormat> format =
       CurveOutputFormat(args.output, CurveFormatFromFlag(args.format), *input);
   if (!format.ok()) return out.UsageFailure(format.status());
-  if (absl::Status s = CheckWritable({args.output}); !s.ok()) return out.Failure(s);
+  if (absl::Status s = CheckWritable({args.output, args.report}); !s.ok()) return out.Failure(s);
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return out.UsageFailure(stub.status());
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::LipBlinkResponse response;
-  const grpc::Status status =
-      (*stub)->LipBlink(&context, BuildLipBlinkRequest(args, input->curves), &response);
+  const v1::LipBlinkRequest request = BuildLipBlinkRequest(args, input->curves);
+  const grpc::Status status = (*stub)->LipBlink(&context, request, &response);
   if (!status.ok()) return out.RpcFailure(status);
   if (absl::Status s = WriteLipBlinkOutputs(args, *input, response); !s.ok()) {
     return out.Failure(s);
   }
-  out.Success(LipBlinkSummaryText(args, input->curves, response),
+  if (!args.report.empty()) {
+    if (absl::Status s = report::WriteLipBlinkReport(args.report, request, response, args.input);
+        !s.ok()) {
+      return out.Failure(s);
+    }
+  }
+  out.Success(LipBlinkSummaryText(args, input->curves, response) + ReportLine(args.report),
               LipBlinkSummaryJson(args, input->curves, response), IsStdio(args.output));
   return kExitOk;
 }

@@ -23,6 +23,7 @@ namespace koma::client {
 struct LipBlinkArgs {
   std::string input;   // .motion3.json or .csv; "-": standard input
   std::string output;  // .motion3.json (needs a motion3 input) or .csv; "-"
+  std::string report;  // --report: HTML report to write; empty: none
   // mouth (MouthSettings)
   std::vector<std::string> mouth_ids;     // --mouth / --mouth-ids; empty: ParamMouthOpenY
   std::string mode = "random";            // --mode / --mouth-mode random|follow
@@ -49,7 +50,7 @@ struct LipBlinkArgs {
   std::optional<uint64_t> seed;               // --seed; unset: the server's default
   double csv_fps = 30.0;                      // --fps of a CSV input
   std::optional<double> timing_fps;           // --timing-fps: the film grid; unset: server's 24
-  std::string format;                         // --format motion3|csv: of the output "-"
+  std::string format;                         // --format motion3|csv: of "-" input/output
   std::string server;
   double deadline_seconds = 60.0;
   bool json = false;   // --json

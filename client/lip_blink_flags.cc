@@ -13,6 +13,9 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   cmd->add_option("-o,--output", args.output,
                   "motion3.json or .csv to write; - writes standard output")
       ->type_name("OUT");
+  cmd->add_option("--report", args.report,
+                  "before/after HTML report to write, one self-contained file (docs/report.md)")
+      ->type_name("OUT.html");
   // mouth
   AddStringList(cmd, "--mouth,--mouth-ids", &args.mouth_ids,
                 "mouth-open curve ids (default ParamMouthOpenY)");

@@ -12,6 +12,7 @@
 #include "client/file_format.h"
 #include "client/files.h"
 #include "client/flag_values.h"
+#include "client/report/skeletal_report.h"
 #include "client/skeletal_convert.h"
 #include "client/skeletal_summary.h"
 #include "formats/bvh.h"
@@ -169,7 +170,8 @@ absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& 
 int RunSkeletal(const SkeletalArgs& args) {
   const CommandOutput out("skeletal", args.json, args.quiet, args.server);
   if (absl::Status s = CheckSkeletalFlags(args); !s.ok()) return out.UsageFailure(s);
-  if (absl::Status s = CheckWritable({args.output, args.timing}); !s.ok()) return out.Failure(s);
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok())
+    return out.Failure(s);
   absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(args.input);
   if (!clip.ok()) return out.Failure(clip.status());
   absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, *clip);
@@ -182,7 +184,13 @@ int RunSkeletal(const SkeletalArgs& args) {
   const grpc::Status status = (*stub)->RetimeSkeletal(&context, *request, &response);
   if (!status.ok()) return out.RpcFailure(status);
   if (absl::Status s = WriteSkeletalOutputs(args, *clip, response); !s.ok()) return out.Failure(s);
-  out.Success(SkeletalSummaryText(args, *clip, response),
+  if (!args.report.empty()) {
+    if (absl::Status s = report::WriteSkeletalReport(args.report, *request, response, args.input);
+        !s.ok()) {
+      return out.Failure(s);
+    }
+  }
+  out.Success(SkeletalSummaryText(args, *clip, response) + ReportLine(args.report),
               SkeletalSummaryJson(args, *clip, response),
               IsStdio(args.output) || IsStdio(args.timing));
   return kExitOk;

@@ -17,6 +17,9 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
       ->type_name("OUT.csv");
   cmd->add_flag("--timing-only", args.timing_only,
                 "ask for no motion (return_motion false) and write only --timing");
+  cmd->add_option("--report", args.report,
+                  "before/after HTML report to write, one self-contained file (docs/report.md)")
+      ->type_name("OUT.html");
   AddWholeNumber(cmd, "--omit,--omissions", &args.omissions, 0, INT32_MAX,
                  "Nio, inbetween omissions (nakanashi): frames removed where the motion is "
                  "fastest (default min(4, frames - 3))");

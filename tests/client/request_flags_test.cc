@@ -38,6 +38,15 @@ const std::map<std::string, std::string> kExcluded = {
     {"RetimeSkeletalRequest.motion", "the whole clip: the input file"},
     {"RetimeCurvesRequest.curves", "the whole curve set: the input file"},
     {"LipBlinkRequest.curves", "the whole curve set: the input file"},
+    // Files over the wire (the oneof beside the decoded motion): the CLI reads and checks the
+    // file itself and sends the decoded message; --fps is a CSV input's rate there.
+    {"RetimeSkeletalRequest.bvh_text", "the input file as text: the CLI sends it decoded"},
+    {"RetimeCurvesRequest.motion3_json", "the input file as text: the CLI sends it decoded"},
+    {"RetimeCurvesRequest.csv_text", "the input file as text: the CLI sends it decoded"},
+    {"RetimeCurvesRequest.csv_fps", "a csv_text's rate: the CLI's --fps decodes the CSV itself"},
+    {"LipBlinkRequest.motion3_json", "the input file as text: the CLI sends it decoded"},
+    {"LipBlinkRequest.csv_text", "the input file as text: the CLI sends it decoded"},
+    {"LipBlinkRequest.csv_fps", "a csv_text's rate: the CLI's --fps decodes the CSV itself"},
 };
 
 // Singular message fields whose fields are settings, each with its own flag.
