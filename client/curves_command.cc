@@ -125,8 +125,8 @@ absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
       return absl::InternalError(absl::StrCat("the server answered ", replacements.size(),
                                               " curves for ", input.curves.curves.size()));
     }
-    if (absl::Status s = WriteCurveOutput(args.output, input, replacements,
-                                          CurveFormatFromFlag(args.format));
+    if (absl::Status s =
+            WriteCurveOutput(args.output, input, replacements, CurveFormatFromFlag(args.format));
         !s.ok()) {
       return s;
     }
@@ -143,7 +143,7 @@ int RunCurves(const CurvesArgs& args) {
   const CommandOutput out("curves", args.json, args.quiet, args.server);
   if (absl::Status s = CheckCurvesFlags(args); !s.ok()) return out.UsageFailure(s);
   absl::StatusOr<CurveInput> input =
-      ReadCurveInput(args.input, args.csv_fps, CurveFormatFromFlag(args.format), "curves");
+      ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, "curves");
   if (!input.ok()) return out.Failure(input.status());
   if (!args.timing_only) {
     absl::StatusOr<CurveFormat> format =

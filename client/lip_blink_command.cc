@@ -99,7 +99,7 @@ int RunLipBlink(const LipBlinkArgs& args) {
   const CommandOutput out("lipblink", args.json, args.quiet, args.server);
   if (absl::Status s = CheckLipBlinkFlags(args); !s.ok()) return out.UsageFailure(s);
   absl::StatusOr<CurveInput> input =
-      ReadCurveInput(args.input, args.csv_fps, CurveFormatFromFlag(args.format), "lipblink");
+      ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, "lipblink");
   if (!input.ok()) return out.Failure(input.status());
   absl::StatusOr<CurveFormat> format =
       CurveOutputFormat(args.output, CurveFormatFromFlag(args.format), *input);

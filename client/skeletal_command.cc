@@ -39,9 +39,9 @@ absl::StatusOr<std::vector<double>> JointWeights(const std::vector<std::string>&
       weights.push_back(*w);
     }
     if (weights.size() != skeleton.joints.size()) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          kFlag, ": ", weights.size(), " weights for ", skeleton.joints.size(),
-          " joints: give one per joint in file order, or NAME=W for some joints"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(kFlag, ": ", weights.size(), " weights for ", skeleton.joints.size(),
+                       " joints: give one per joint in file order, or NAME=W for some joints"));
     }
     return weights;
   }
@@ -86,7 +86,7 @@ absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path) {
 }
 
 absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArgs& args,
-                                                                const SkeletalClip& clip) {
+                                                               const SkeletalClip& clip) {
   v1::RetimeSkeletalRequest request;
   *request.mutable_motion() = ToProto(clip);
   if (args.omissions) request.set_omissions(*args.omissions);
@@ -171,7 +171,8 @@ absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& 
 int RunSkeletal(const SkeletalArgs& args) {
   const CommandOutput out("skeletal", args.json, args.quiet, args.server);
   if (absl::Status s = CheckSkeletalFlags(args); !s.ok()) return out.UsageFailure(s);
-  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) return out.Failure(s);
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok())
+    return out.Failure(s);
   absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(args.input);
   if (!clip.ok()) return out.Failure(clip.status());
   absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, *clip);
@@ -190,7 +191,8 @@ int RunSkeletal(const SkeletalArgs& args) {
       return out.Failure(s);
     }
   }
-  out.Success(SkeletalSummaryText(args, *clip, response) + ReportLine(args.report), SkeletalSummaryJson(args, *clip, response),
+  out.Success(SkeletalSummaryText(args, *clip, response) + ReportLine(args.report),
+              SkeletalSummaryJson(args, *clip, response),
               IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
   return kExitOk;
 }
