@@ -143,25 +143,33 @@ KOMA_FK_INLINE void JointTransform(const JointPlan& plan, size_t index, const do
 // where the positions are written).
 KOMA_FK_INLINE void Transpose4x4(const double* from, size_t from_stride, double* to,
                                  size_t to_stride) {
+  // Lane i of the result is lane i_k of the eight lanes of (a, b): GCC's __builtin_shuffle,
+  // or clang's __builtin_shufflevector (the sanitizer and fuzz builds use clang).
+#if defined(__clang__)
+#define KOMA_SHUFFLE4(a, b, i0, i1, i2, i3) __builtin_shufflevector(a, b, i0, i1, i2, i3)
+#else
   typedef long long Mask __attribute__((vector_size(32)));
+#define KOMA_SHUFFLE4(a, b, i0, i1, i2, i3) __builtin_shuffle(a, b, Mask{i0, i1, i2, i3})
+#endif
   // Separate variables, not arrays: GCC kept arrays of vectors on the stack.
   Lanes r0, r1, r2, r3;
   __builtin_memcpy(&r0, from, sizeof r0);
   __builtin_memcpy(&r1, from + from_stride, sizeof r1);
   __builtin_memcpy(&r2, from + 2 * from_stride, sizeof r2);
   __builtin_memcpy(&r3, from + 3 * from_stride, sizeof r3);
-  const Lanes t0 = __builtin_shuffle(r0, r1, Mask{0, 4, 2, 6});
-  const Lanes t1 = __builtin_shuffle(r0, r1, Mask{1, 5, 3, 7});
-  const Lanes t2 = __builtin_shuffle(r2, r3, Mask{0, 4, 2, 6});
-  const Lanes t3 = __builtin_shuffle(r2, r3, Mask{1, 5, 3, 7});
-  const Lanes c0 = __builtin_shuffle(t0, t2, Mask{0, 1, 4, 5});
-  const Lanes c1 = __builtin_shuffle(t1, t3, Mask{0, 1, 4, 5});
-  const Lanes c2 = __builtin_shuffle(t0, t2, Mask{2, 3, 6, 7});
-  const Lanes c3 = __builtin_shuffle(t1, t3, Mask{2, 3, 6, 7});
+  const Lanes t0 = KOMA_SHUFFLE4(r0, r1, 0, 4, 2, 6);
+  const Lanes t1 = KOMA_SHUFFLE4(r0, r1, 1, 5, 3, 7);
+  const Lanes t2 = KOMA_SHUFFLE4(r2, r3, 0, 4, 2, 6);
+  const Lanes t3 = KOMA_SHUFFLE4(r2, r3, 1, 5, 3, 7);
+  const Lanes c0 = KOMA_SHUFFLE4(t0, t2, 0, 1, 4, 5);
+  const Lanes c1 = KOMA_SHUFFLE4(t1, t3, 0, 1, 4, 5);
+  const Lanes c2 = KOMA_SHUFFLE4(t0, t2, 2, 3, 6, 7);
+  const Lanes c3 = KOMA_SHUFFLE4(t1, t3, 2, 3, 6, 7);
   __builtin_memcpy(to, &c0, sizeof c0);
   __builtin_memcpy(to + to_stride, &c1, sizeof c1);
   __builtin_memcpy(to + 2 * to_stride, &c2, sizeof c2);
   __builtin_memcpy(to + 3 * to_stride, &c3, sizeof c3);
+#undef KOMA_SHUFFLE4
 }
 
 // out[kLanes * k + l] = rows[l * stride + channel + k] for k < length and each lane l: a run

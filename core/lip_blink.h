@@ -1,5 +1,5 @@
 // LipBlink (Miyamune et al. section 3.2): three-drawing mouth flaps and anime blinks.
-// See ../shared/design/algorithms.md section 3. Frames are integer indices; an interval is
+// See docs/semantics.md, "LipBlink". Frames are integer indices; an interval is
 // half-open [begin, end).
 #ifndef KOMA_CORE_LIP_BLINK_H_
 #define KOMA_CORE_LIP_BLINK_H_

@@ -1,4 +1,4 @@
-// ConvertMouth (algorithms.md section 3, paper section 3.2.1 and Fig. 5): speech intervals,
+// ConvertMouth (docs/semantics.md, "LipBlink", paper section 3.2.1 and Fig. 5): speech intervals,
 // holds of n frames inside them, and one of three shapes per hold, never the previous one.
 #include <algorithm>
 #include <array>

@@ -16,6 +16,7 @@
 #include "absl/strings/str_cat.h"
 #include "core/split_mix64.h"
 #include "server/arena_allocator.h"
+#include "server/call_footprint.h"
 #include "server/curves_request.h"
 #include "server/curves_response.h"
 #include "server/lip_blink_request.h"
@@ -90,12 +91,14 @@ absl::StatusOr<int64_t> SerialiseInto(const Response& response, grpc::ByteBuffer
 constexpr size_t kCurvesSliceBytes = 512 * 1024;
 absl::StatusOr<int64_t> SerialiseInto(CurvesAnswer& answer, grpc::ByteBuffer* bytes) {
   const CurvesResponseEncoder encoder(answer.set, answer.result);
-  const size_t size = encoder.size();
+  const size_t size = encoder.size() + answer.file_field.size();
   if (size > static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
     return absl::InternalError(absl::StrCat("response: cannot be serialised: ", size,
                                             " bytes is over protobuf's 2 GiB message limit"));
   }
   std::vector<grpc::Slice> slices = EncodeInSlices(encoder, answer.result, kCurvesSliceBytes);
+  // A file request's retimed file: its field (6 or 7) follows the encoder's (1-5).
+  if (!answer.file_field.empty()) slices.emplace_back(std::move(answer.file_field));
   grpc::ByteBuffer(slices.data(), slices.size()).Swap(bytes);
   return static_cast<int64_t>(size);
 }
@@ -213,19 +216,29 @@ template <typename Request, typename Response, typename Handler>
 class ArenaBytesCall {
  public:
   ArenaBytesCall(const grpc::ByteBuffer* request_bytes, grpc::ByteBuffer* response_bytes,
-                 Handler handler)
+                 const RequestLimits& limits, Handler handler)
       : request_bytes_(request_bytes),
         response_bytes_(response_bytes),
+        limits_(limits),
         handler_(std::move(handler)),
         request_arena_(std::make_unique<google::protobuf::Arena>(CallArenaOptions())),
         request_(google::protobuf::Arena::CreateMessage<Request>(request_arena_.get())) {}
 
   int64_t BytesIn() const { return static_cast<int64_t>(request_bytes_->Length()); }
+  // The memory budget's reservation for the received bytes (Dispatch), held until the call
+  // object goes and grown to the call's expected footprint once the request is parsed.
+  void Hold(MemoryBudget::Reservation reservation) { reservation_ = std::move(reservation); }
 
   grpc::Status Run(RpcRecord& record) {
+    const int64_t bytes_in = BytesIn();
     const absl::Status parsed = ParseRequest(request_bytes_, request_);
     if (!parsed.ok()) return ToGrpcStatus(parsed);
     DescribeRequest(*request_, record);
+    if (reservation_.budgeted()) {
+      const absl::Status fits = reservation_.Resize(
+          ExpectedFootprint(*request_, bytes_in, limits_), "this call (request, work, response)");
+      if (!fits.ok()) return ToGrpcStatus(fits);
+    }
     absl::Status handled = handler_(*request_, response_.get());
     FreeRequest();
     if (handled.ok()) handled = CompleteAnswer(*response_.get());
@@ -244,7 +257,9 @@ class ArenaBytesCall {
  private:
   const grpc::ByteBuffer* request_bytes_;
   grpc::ByteBuffer* response_bytes_;
+  const RequestLimits& limits_;
   Handler handler_;
+  MemoryBudget::Reservation reservation_;
   std::unique_ptr<google::protobuf::Arena> request_arena_;
   Request* request_;
   AnswerSlot<Response> response_;
@@ -294,6 +309,16 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   record.request_id = RequestId(*context);
   context->AddInitialMetadata(std::string(kRequestIdKey), record.request_id);
   record.bytes_in = call->BytesIn();
+  if (budget_ != nullptr) {
+    absl::StatusOr<MemoryBudget::Reservation> reserved =
+        budget_->Reserve(ReceivedFootprint(record.bytes_in), "the received request");
+    if (!reserved.ok()) {
+      FinishAndLog(context, reactor, ToGrpcStatus(reserved.status()), *call, record, start,
+                   metrics);
+      return reactor;
+    }
+    call->Hold(*std::move(reserved));
+  }
   IdleTrimmer* const trimmer = trimmer_;
   if (trimmer != nullptr) trimmer->CallStarted(record.bytes_in);
   auto run = [context, call, reactor, record, start, metrics, trimmer]() mutable {
@@ -309,7 +334,7 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   };
   // A small call (a Pitch-size clip is ~100 KB and retimes in well under a millisecond) runs
   // right here: handing it to a worker and back costs a thread wake-up each way, which on 2
-  // cores measured as much as the retiming (docs/benchmarks.md, "Inline small calls"). Large
+  // cores measured as much as the retiming (docs/benchmarks.md, "Findings"). Large
   // calls go to the pool, so a call of seconds never holds one of gRPC's few callback threads
   // and the bounded queue still applies to them.
   if (record.bytes_in <= inline_max_bytes_) {
@@ -329,8 +354,8 @@ grpc::ServerUnaryReactor* RetimeService::DispatchRaw(grpc::CallbackServerContext
                                                      grpc::ByteBuffer* response, RpcMethod method,
                                                      RpcRecord record, Handler handler) {
   return Dispatch(context,
-                  std::make_shared<ArenaBytesCall<Request, Answer, Handler>>(request, response,
-                                                                             std::move(handler)),
+                  std::make_shared<ArenaBytesCall<Request, Answer, Handler>>(
+                      request, response, limits_, std::move(handler)),
                   method, std::move(record));
 }
 

@@ -11,6 +11,7 @@
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/idle_trim.h"
 #include "server/logging.h"
+#include "server/memory_budget.h"
 #include "server/metrics.h"
 #include "server/request_limits.h"
 #include "server/worker_pool.h"
@@ -30,14 +31,18 @@ class RetimeService final
 
   // `pool` must outlive the service and every call it accepted; so must `metrics` and
   // `trimmer`, which may be null (no metrics, no trimming when idle). Calls whose request is
-  // at most `inline_max_bytes` run inline, the rest on `pool` (see Dispatch).
+  // at most `inline_max_bytes` run inline, the rest on `pool` (see Dispatch). With a `budget`
+  // (--max_memory_mb; null: none), each call reserves its expected memory first
+  // (server/call_footprint.h) and is answered RESOURCE_EXHAUSTED when it does not fit.
   RetimeService(const RequestLimits& limits, WorkerPool* pool, const RpcMetrics* metrics = nullptr,
-                int64_t inline_max_bytes = kDefaultInlineMaxBytes, IdleTrimmer* trimmer = nullptr)
+                int64_t inline_max_bytes = kDefaultInlineMaxBytes, IdleTrimmer* trimmer = nullptr,
+                MemoryBudget* budget = nullptr)
       : limits_(limits),
         pool_(pool),
         metrics_(metrics),
         inline_max_bytes_(inline_max_bytes),
-        trimmer_(trimmer) {}
+        trimmer_(trimmer),
+        budget_(budget) {}
 
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
                                            const grpc::ByteBuffer* request,
@@ -71,6 +76,7 @@ class RetimeService final
   const RpcMetrics* const metrics_;
   const int64_t inline_max_bytes_;
   IdleTrimmer* const trimmer_;
+  MemoryBudget* const budget_;
 };
 
 }  // namespace koma::server

@@ -2,6 +2,7 @@
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/resource_quota.h>
 
 #include <algorithm>
 #include <chrono>
@@ -47,6 +48,10 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
     return invalid("--max_joints: ", config.limits.max_joints,
                    " must be >= 1 (it would refuse every skeleton)");
   }
+  if (config.limits.max_file_bytes < 0) {
+    return invalid("--max_file_bytes: ", config.limits.max_file_bytes,
+                   " must be >= 0 (0 refuses every file-carrying request)");
+  }
   if (config.limits.threads_per_call < 1) {
     // Not reachable from the flag: koma_server turns --threads_per_call=0 into one per core.
     return invalid("limits.threads_per_call: ", config.limits.threads_per_call,
@@ -72,6 +77,13 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
     return invalid("idle_trim_min_request_bytes: ", config.idle_trim_min_request_bytes,
                    " must be >= 0");
   }
+  if (config.max_memory_mb < 0) {
+    return invalid("--max_memory_mb: ", config.max_memory_mb, " must be >= 0 (0 = no budget)");
+  }
+  if (config.max_memory_mb > 0 && config.max_memory_mb < 16) {
+    return invalid("--max_memory_mb: ", config.max_memory_mb,
+                   " is below 16 (gRPC alone needs a few MiB per connection)");
+  }
   if (config.inline_max_bytes < 0) {
     return invalid("--inline_max_bytes: ", config.inline_max_bytes,
                    " must be >= 0 (0 = every request on a worker)");
@@ -88,9 +100,20 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
   server->trimmer_ =
       std::make_unique<IdleTrimmer>(config.idle_trim, config.idle_trim_min_request_bytes);
   server->pool_ = std::make_unique<WorkerPool>(threads, static_cast<size_t>(config.max_queued));
-  server->service_ =
-      std::make_unique<RetimeService>(config.limits, server->pool_.get(), server->metrics_.get(),
-                                      config.inline_max_bytes, server->trimmer_.get());
+  constexpr int64_t kMiB = 1024 * 1024;
+  const int64_t grpc_share = config.max_memory_mb * kMiB / 4;  // see ServerConfig::max_memory_mb
+  if (config.max_memory_mb > 0) {
+    server->budget_ = std::make_unique<MemoryBudget>(
+        config.max_memory_mb * kMiB - grpc_share,
+        absl::StrCat("memory budget (--max_memory_mb=", config.max_memory_mb, ", ",
+                     (config.max_memory_mb * kMiB - grpc_share) / kMiB, " MiB of it for calls)"));
+    if (server->metrics_registry_ != nullptr) {
+      server->budget_->ExportMetrics(*server->metrics_registry_);
+    }
+  }
+  server->service_ = std::make_unique<RetimeService>(
+      config.limits, server->pool_.get(), server->metrics_.get(), config.inline_max_bytes,
+      server->trimmer_.get(), server->budget_.get());
   server->max_message_bytes_ = config.max_message_bytes;
 
   grpc::EnableDefaultHealthCheckService(true);
@@ -98,6 +121,14 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
   grpc::ServerBuilder builder;
   if (!config.address.empty()) {
     builder.AddListeningPort(config.address, Credentials(config), &server->port_);
+  }
+  if (config.max_memory_mb > 0) {
+    // gRPC's own memory (transport buffers, requests being received) under its quota: near
+    // the quota it shrinks its flow-control windows, so senders wait instead of the server
+    // buffering every request at once.
+    grpc::ResourceQuota quota("koma_server");
+    quota.Resize(static_cast<size_t>(grpc_share));
+    builder.SetResourceQuota(quota);
   }
   builder.SetMaxReceiveMessageSize(config.max_message_bytes);
   builder.SetMaxSendMessageSize(config.max_message_bytes);

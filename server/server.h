@@ -12,6 +12,7 @@
 #include "absl/status/statusor.h"
 #include "absl/time/time.h"
 #include "server/idle_trim.h"
+#include "server/memory_budget.h"
 #include "server/metrics.h"
 #include "server/metrics_endpoint.h"
 #include "server/request_limits.h"
@@ -44,6 +45,10 @@ struct ServerConfig {
   std::string tls_cert_pem;
   std::string tls_key_pem;
   std::string tls_client_ca_pem;
+  // The memory all calls in flight may hold together, MiB (--max_memory_mb; 0 = no budget).
+  // A quarter of it bounds what gRPC holds (its ResourceQuota: receive buffers, messages being
+  // assembled); the rest is what koma's calls may reserve (server/memory_budget.h).
+  int64_t max_memory_mb = 0;
   // Prometheus: "HOST:PORT" serves GET /metrics over plain HTTP there (port 0 picks a free
   // one); empty = no endpoint.
   std::string metrics_address;
@@ -65,6 +70,8 @@ class KomaServer {
   int port() const { return port_; }
   // How many times the memory of large calls was given back while idle (server/idle_trim.h).
   int64_t idle_trims() const { return trimmer_->trims(); }
+  // The calls' share of --max_memory_mb; null without a budget.
+  const MemoryBudget* memory_budget() const { return budget_.get(); }
   // The bound metrics port; 0 without a metrics endpoint.
   int metrics_port() const { return metrics_endpoint_ ? metrics_endpoint_->port() : 0; }
   // A channel to this server that bypasses the network (tests), with the same size limits.
@@ -90,6 +97,7 @@ class KomaServer {
   std::unique_ptr<RpcMetrics> metrics_;
   std::unique_ptr<MetricsEndpoint> metrics_endpoint_;
   std::unique_ptr<IdleTrimmer> trimmer_;
+  std::unique_ptr<MemoryBudget> budget_;
   std::unique_ptr<WorkerPool> pool_;
   std::unique_ptr<RetimeService> service_;
   std::unique_ptr<grpc::Server> server_;

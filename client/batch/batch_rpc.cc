@@ -1,49 +1,19 @@
 #include "client/batch/batch_rpc.h"
 
-#include <google/protobuf/io/coded_stream.h>
-#include <google/protobuf/io/zero_copy_stream_impl_lite.h>
-
-#include <cstdint>
 #include <filesystem>
 #include <system_error>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
 #include "client/curve_files.h"
-#include "client/files.h"
-#include "formats/bvh.h"
 
 namespace koma::client::batch {
 namespace {
 
-// Protobuf bytes with map entries in key order, so equal messages give equal bytes.
-std::string DeterministicBytes(const google::protobuf::MessageLite& message) {
-  std::string bytes;
-  {
-    google::protobuf::io::StringOutputStream stream(&bytes);
-    google::protobuf::io::CodedOutputStream coded(&stream);
-    coded.SetSerializationDeterministic(true);
-    message.SerializeToCodedStream(&coded);
-  }
-  return bytes;
-}
-
-// 64-bit FNV-1a of the parts, each prefixed with its length (so "ab"+"c" != "a"+"bc"), as
-// 16 hex digits. Not a security digest: it tells option sets apart.
-std::string Digest(std::initializer_list<std::string> parts) {
-  uint64_t hash = 1469598103934665603ULL;
-  auto mix = [&hash](const std::string& bytes) {
-    for (unsigned char c : bytes) {
-      hash ^= c;
-      hash *= 1099511628211ULL;
-    }
-  };
-  for (const std::string& part : parts) {
-    mix(absl::StrCat(part.size(), ":"));
-    mix(part);
-  }
-  return absl::StrFormat("%016x", hash);
+// A request that cannot be built for this clip (a flag that does not fit it, such as
+// --joint-weights for another skeleton): the error, naming the file.
+absl::Status WithPath(const BatchItem& item, const absl::Status& status) {
+  return absl::Status(status.code(), absl::StrCat(item.input, ": ", status.message()));
 }
 
 absl::Status MakeParentFolder(const std::string& path) {
@@ -60,8 +30,8 @@ absl::Status MakeParentFolder(const std::string& path) {
 
 class SkeletalClipCall final : public Clip {
  public:
-  SkeletalClipCall(const SkeletalArgs& args, SkeletalClip clip)
-      : args_(args), clip_(std::move(clip)), request_(MakeSkeletalRequest(args, clip_)) {}
+  SkeletalClipCall(const SkeletalArgs& args, SkeletalClip clip, v1::RetimeSkeletalRequest request)
+      : args_(args), clip_(std::move(clip)), request_(std::move(request)) {}
 
   void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
              std::function<void(grpc::Status)> done) override {
@@ -90,18 +60,11 @@ class SkeletalRpc final : public Rpc {
   explicit SkeletalRpc(const SkeletalArgs& args) : args_(args) {}
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
-    absl::StatusOr<std::string> text = ReadFile(item.input);
-    if (!text.ok()) return text.status();
-    absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(*text);
-    if (!clip.ok()) {
-      return absl::InvalidArgumentError(absl::StrCat(item.input, ": ", clip.status().message()));
-    }
-    return std::make_unique<SkeletalClipCall>(args_, *std::move(clip));
-  }
-
-  std::string Fingerprint() const override {
-    // The timing sheet path itself is per clip; whether there is one is not.
-    return Digest({"skeletal", DeterministicBytes(MakeSkeletalRequest(args_, SkeletalClip{}))});
+    absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(item.input);
+    if (!clip.ok()) return clip.status();
+    absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args_, *clip);
+    if (!request.ok()) return WithPath(item, request.status());
+    return std::make_unique<SkeletalClipCall>(args_, *std::move(clip), *std::move(request));
   }
 
  private:
@@ -110,10 +73,8 @@ class SkeletalRpc final : public Rpc {
 
 class CurvesClipCall final : public Clip {
  public:
-  CurvesClipCall(const CurvesArgs& args, CurveInput input) : args_(args), input_(std::move(input)) {
-    request_ = MakeCurvesRequest(args_, input_.curves);
-    AddCurveOverrides(args_.curve_on, request_);  // checked once when the batch started
-  }
+  CurvesClipCall(const CurvesArgs& args, CurveInput input, v1::RetimeCurvesRequest request)
+      : args_(args), input_(std::move(input)), request_(std::move(request)) {}
 
   void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
              std::function<void(grpc::Status)> done) override {
@@ -144,13 +105,9 @@ class CurvesRpc final : public Rpc {
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
     absl::StatusOr<CurveInput> input = ReadCurveInput(item.input, args_.csv_fps);
     if (!input.ok()) return input.status();
-    return std::make_unique<CurvesClipCall>(args_, *std::move(input));
-  }
-
-  std::string Fingerprint() const override {
-    v1::RetimeCurvesRequest request = MakeCurvesRequest(args_, CurveSet{});
-    AddCurveOverrides(args_.curve_on, request);
-    return Digest({"curves", DeterministicBytes(request), absl::StrFormat("%.17g", args_.csv_fps)});
+    absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args_, input->curves);
+    if (!request.ok()) return WithPath(item, request.status());
+    return std::make_unique<CurvesClipCall>(args_, *std::move(input), *std::move(request));
   }
 
  private:
@@ -160,7 +117,7 @@ class CurvesRpc final : public Rpc {
 class LipBlinkClipCall final : public Clip {
  public:
   LipBlinkClipCall(const LipBlinkArgs& args, CurveInput input)
-      : args_(args), input_(std::move(input)), request_(MakeLipBlinkRequest(args_, input_.curves)) {}
+      : args_(args), input_(std::move(input)), request_(BuildLipBlinkRequest(args_, input_.curves)) {}
 
   void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
              std::function<void(grpc::Status)> done) override {
@@ -173,7 +130,7 @@ class LipBlinkClipCall final : public Clip {
     LipBlinkArgs args = args_;
     args.input = item.input;
     args.output = item.output;
-    return WriteLipBlinkOutput(args, input_, response_);
+    return WriteLipBlinkOutputs(args, input_, response_);
   }
 
  private:
@@ -191,11 +148,6 @@ class LipBlinkRpc final : public Rpc {
     absl::StatusOr<CurveInput> input = ReadCurveInput(item.input, args_.csv_fps);
     if (!input.ok()) return input.status();
     return std::make_unique<LipBlinkClipCall>(args_, *std::move(input));
-  }
-
-  std::string Fingerprint() const override {
-    return Digest({"lipblink", DeterministicBytes(MakeLipBlinkRequest(args_, CurveSet{})),
-                   absl::StrFormat("%.17g", args_.csv_fps)});
   }
 
  private:

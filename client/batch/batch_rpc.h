@@ -36,12 +36,9 @@ class Clip {
 class Rpc {
  public:
   virtual ~Rpc() = default;
-  // The file read and parsed, the request built. Errors name the file.
+  // The file read and parsed, the request built (as the single-file command builds it).
+  // Errors name the file.
   virtual absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const = 0;
-  // A digest of every option that shapes the outputs (the request without its clip, and the
-  // client-side settings such as a CSV's frame rate and whether timing sheets are written):
-  // equal fingerprints, equal outputs for the same input.
-  virtual std::string Fingerprint() const = 0;
 };
 
 std::unique_ptr<Rpc> MakeSkeletalRpc(const SkeletalArgs& args);

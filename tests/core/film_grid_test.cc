@@ -36,7 +36,7 @@ struct Rate {
   int64_t den;
 };
 
-// The reference, written from algorithms.md section 0 with the true rates, a source at
+// The reference, written from docs/semantics.md, "The film grid" with the true rates, a source at
 // `r` on a 24 fps grid. Grid frame g lies at g / 24 s, source frame k at k * den / num s.
 int RefGridFrameOf(Rate r, int64_t k) { return static_cast<int>((k * 24 * r.den) / r.num); }
 int RefGridFrameCount(Rate r, int64_t n) {

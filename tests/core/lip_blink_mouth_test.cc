@@ -1,6 +1,6 @@
-// ConvertMouth (algorithms.md section 3, paper section 3.2.1, Fig. 5): three levels, the state
-// diagram (never the same shape twice, closed before each interval), holds of n frames, FOLLOW
-// on hand-built inputs, speech detection, determinism with a golden RANDOM sequence, and the
+// ConvertMouth (docs/semantics.md, "LipBlink", paper section 3.2.1, Fig. 5): three levels, the
+// state diagram (never the same shape twice, closed before each interval), holds of n frames,
+// FOLLOW on hand-built inputs, speech detection, determinism with a golden RANDOM sequence, and the
 // options' validation.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -126,12 +126,13 @@ grep -q "bad_list.txt:1: .*missing.bvh: no such file or folder" "$work/u2.err" \
   || fail "missing list entry: $(cat "$work/u2.err")"
 expect_exit 2 "$work/u3.err" "$client_bin" batch curves "$work/clips/curves" -o "$work/u" \
   --omit 3 --server "$servers"
-grep -q -- "--omit: is an option of skeletal, not of curves" "$work/u3.err" \
+grep -q -- "unknown option or extra argument --omit" "$work/u3.err" \
   || fail "an option of another RPC: $(cat "$work/u3.err")"
 expect_exit 2 "$work/u4.err" "$client_bin" batch skeletal "$work/clips/bvh/g01/clip_0001.bvh" \
   "$work/listed/clip_0001.bvh" -o "$work/u" --server "$servers"
 grep -q "would both write" "$work/u4.err" || fail "two inputs, one output: $(cat "$work/u4.err")"
 expect_exit 2 "$work/u5.err" "$client_bin" batch morph "$work/clips" -o "$work/u"
+grep -q 'unknown RPC "morph"' "$work/u5.err" || fail "an unknown RPC: $(cat "$work/u5.err")"
 mkdir "$work/empty"
 expect_exit 2 "$work/u6.err" "$client_bin" batch curves "$work/empty" -o "$work/u" --server "$servers"
 grep -q "no input clips" "$work/u6.err" || fail "an empty folder: $(cat "$work/u6.err")"

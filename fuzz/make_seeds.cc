@@ -1,0 +1,164 @@
+// Writes the fuzz targets' seed corpora from the project's sample and test files:
+//   make_seeds TESTDATA_DIR SAMPLES_DIR OUT_DIR
+// OUT_DIR/<target>/ gets, for
+//   bvh:        every .bvh file, and each cut to its first 4 frames (small seeds run fast);
+//   motion3:    every .motion3.json file;
+//   curve_csv:  curves_crlf.csv and each motion3 file's curves as per-frame CSV (12 frames);
+//   retime_skeletal, retime_curves, lip_blink: serialised requests built from those files
+//              (cut short, some with a film grid), after the slice selector byte the RPC
+//              targets read first (fuzz/rpc_fuzz_input.h): 0 = one slice, 200 = 73-byte slices.
+// The same files give the same corpora, so a CI run starts from the same seeds every time.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "client/curves_convert.h"
+#include "client/skeletal_convert.h"
+#include "core/curves.h"
+#include "formats/bvh.h"
+#include "formats/curve_csv.h"
+#include "formats/motion3.h"
+#include "koma/v1/retime.pb.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void WriteFile(const fs::path& path, const std::string& bytes) {
+  fs::create_directories(path.parent_path());
+  std::ofstream out(path, std::ios::binary);
+  out << bytes;
+  if (!out) {
+    std::cerr << "make_seeds: cannot write " << path << "\n";
+    std::exit(1);
+  }
+}
+
+std::vector<fs::path> FilesEndingIn(const std::vector<fs::path>& dirs, const std::string& end) {
+  std::vector<fs::path> found;
+  for (const fs::path& dir : dirs) {
+    for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (name.size() >= end.size() && name.compare(name.size() - end.size(), end.size(), end) == 0) {
+        found.push_back(entry.path());
+      }
+    }
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+// The RPC targets' input: the slice selector, then the message.
+void WriteRequest(const fs::path& dir, const std::string& name,
+                  const google::protobuf::MessageLite& request) {
+  for (const unsigned char selector : {0, 200}) {
+    WriteFile(dir / (name + "_s" + std::to_string(selector)),
+              std::string(1, static_cast<char>(selector)) + request.SerializeAsString());
+  }
+}
+
+koma::SkeletalClip FirstFrames(koma::SkeletalClip clip, int frames) {
+  frames = std::min(frames, clip.frame_count);
+  clip.values.resize(static_cast<size_t>(frames) * koma::ChannelCount(clip.skeleton));
+  clip.frame_count = frames;
+  return clip;
+}
+
+// The curves sampled at every frame, cut to `frames` frames, as dense curves.
+koma::CurveSet Dense(const koma::CurveSet& set, int frames) {
+  koma::CurveSet dense = set;
+  dense.frame_count = std::min(frames, set.frame_count);
+  for (koma::Curve& curve : dense.curves) {
+    curve.samples = koma::SampleEveryFrame(curve, dense.frame_count, set.beziers_restricted);
+    curve.segments.clear();
+  }
+  return dense;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 4) {
+    std::cerr << "usage: make_seeds TESTDATA_DIR SAMPLES_DIR OUT_DIR\n";
+    return 2;
+  }
+  const std::vector<fs::path> inputs = {argv[1], argv[2]};
+  const fs::path out = argv[3];
+
+  for (const fs::path& path : FilesEndingIn(inputs, ".bvh")) {
+    const std::string text = ReadFile(path);
+    const std::string stem = path.stem().string();
+    WriteFile(out / "bvh" / (stem + ".bvh"), text);
+    const absl::StatusOr<koma::SkeletalClip> clip = koma::formats::ParseBvh(text);
+    if (!clip.ok()) {
+      std::cerr << "make_seeds: " << path << ": " << clip.status() << "\n";
+      return 1;
+    }
+    WriteFile(out / "bvh" / (stem + "_4_frames.bvh"), koma::formats::WriteBvh(FirstFrames(*clip, 4)));
+
+    koma::v1::RetimeSkeletalRequest request;
+    *request.mutable_motion() = koma::client::ToProto(FirstFrames(*clip, 12));
+    WriteRequest(out / "retime_skeletal", stem, request);
+    request.set_timing_fps(24);
+    request.set_omissions(2);
+    request.set_holds(1);
+    WriteRequest(out / "retime_skeletal", stem + "_grid", request);
+  }
+
+  for (const fs::path& path : FilesEndingIn(inputs, ".csv")) {
+    WriteFile(out / "curve_csv" / path.filename(), ReadFile(path));
+  }
+
+  for (const fs::path& path : FilesEndingIn(inputs, ".motion3.json")) {
+    const std::string text = ReadFile(path);
+    const std::string stem = path.filename().string().substr(0, path.filename().string().find('.'));
+    WriteFile(out / "motion3" / path.filename(), text);
+    const absl::StatusOr<koma::formats::Motion3File> file = koma::formats::ParseMotion3(text);
+    if (!file.ok()) {
+      std::cerr << "make_seeds: " << path << ": " << file.status() << "\n";
+      return 1;
+    }
+    const koma::CurveSet dense = Dense(file->curves, 12);
+    std::vector<std::string> ids;
+    std::vector<std::vector<double>> values;
+    for (const koma::Curve& curve : dense.curves) {
+      ids.push_back(curve.id);
+      values.push_back(curve.samples);
+    }
+    WriteFile(out / "curve_csv" / (stem + ".csv"), koma::formats::WriteCurveCsv(ids, values));
+
+    koma::v1::RetimeCurvesRequest curves;
+    *curves.mutable_curves() = koma::client::CurveSetToProto(file->curves);
+    WriteRequest(out / "retime_curves", stem, curves);
+    curves.set_timing_fps(24);
+    curves.set_frames_per_drawing(2);
+    WriteRequest(out / "retime_curves", stem + "_grid", curves);
+    *curves.mutable_curves() = koma::client::CurveSetToProto(dense);
+    WriteRequest(out / "retime_curves", stem + "_dense", curves);
+
+    // LipBlink: mouth and eye curves by their usual Live2D names, when the file has them.
+    koma::v1::LipBlinkRequest lip;
+    *lip.mutable_curves() = koma::client::CurveSetToProto(file->curves);
+    for (const koma::Curve& curve : file->curves.curves) {
+      if (curve.id.find("Mouth") != std::string::npos) lip.mutable_mouth()->add_ids(curve.id);
+      if (curve.id.find("Eye") != std::string::npos) lip.mutable_eyes()->add_ids(curve.id);
+    }
+    WriteRequest(out / "lip_blink", stem, lip);
+    lip.mutable_eyes()->mutable_auto_blink()->set_enabled(true);
+    lip.set_seed(7);
+    lip.set_timing_fps(24);
+    WriteRequest(out / "lip_blink", stem + "_auto_grid", lip);
+  }
+  std::cout << "make_seeds: corpora written to " << out << "\n";
+  return 0;
+}

@@ -1,0 +1,56 @@
+#include "server/call_footprint.h"
+
+#include <algorithm>
+#include <cstdint>
+
+namespace koma::server {
+namespace {
+
+// Per call, whatever its size: the arenas' first blocks, the reactor, the log record.
+constexpr int64_t kFixedBytes = 64 * 1024;
+constexpr int64_t kDouble = 8;
+// Per frame, besides the values: source frame, drawing index, frame kind, distances (each at
+// most 8 bytes) in the result and again in the response.
+constexpr int64_t kPerFrameBytes = 64;
+
+// A count the request claims, clamped to [0, cap].
+int64_t Capped(int64_t count, int64_t cap) { return std::clamp<int64_t>(count, 0, cap); }
+
+int64_t CurvesFootprint(const v1::CurveSet& curves, int64_t request_bytes,
+                        const RequestLimits& limits) {
+  const int64_t frames = Capped(curves.frame_count(), limits.max_values);
+  const int64_t values = Capped(frames * std::max(curves.curves_size(), 1), limits.max_values);
+  return kFixedBytes + request_bytes + 2 * values * kDouble + frames * kPerFrameBytes;
+}
+
+}  // namespace
+
+int64_t ReceivedFootprint(int64_t request_bytes) { return kFixedBytes + 2 * request_bytes; }
+
+int64_t ExpectedFootprint(const v1::RetimeSkeletalRequest& request, int64_t /*request_bytes*/,
+                          const RequestLimits& limits) {
+  // The received bytes are freed once parsed (ParseRequest in retime_service.cc); the
+  // skeleton and options are small beside the values.
+  const v1::SkeletalMotion& motion = request.motion();
+  const int64_t frames = Capped(motion.frame_count(), limits.max_values);
+  const int64_t joints = Capped(motion.skeleton().joints_size(), limits.max_joints);
+  const int64_t values =
+      Capped(std::max(motion.channels().values_size(), motion.positions().values_size()),
+             limits.max_values);
+  const int64_t positions = Capped(frames * joints * 3, limits.max_values);
+  const bool returns_motion = !request.has_return_motion() || request.return_motion();
+  return kFixedBytes + values * kDouble + positions * kDouble +
+         (returns_motion ? values * kDouble : 0) + frames * kPerFrameBytes;
+}
+
+int64_t ExpectedFootprint(const v1::RetimeCurvesRequest& request, int64_t request_bytes,
+                          const RequestLimits& limits) {
+  return CurvesFootprint(request.curves(), request_bytes, limits);
+}
+
+int64_t ExpectedFootprint(const v1::LipBlinkRequest& request, int64_t request_bytes,
+                          const RequestLimits& limits) {
+  return CurvesFootprint(request.curves(), request_bytes, limits);
+}
+
+}  // namespace koma::server
