@@ -24,7 +24,8 @@ struct BatchCommandArgs {
   int retries = 7;
   bool force = false;
   bool verbose = false;
-  bool timing = false;
+  bool timing = false;  // NAME.timing.csv beside each output
+  bool report = false;  // NAME.report.html beside each output
   std::string summary;
   double progress_every_s = 10.0;
   SkeletalArgs skeletal;
@@ -51,7 +52,7 @@ int ParseBatchCommandLine(const std::vector<std::string>& argv, BatchCommandLine
 // batch and returns its exit code: 0 every clip done (or already up to date), 1 some failed,
 // 2 a usage error, 130 when interrupted. Otherwise -1 (another command: main goes on). The
 // options of RPC are the single-file command's (client/command_flags.h), less the per-file
-// ones (-o, --timing PATH, --timing-only, --format, --return-motion).
+// ones (-o, --timing PATH, --timing-only, --format, --return-motion, --report PATH).
 int RunIfBatch(int argc, char** argv);
 
 }  // namespace koma::client::batch

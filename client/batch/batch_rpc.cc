@@ -6,6 +6,9 @@
 
 #include "absl/strings/str_cat.h"
 #include "client/curve_files.h"
+#include "client/report/curves_report.h"
+#include "client/report/lip_blink_report.h"
+#include "client/report/skeletal_report.h"
 
 namespace koma::client::batch {
 namespace {
@@ -45,7 +48,9 @@ class SkeletalClipCall final : public Clip {
     args.input = item.input;
     args.output = item.output;
     args.timing = item.timing;
-    return WriteSkeletalOutputs(args, clip_, response_);
+    if (absl::Status s = WriteSkeletalOutputs(args, clip_, response_); !s.ok()) return s;
+    if (item.report.empty()) return absl::OkStatus();
+    return report::WriteSkeletalReport(item.report, request_, response_, item.input);
   }
 
  private:
@@ -88,7 +93,9 @@ class CurvesClipCall final : public Clip {
     args.input = item.input;
     args.output = item.output;
     args.timing = item.timing;
-    return WriteCurvesOutputs(args, input_, response_);
+    if (absl::Status s = WriteCurvesOutputs(args, input_, response_); !s.ok()) return s;
+    if (item.report.empty()) return absl::OkStatus();
+    return report::WriteCurvesReport(item.report, request_, response_, item.input);
   }
 
  private:
@@ -130,7 +137,9 @@ class LipBlinkClipCall final : public Clip {
     LipBlinkArgs args = args_;
     args.input = item.input;
     args.output = item.output;
-    return WriteLipBlinkOutputs(args, input_, response_);
+    if (absl::Status s = WriteLipBlinkOutputs(args, input_, response_); !s.ok()) return s;
+    if (item.report.empty()) return absl::OkStatus();
+    return report::WriteLipBlinkReport(item.report, request_, response_, item.input);
   }
 
  private:

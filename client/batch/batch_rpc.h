@@ -28,7 +28,8 @@ class Clip {
   // answer first (a retry).
   virtual void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
                      std::function<void(grpc::Status)> done) = 0;
-  // Writes item.output (and item.timing when set) from the answer, atomically.
+  // Writes item.output (and item.timing, item.report when set) from the answer, atomically,
+  // as the single-file command writes -o, --timing and --report.
   virtual absl::Status Write(const BatchItem& item) = 0;
 };
 

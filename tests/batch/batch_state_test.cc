@@ -75,6 +75,9 @@ TEST_F(ManifestTest, NewerInputMissingOutputOrOtherInputIsNotUpToDate) {
   BatchItem with_timing = item_;
   with_timing.timing = (root_ / "out/a.timing.csv").string();
   EXPECT_FALSE(manifest.UpToDate(with_timing, "f1"));  // the sheet was never written
+  BatchItem with_report = item_;
+  with_report.report = (root_ / "out/a.report.html").string();
+  EXPECT_FALSE(manifest.UpToDate(with_report, "f1"));  // nor the report
   fs::remove(item_.output);
   EXPECT_FALSE(manifest.UpToDate(item_, "f1"));
 }

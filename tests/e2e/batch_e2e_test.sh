@@ -83,7 +83,7 @@ expect_exit 1 "$work/cu5.err" "$client_bin" batch curves "$work/clips/curves" \
 [ "$(started)" = $((before + 350)) ] || fail "--force: $(($(started) - before)) calls, want 350"
 
 # 5. An @list of files and a folder (outputs: files by name, the folder's by their path in
-#    it), all good: exit 0. LipBlink on the motion3 clips, against one server.
+#    it), all good: exit 0. LipBlink on the motion3 clips with reports, against one server.
 {
   echo "# clips picked by hand"
   echo "$work/clips/bvh/g01/clip_0001.bvh"
@@ -108,7 +108,7 @@ cmp -s "$work/listed/clip_0001.bvh" "$work/out/bvh/g02/clip_0002.bvh" || fail "s
 mkdir "$work/lip_in"
 cp "$work"/clips/curves/g0[0-2]/*.motion3.json "$work/lip_in/"
 expect_exit 0 "$work/lip.err" "$client_bin" batch lipblink "$work/lip_in" -o "$work/lip_out" \
-  --server "$target_a" --mouth Param0 --eyes Param1 --seed 7 --summary "$work/lip.json"
+  --server "$target_a" --mouth Param0 --eyes Param1 --seed 7 --report --summary "$work/lip.json"
 : >"$work/no_bad.txt"
 "$python" "$here/batch_check.py" "$client_bin" "$target_a" lipblink "$work/lip.json" \
   "$work/lip.err" "$work/no_bad.txt" "$work/lip_in" -- --mouth Param0 --eyes Param1 --seed 7 \
