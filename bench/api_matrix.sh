@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Server API matrix over loopback (issue 5): koma_api_server under each gRPC server API and
 # thread count, the same koma_load runs against each, side by side. Prints a markdown table
-# (docs/benchmarks.md, "Server API: sync vs callback vs async") with each cell's RPS against
+# (summed up in docs/benchmarks.md, "Findings") with each cell's RPS against
 # production's model (callback_pool, 2 workers = koma_server's default on 2 cores).
 #   bench/api_matrix.sh                  build Release into build-api, one round
 #   RUNS=2 BUILD_DIR=build-x SKIP_BUILD=1 DURATION=2 bench/api_matrix.sh

@@ -1,6 +1,6 @@
 // koma_api_server: koma.v1.Retime with the production handlers and limits under a chosen
 // gRPC server API, to pick the threading model on evidence (issue 5; bench/api_matrix.sh,
-// docs/benchmarks.md "Server API: sync vs callback vs async"). Benchmark only: loopback,
+// docs/benchmarks.md, "Findings that explain the design"). Benchmark only: loopback,
 // plaintext, no health or reflection, no per-call log line except in callback_pool (which
 // is koma_server's RetimeService itself).
 //   sync             v1::Retime::Service: gRPC's sync thread pool runs the handler.

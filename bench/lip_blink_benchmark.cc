@@ -1,4 +1,4 @@
-// LipBlink core costs (algorithms.md section 3) on a long synthetic Live2D-style clip: one
+// LipBlink core costs (docs/semantics.md, "LipBlink") on a long synthetic Live2D-style clip: one
 // mouth curve with speech, two eye curves with blinks, 100,000 frames at 30 fps (55 min).
 // Results and how to run: docs/benchmarks.md.
 #include <benchmark/benchmark.h>

@@ -4,10 +4,21 @@
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "client/file_format.h"
 #include "client/files.h"
-#include "formats/curve_csv.h"
 
 namespace koma::client {
+namespace {
+
+std::string DisplayName(const std::string& path) { return IsStdio(path) ? "standard input" : path; }
+
+}  // namespace
+
+CurveFormat CurveFormatFromFlag(const std::string& value) {
+  if (value == "motion3") return CurveFormat::kMotion3;
+  if (value == "csv") return CurveFormat::kCsv;
+  return CurveFormat::kAuto;
+}
 
 bool IsCsvPath(const std::string& path) { return absl::EndsWithIgnoreCase(path, ".csv"); }
 
@@ -18,50 +29,61 @@ bool CanWriteOutput(const std::string& input, const std::string& output) {
   return false;
 }
 
-absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps) {
+absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps,
+                                          CurveFormat format, absl::string_view command) {
   absl::StatusOr<std::string> text = ReadFile(path);
   if (!text.ok()) return text.status();
-  CurveInput input;
-  if (IsCsvPath(path)) {
-    absl::StatusOr<CurveSet> set = formats::ParseCurveCsv(*text, csv_fps);
-    if (!set.ok()) {
-      return absl::InvalidArgumentError(absl::StrCat(path, ": ", set.status().message()));
+  if (absl::Status s = CheckInputFormat(path, *text, command); !s.ok()) return s;
+  if (format == CurveFormat::kAuto) {
+    switch (SniffFormat(*text)) {
+      case FileFormat::kMotion3:
+        format = CurveFormat::kMotion3;
+        break;
+      case FileFormat::kCsv:
+        format = CurveFormat::kCsv;
+        break;
+      default:
+        format = IsCsvPath(path) ? CurveFormat::kCsv : CurveFormat::kMotion3;
     }
-    input.curves = *std::move(set);
-    return input;
   }
-  absl::StatusOr<formats::Motion3File> file = formats::ParseMotion3(*text);
-  if (!file.ok()) {
-    return absl::InvalidArgumentError(absl::StrCat(path, ": ", file.status().message()));
+  const bool csv = format == CurveFormat::kCsv;
+  absl::StatusOr<convert::CurveInput> parsed = convert::ParseCurveText(*text, csv, csv_fps);
+  if (!parsed.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat(DisplayName(path),
+                                                   csv ? " (CSV): " : " (motion3.json): ",
+                                                   parsed.status().message()));
   }
-  input.curves = file->curves;
-  input.motion3 = *std::move(file);
+  CurveInput input;
+  static_cast<convert::CurveInput&>(input) = *std::move(parsed);
+  input.format = format;
   return input;
 }
 
-absl::Status WriteCurveOutput(const std::string& path, const CurveInput& input,
-                              const std::vector<std::optional<CurveReplacement>>& replacements) {
-  const CurveSet& set = input.curves;
-  if (IsCsvPath(path)) {
-    std::vector<std::string> ids;
-    std::vector<std::vector<double>> values;
-    for (size_t i = 0; i < set.curves.size(); ++i) {
-      ids.push_back(set.curves[i].id);
-      values.push_back(replacements[i] ? replacements[i]->values
-                                       : SampleEveryFrame(set.curves[i], set.frame_count,
-                                                          set.beziers_restricted));
+absl::StatusOr<CurveFormat> CurveOutputFormat(const std::string& path, CurveFormat format,
+                                              const CurveInput& input) {
+  if (format == CurveFormat::kAuto) {
+    if (absl::EndsWithIgnoreCase(path, ".bvh")) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("-o ", path, ": curves are written as motion3.json or CSV, not BVH"));
     }
-    return WriteFile(path, formats::WriteCurveCsv(ids, values));
+    format = IsCsvPath(path) ? CurveFormat::kCsv
+             : IsStdio(path) ? input.format
+                             : CurveFormat::kMotion3;
   }
-  if (!input.motion3) {
+  if (format == CurveFormat::kMotion3 && !input.motion3) {
     return absl::InvalidArgumentError(
         absl::StrCat("-o ", path, ": a CSV input can only be written as CSV (-o OUT.csv)"));
   }
-  std::vector<std::optional<std::vector<CurvePoint>>> stepped;
-  for (const std::optional<CurveReplacement>& r : replacements) {
-    stepped.push_back(r ? std::optional<std::vector<CurvePoint>>(r->steps) : std::nullopt);
-  }
-  absl::StatusOr<std::string> text = formats::WriteMotion3(*input.motion3, stepped);
+  return format;
+}
+
+absl::Status WriteCurveOutput(const std::string& path, const CurveInput& input,
+                              const std::vector<std::optional<CurveReplacement>>& replacements,
+                              CurveFormat format) {
+  absl::StatusOr<CurveFormat> resolved = CurveOutputFormat(path, format, input);
+  if (!resolved.ok()) return resolved.status();
+  absl::StatusOr<std::string> text =
+      convert::CurveOutputText(input, replacements, *resolved == CurveFormat::kCsv);
   if (!text.ok()) return text.status();
   return WriteFile(path, *text);
 }

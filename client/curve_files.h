@@ -1,5 +1,5 @@
 // Curve files for `koma curves` and `koma lipblink`: motion3.json or per-frame CSV in, the
-// same (or CSV) out with some curves replaced.
+// same (or CSV) out with some curves replaced. "-" is standard input / output.
 #ifndef KOMA_CLIENT_CURVE_FILES_H_
 #define KOMA_CLIENT_CURVE_FILES_H_
 
@@ -9,38 +9,55 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+#include "convert/curve_text.h"
 #include "core/curves.h"
-#include "formats/motion3.h"
 
 namespace koma::client {
+
+// The two curve file formats; kAuto: from the name, else the contents (see ReadCurveInput).
+enum class CurveFormat { kAuto, kMotion3, kCsv };
+
+// "motion3" -> kMotion3, "csv" -> kCsv, "" or "auto" -> kAuto (the --format values).
+CurveFormat CurveFormatFromFlag(const std::string& value);
 
 // True for "*.csv" (any case).
 bool IsCsvPath(const std::string& path);
 
 // False (with the reason on stderr) when `output` asks for motion3.json but `input` is a
-// CSV, which has no motion3 document to write back.
+// CSV, which has no motion3 document to write back. Kept for callers that decide by names
+// only; the commands use CurveOutputFormat.
 bool CanWriteOutput(const std::string& input, const std::string& output);
 
-struct CurveInput {
-  std::optional<formats::Motion3File> motion3;  // kept to write every other field back
-  CurveSet curves;
+// The parsed file (convert/curve_text.h) and the format it was read as.
+struct CurveInput : convert::CurveInput {
+  CurveFormat format = CurveFormat::kMotion3;  // what was read: kMotion3 or kCsv
 };
 
-// A motion3.json, or a CSV (`frame,<id>,...`) at `csv_fps` frames per second. Errors name
-// the file.
-absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps);
+// A motion3.json, or a CSV (`frame,<id>,...`) at `csv_fps` frames per second. The format:
+// `format` when not kAuto; else a text that starts with "{" is motion3.json, one that starts
+// with a "frame" header is CSV, else the name decides (*.csv is CSV, anything else
+// motion3.json). A BVH file is refused as such ("x.bvh is a BVH file, ..."), naming
+// `command`. Errors name the file ("standard input" for "-").
+absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps,
+                                          CurveFormat format = CurveFormat::kAuto,
+                                          absl::string_view command = "curves");
 
-// A retimed curve: per-frame values and the same as stepped keyframes.
-struct CurveReplacement {
-  std::vector<double> values;
-  std::vector<CurvePoint> steps;
-};
+// The format `path` is written in: `format` when not kAuto, else *.csv is CSV, "-" the
+// input's format and any other name motion3.json. INVALID_ARGUMENT naming the flag when that
+// is motion3.json and the input was CSV (no motion3 document to write back), or when the
+// name ends in .bvh.
+absl::StatusOr<CurveFormat> CurveOutputFormat(const std::string& path, CurveFormat format,
+                                              const CurveInput& input);
+
+using convert::CurveReplacement;  // a retimed curve (convert/curve_text.h)
 
 // Writes `input` with replacements[i] (when set) in place of curve i: as CSV (every curve,
-// the others sampled at every frame) when `path` ends in .csv, else as motion3.json (needs a
-// motion3 input; the others untouched, Meta counts recomputed).
+// the others sampled at every frame), else as motion3.json (needs a motion3 input; the
+// others untouched, Meta counts recomputed). The format as CurveOutputFormat(path, format).
 absl::Status WriteCurveOutput(const std::string& path, const CurveInput& input,
-                              const std::vector<std::optional<CurveReplacement>>& replacements);
+                              const std::vector<std::optional<CurveReplacement>>& replacements,
+                              CurveFormat format = CurveFormat::kAuto);
 
 }  // namespace koma::client
 

@@ -1,146 +1,178 @@
 #include "client/curves_command.h"
 
-#include <cstdio>
-#include <map>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_join.h"
+#include "absl/strings/str_split.h"
 #include "client/channel.h"
-#include "client/curve_files.h"
+#include "client/command_output.h"
 #include "client/curves_convert.h"
+#include "client/curves_summary.h"
 #include "client/files.h"
+#include "client/flag_values.h"
+#include "client/report/curves_report.h"
 #include "formats/drawing_sheet.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
 namespace {
 
-constexpr int kUsageError = 2;
-
-// "ParamHair=2" -> request.curve_overrides; false on a malformed entry.
-bool AddCurveOverrides(const std::vector<std::string>& entries, v1::RetimeCurvesRequest& request) {
+// "ParamHair=2" -> request.curve_overrides.
+absl::Status AddCurveOverrides(const std::vector<std::string>& entries,
+                               v1::RetimeCurvesRequest& request) {
   for (const std::string& entry : entries) {
     const size_t equals = entry.rfind('=');
-    int n = 0;
-    if (equals == std::string::npos || equals == 0 ||
-        !absl::SimpleAtoi(entry.substr(equals + 1), &n)) {
-      std::fprintf(stderr, "koma: --curve-on %s: expected ID=N, e.g. ParamHair=2\n", entry.c_str());
-      return false;
+    if (equals == std::string::npos || equals == 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("--curve-on: \"", entry, "\" is not ID=N, e.g. ParamHair=2"));
     }
+    absl::StatusOr<int64_t> n =
+        ParseWholeNumber("--curve-on", entry.substr(equals + 1), 1, INT32_MAX);
+    if (!n.ok()) return n.status();
     v1::CurveOverride* o = request.add_curve_overrides();
     o->set_curve_id(entry.substr(0, equals));
-    o->set_frames_per_drawing(n);
+    o->set_frames_per_drawing(static_cast<int>(*n));
   }
-  return true;
+  return absl::OkStatus();
 }
 
-v1::RetimeCurvesRequest MakeRequest(const CurvesArgs& args, const CurveSet& curves) {
+}  // namespace
+
+absl::StatusOr<SegmentOverrideFlag> ParseSegmentOverride(const std::string& text) {
+  constexpr char kFlag[] = "--segment-overrides";
+  const std::string usage = absl::StrCat(
+      kFlag, ": \"", text,
+      "\" is not SEG:KEY=VALUE,... with KEY on (frames per drawing), tame or tsume, e.g. "
+      "1:on=2,tame=1.5");
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos) return absl::InvalidArgumentError(usage);
+  SegmentOverrideFlag out;
+  absl::StatusOr<int64_t> segment = ParseWholeNumber(kFlag, text.substr(0, colon), 0);
+  if (!segment.ok()) return segment.status();
+  out.segment = static_cast<int>(*segment);
+  const std::string rest = text.substr(colon + 1);
+  if (rest.empty()) return absl::InvalidArgumentError(usage);
+  for (absl::string_view setting : absl::StrSplit(rest, ',')) {
+    const std::vector<std::string> kv = absl::StrSplit(setting, absl::MaxSplits('=', 1));
+    if (kv.size() != 2) return absl::InvalidArgumentError(usage);
+    const std::string& key = kv[0];
+    const std::string flag = absl::StrCat(kFlag, " ", key);
+    if (key == "on" || key == "frames-per-drawing" || key == "frames_per_drawing") {
+      absl::StatusOr<int64_t> n = ParseWholeNumber(flag, kv[1], 1);
+      if (!n.ok()) return n.status();
+      out.frames_per_drawing = static_cast<int>(*n);
+    } else if (key == "tame" || key == "tsume") {
+      absl::StatusOr<double> s = ParseNumber(flag, kv[1], AtLeast(1));
+      if (!s.ok()) return s.status();
+      (key == "tame" ? out.tame : out.tsume) = *s;
+    } else {
+      return absl::InvalidArgumentError(usage);
+    }
+  }
+  return out;
+}
+
+absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesRequest(const CurvesArgs& args,
+                                                           const CurveSet& curves) {
   v1::RetimeCurvesRequest request;
   *request.mutable_curves() = CurveSetToProto(curves);
   request.mutable_key_frames()->Add(args.keys.begin(), args.keys.end());
   if (args.frames_per_drawing) request.set_frames_per_drawing(*args.frames_per_drawing);
   if (args.tame) request.set_tame(*args.tame);
   if (args.tsume) request.set_tsume(*args.tsume);
+  if (absl::Status s = AddCurveOverrides(args.curve_on, request); !s.ok()) return s;
+  for (const SegmentOverrideFlag& flag : args.segment_overrides) {
+    v1::SegmentOverride* o = request.add_segment_overrides();
+    o->set_segment(flag.segment);
+    if (flag.frames_per_drawing) o->set_frames_per_drawing(*flag.frames_per_drawing);
+    if (flag.tame) o->set_tame(*flag.tame);
+    if (flag.tsume) o->set_tsume(*flag.tsume);
+  }
   if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
   return request;
 }
 
-absl::Status WriteOutput(const CurvesArgs& args, const CurveInput& input,
-                         const v1::RetimeCurvesResponse& response) {
-  std::vector<std::optional<CurveReplacement>> replacements;
-  for (const v1::RetimedCurve& curve : response.curves()) {
-    replacements.push_back(
-        CurveReplacement{std::vector<double>(curve.values().begin(), curve.values().end()),
-                         StepsFromProto(curve.stepped())});
+absl::Status CheckCurvesFlags(const CurvesArgs& args) {
+  if (args.timing_only && args.timing.empty()) {
+    return absl::InvalidArgumentError("--timing-only needs --timing OUT.csv (the sheet it writes)");
   }
-  return WriteCurveOutput(args.output, input, replacements);
+  if (args.timing_only && !args.output.empty()) {
+    return absl::InvalidArgumentError("-o: --timing-only writes only the sheet; drop -o");
+  }
+  if (!args.timing_only && args.output.empty()) {
+    return absl::InvalidArgumentError(
+        "-o/--output OUT.motion3.json or OUT.csv is required (or --timing-only with --timing "
+        "OUT.csv)");
+  }
+  if (IsStdio(args.output) + IsStdio(args.timing) + IsStdio(args.report) + args.json > 1) {
+    return absl::InvalidArgumentError(
+        "only one of -o -, --timing -, --report - and --json can use standard output");
+  }
+  return absl::OkStatus();
 }
 
-// "on ones", "on twos", "on threes", then "on 4s".
-std::string OnName(int n) {
-  switch (n) {
-    case 1:
-      return "on ones";
-    case 2:
-      return "on twos";
-    case 3:
-      return "on threes";
-    default:
-      return absl::StrCat("on ", n, "s");
-  }
-}
-
-std::string Histogram(const v1::RetimedCurve& curve) {
-  std::vector<std::string> parts;
-  for (const v1::HoldCount& c : curve.hold_histogram()) {
-    parts.push_back(absl::StrCat(c.drawings(), " x ", c.length(), "f"));
-  }
-  return absl::StrJoin(parts, ", ");
-}
-
-void PrintSummary(const CurvesArgs& args, const CurveSet& curves,
-                  const v1::RetimeCurvesResponse& response) {
-  std::printf("%s: %zu curves, %d frames at %.4g fps -> %s\n", args.input.c_str(),
-              curves.curves.size(), curves.frame_count, curves.fps, args.output.c_str());
-  std::printf("  key poses (%d): %s\n", response.key_frames_size(),
-              absl::StrJoin(response.key_frames(), ", ").c_str());
-  if (response.timing_fps() > 0) {
-    std::printf(
-        "  on the %.4g fps film grid (holds in its frames, %.1f ms each); key poses at "
-        "grid frames %s\n",
-        response.timing_fps(), 1000.0 / response.timing_fps(),
-        absl::StrJoin(response.key_grid_frames(), ", ").c_str());
-  }
-  std::map<int, std::vector<std::string>> curves_by_timing;
-  for (const v1::RetimedCurve& curve : response.curves()) {
-    curves_by_timing[curve.timing()].push_back(curve.id());
-  }
-  for (const auto& [index, ids] : curves_by_timing) {
-    const v1::DrawingTiming& timing = response.timings(index);
-    const v1::RetimedCurve* first = nullptr;
+absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
+                                const v1::RetimeCurvesResponse& response) {
+  if (!args.timing_only) {
+    std::vector<std::optional<CurveReplacement>> replacements;
     for (const v1::RetimedCurve& curve : response.curves()) {
-      if (curve.timing() == index) {
-        first = &curve;
-        break;
-      }
+      replacements.push_back(
+          CurveReplacement{std::vector<double>(curve.values().begin(), curve.values().end()),
+                           StepsFromProto(curve.stepped())});
     }
-    std::printf("  %s: %d drawings (holds %s) for %s\n",
-                OnName(timing.frames_per_drawing()).c_str(), timing.drawing_start_size(),
-                Histogram(*first).c_str(), absl::StrJoin(ids, ", ").c_str());
+    if (replacements.size() != input.curves.curves.size()) {
+      return absl::InternalError(absl::StrCat("the server answered ", replacements.size(),
+                                              " curves for ", input.curves.curves.size()));
+    }
+    if (absl::Status s =
+            WriteCurveOutput(args.output, input, replacements, CurveFormatFromFlag(args.format));
+        !s.ok()) {
+      return s;
+    }
   }
-  if (!args.timing.empty()) std::printf("  drawing sheet: %s\n", args.timing.c_str());
+  if (!args.timing.empty() && response.timings_size() > 0) {
+    const std::string sheet =
+        formats::WriteDrawingSheetCsv(TimingFromProto(response.timings(0)), input.curves.fps);
+    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
+  }
+  return absl::OkStatus();
 }
-
-}  // namespace
 
 int RunCurves(const CurvesArgs& args) {
-  if (!CanWriteOutput(args.input, args.output)) return kUsageError;
-  absl::StatusOr<CurveInput> input = ReadCurveInput(args.input, args.csv_fps);
-  if (!input.ok()) return ReportError(input.status());
-  v1::RetimeCurvesRequest request = MakeRequest(args, input->curves);
-  if (!AddCurveOverrides(args.curve_on, request)) return kUsageError;
-  if (absl::Status s = CheckWritable({args.output, args.timing}); !s.ok()) return ReportError(s);
+  const CommandOutput out("curves", args.json, args.quiet, args.server);
+  if (absl::Status s = CheckCurvesFlags(args); !s.ok()) return out.UsageFailure(s);
+  absl::StatusOr<CurveInput> input =
+      ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, "curves");
+  if (!input.ok()) return out.Failure(input.status());
+  if (!args.timing_only) {
+    absl::StatusOr<CurveFormat> format =
+        CurveOutputFormat(args.output, CurveFormatFromFlag(args.format), *input);
+    if (!format.ok()) return out.UsageFailure(format.status());
+  }
+  absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args, input->curves);
+  if (!request.ok()) return out.UsageFailure(request.status());
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) return out.Failure(s);
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
-  if (!stub.ok()) return ReportError(stub.status());
+  if (!stub.ok()) return out.UsageFailure(stub.status());
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeCurvesResponse response;
-  const grpc::Status status = (*stub)->RetimeCurves(&context, request, &response);
-  if (!status.ok()) return ReportRpcError(status);
+  const grpc::Status status = (*stub)->RetimeCurves(&context, *request, &response);
+  if (!status.ok()) return out.RpcFailure(status);
 
-  if (absl::Status s = WriteOutput(args, *input, response); !s.ok()) return ReportError(s);
-  if (!args.timing.empty()) {
-    const std::string sheet =
-        formats::WriteDrawingSheetCsv(TimingFromProto(response.timings(0)), input->curves.fps);
-    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return ReportError(s);
+  if (absl::Status s = WriteCurvesOutputs(args, *input, response); !s.ok()) return out.Failure(s);
+  if (!args.report.empty()) {
+    if (absl::Status s = report::WriteCurvesReport(args.report, *request, response, args.input);
+        !s.ok()) {
+      return out.Failure(s);
+    }
   }
-  PrintSummary(args, input->curves, response);
-  return 0;
+  out.Success(CurvesSummaryText(args, input->curves, response) + ReportLine(args.report),
+              CurvesSummaryJson(args, input->curves, response),
+              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
+  return kExitOk;
 }
 
 }  // namespace koma::client

@@ -1,5 +1,8 @@
 // `koma curves IN -o OUT ...`: motion3.json (or per-frame CSV) in, RetimeCurves, the curves
-// drawn on twos/threes with tame/tsume out.
+// drawn on twos/threes with tame/tsume out. The steps are separate functions so other drivers
+// (`koma batch`) run them per file:
+//   ReadCurveInput (client/curve_files.h) -> BuildCurvesRequest -> (the RPC)
+//   -> WriteCurvesOutputs -> CurvesSummaryText / CurvesSummaryJson (client/curves_summary.h).
 #ifndef KOMA_CLIENT_CURVES_COMMAND_H_
 #define KOMA_CLIENT_CURVES_COMMAND_H_
 
@@ -7,25 +10,58 @@
 #include <string>
 #include <vector>
 
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "client/curve_files.h"
+#include "koma/v1/retime.pb.h"
+
 namespace koma::client {
 
+// One --segment-overrides value: "SEG:on=N,tame=S,tsume=S" (any of the three keys;
+// frames-per-drawing is a synonym of on).
+struct SegmentOverrideFlag {
+  int segment = 0;
+  std::optional<int> frames_per_drawing;
+  std::optional<double> tame;
+  std::optional<double> tsume;
+};
+absl::StatusOr<SegmentOverrideFlag> ParseSegmentOverride(const std::string& text);
+
 struct CurvesArgs {
-  std::string input;                      // .motion3.json, or .csv (frame,<id>,... per frame)
-  std::string output;                     // .motion3.json (needs a motion3 input) or .csv
-  std::string timing;                     // drawing sheet CSV to write; empty: none
-  std::optional<int> frames_per_drawing;  // --on; unset: server default (3)
-  std::vector<int> keys;                  // --keys; empty: keyframe times
+  std::string input;                      // .motion3.json or .csv; "-": standard input
+  std::string output;                     // .motion3.json (needs a motion3 input) or .csv; "-"
+  std::string timing;                     // drawing sheet CSV to write; empty: none; "-"
+  std::string report;                     // --report: HTML report to write; empty: none
+  std::optional<int> frames_per_drawing;  // --on / --frames-per-drawing; unset: server's 3
+  std::vector<int> keys;                  // --keys / --key-frames; empty: keyframe times
   std::optional<double> tame;             // --tame; unset: 1
   std::optional<double> tsume;            // --tsume; unset: 1
-  std::vector<std::string> curve_on;      // --curve-on ID=N, repeatable
-  double csv_fps = 30.0;                  // --fps, frames per second of a CSV input
-  std::optional<double> timing_fps;       // --timing-fps: the film grid; unset: server's 24
+  std::vector<std::string> curve_on;      // --curve-on / --curve-overrides ID=N, repeatable
+  std::vector<SegmentOverrideFlag> segment_overrides;  // --segment-overrides, repeatable
+  double csv_fps = 30.0;                               // --fps, frames per second of a CSV input
+  std::optional<double> timing_fps;  // --timing-fps: the film grid; unset: server's 24
+  std::string format;                // --format motion3|csv: of the output "-"
+  bool timing_only = false;          // --timing-only: write only the drawing sheet
   std::string server;
   double deadline_seconds = 60.0;
+  bool json = false;   // --json
+  bool quiet = false;  // --quiet
 };
 
-// Exit code: 0 ok, 1 failure (message on stderr), 2 a malformed --curve-on or an output the
-// input cannot make. The summary goes to stdout.
+// The request for `curves` with every flag of `args` applied. INVALID_ARGUMENT naming the
+// flag for a malformed --curve-on.
+absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesRequest(const CurvesArgs& args,
+                                                           const CurveSet& curves);
+
+// Flags that cannot work together (usage errors): -o missing without --timing-only,
+// --timing-only without --timing, two outputs on standard output.
+absl::Status CheckCurvesFlags(const CurvesArgs& args);
+
+// Writes -o (unless --timing-only) and --timing (when given) from `response`.
+absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
+                                const v1::RetimeCurvesResponse& response);
+
+// Exit code: 0 ok, 1 failure, 2 usage error (messages on stderr).
 int RunCurves(const CurvesArgs& args);
 
 }  // namespace koma::client

@@ -1,5 +1,9 @@
 // `koma lipblink IN -o OUT ...`: mouth and eye curves in (motion3.json or per-frame CSV),
-// LipBlink, three-drawing mouths and anime blinks out; other curves untouched.
+// LipBlink, three-drawing mouths and anime blinks out; other curves untouched. The steps are
+// separate functions so other drivers (`koma batch`) run them per file:
+//   ReadCurveInput (client/curve_files.h) -> BuildLipBlinkRequest -> (the RPC)
+//   -> WriteLipBlinkOutputs -> LipBlinkSummaryText / LipBlinkSummaryJson
+//   (client/lip_blink_summary.h).
 #ifndef KOMA_CLIENT_LIP_BLINK_COMMAND_H_
 #define KOMA_CLIENT_LIP_BLINK_COMMAND_H_
 
@@ -8,25 +12,61 @@
 #include <string>
 #include <vector>
 
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "client/curve_files.h"
+#include "client/flag_values.h"
+#include "koma/v1/retime.pb.h"
+
 namespace koma::client {
 
 struct LipBlinkArgs {
-  std::string input;                        // .motion3.json or .csv
-  std::string output;                       // .motion3.json (needs a motion3 input) or .csv
-  std::vector<std::string> mouth_ids;       // --mouth; empty: ParamMouthOpenY
-  std::vector<std::string> eye_ids;         // --eyes; empty: ParamEyeLOpen, ParamEyeROpen
-  std::string mode = "random";              // --mode random|follow
-  std::optional<uint64_t> seed;             // --seed; unset: the server's default
-  std::optional<double> auto_blink_mean_s;  // --auto-blink MEAN_S
-  std::optional<int> frames_per_shape;      // --on
-  bool unlinked_eyes = false;               // --unlinked-eyes
-  double csv_fps = 30.0;                    // --fps of a CSV input
-  std::optional<double> timing_fps;         // --timing-fps: the film grid; unset: server's 24
+  std::string input;   // .motion3.json or .csv; "-": standard input
+  std::string output;  // .motion3.json (needs a motion3 input) or .csv; "-"
+  std::string report;  // --report: HTML report to write; empty: none
+  // mouth (MouthSettings)
+  std::vector<std::string> mouth_ids;     // --mouth / --mouth-ids; empty: ParamMouthOpenY
+  std::string mode = "random";            // --mode / --mouth-mode random|follow
+  std::optional<int> frames_per_shape;    // --on / --mouth-frames-per-shape
+  std::optional<double> mouth_mid_ratio;  // --mouth-mid-ratio r, 0 < r < 1
+  std::optional<double> mouth_min;        // --mouth-min: the closed level
+  std::optional<double> mouth_max;        // --mouth-max: the open level
+  std::vector<FlagInterval> speech;       // --speech / --mouth-speech BEGIN-END,...
+  // eyes (EyeSettings)
+  std::vector<std::string> eye_ids;      // --eyes / --eyes-ids; empty: ParamEyeLOpen, ...R
+  std::optional<double> eyes_mid_ratio;  // --eyes-mid-ratio r, 0 < r < 1
+  std::optional<double> eyes_threshold;  // --eyes-threshold delta, 0 < delta < 0.5
+  std::optional<double> eyes_min;        // --eyes-min
+  std::optional<double> eyes_max;        // --eyes-max
+  bool unlinked_eyes = false;            // --unlinked-eyes (= --eyes-linked false)
+  std::optional<bool> eyes_linked;       // --eyes-linked true|false
+  // eyes.auto_blink (AutoBlink)
+  std::optional<double> auto_blink_mean_s;    // --auto-blink / --auto-blink-mean-interval-s
+  std::optional<bool> auto_blink_enabled;     // --auto-blink-enabled; unset: on when any
+                                              // other auto-blink flag is given
+  std::optional<double> auto_blink_spread_s;  // --auto-blink-spread-s
+  std::optional<int> auto_blink_hold;         // --auto-blink-hold 1..3
+  std::vector<FlagInterval> auto_blink_keep;  // --auto-blink-keep BEGIN-END,...
+  std::optional<uint64_t> seed;               // --seed; unset: the server's default
+  double csv_fps = 30.0;                      // --fps of a CSV input
+  std::optional<double> timing_fps;           // --timing-fps: the film grid; unset: server's 24
+  std::string format;                         // --format motion3|csv: of "-" input/output
   std::string server;
   double deadline_seconds = 60.0;
+  bool json = false;   // --json
+  bool quiet = false;  // --quiet
 };
 
-// Exit code: 0 ok, 1 failure (message on stderr), 2 an output the input cannot make.
+v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSet& curves);
+
+// Usage errors: -o missing, two outputs on standard output.
+absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args);
+
+// Writes -o from `response` (only the converted curves replaced).
+absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& input,
+                                  const v1::LipBlinkResponse& response);
+
+// Exit code: 0 ok, 1 failure, 2 usage error (messages on stderr).
 int RunLipBlink(const LipBlinkArgs& args);
 
 }  // namespace koma::client

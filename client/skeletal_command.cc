@@ -1,16 +1,20 @@
 #include "client/skeletal_command.h"
 
-#include <algorithm>
-#include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "client/channel.h"
+#include "client/command_output.h"
+#include "client/file_format.h"
 #include "client/files.h"
+#include "client/flag_values.h"
+#include "client/report/skeletal_report.h"
 #include "client/skeletal_convert.h"
+#include "client/skeletal_summary.h"
 #include "formats/bvh.h"
 #include "formats/timing_sheet.h"
 #include "koma/v1/retime.grpc.pb.h"
@@ -18,144 +22,179 @@
 namespace koma::client {
 namespace {
 
-v1::RetimeSkeletalRequest MakeRequest(const SkeletalArgs& args, const SkeletalClip& clip) {
+std::string InputName(const std::string& path) { return IsStdio(path) ? "standard input" : path; }
+
+// --joint-weights: "1,1,0.5,..." (one per joint, in file order) or "Hips=0,Head=2,..." (by
+// name, the others 1).
+absl::StatusOr<std::vector<double>> JointWeights(const std::vector<std::string>& entries,
+                                                 const Skeleton& skeleton) {
+  constexpr char kFlag[] = "--joint-weights";
+  std::vector<double> weights;
+  if (entries.empty()) return weights;
+  const bool by_name = entries[0].find('=') != std::string::npos;
+  if (!by_name) {
+    for (const std::string& entry : entries) {
+      absl::StatusOr<double> w = ParseNumber(kFlag, entry, AtLeast(0));
+      if (!w.ok()) return w.status();
+      weights.push_back(*w);
+    }
+    if (weights.size() != skeleton.joints.size()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(kFlag, ": ", weights.size(), " weights for ", skeleton.joints.size(),
+                       " joints: give one per joint in file order, or NAME=W for some joints"));
+    }
+    return weights;
+  }
+  std::map<std::string, size_t> index_of;
+  for (size_t i = 0; i < skeleton.joints.size(); ++i) index_of[skeleton.joints[i].name] = i;
+  weights.assign(skeleton.joints.size(), 1.0);
+  for (const std::string& entry : entries) {
+    const size_t equals = entry.rfind('=');
+    if (equals == std::string::npos || equals == 0) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          kFlag, ": \"", entry, "\" is not NAME=WEIGHT (do not mix names and plain weights)"));
+    }
+    const std::string name = entry.substr(0, equals);
+    const auto it = index_of.find(name);
+    if (it == index_of.end()) {
+      std::vector<std::string> names;
+      for (const Joint& joint : skeleton.joints) names.push_back(joint.name);
+      const std::string close = ClosestMatch(name, names);
+      return absl::InvalidArgumentError(
+          absl::StrCat(kFlag, ": the clip has no joint \"", name, "\"",
+                       close.empty() ? "" : absl::StrCat("; did you mean \"", close, "\"?")));
+    }
+    absl::StatusOr<double> w = ParseNumber(kFlag, entry.substr(equals + 1), AtLeast(0));
+    if (!w.ok()) return w.status();
+    weights[it->second] = *w;
+  }
+  return weights;
+}
+
+}  // namespace
+
+absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path) {
+  absl::StatusOr<std::string> text = ReadFile(path);
+  if (!text.ok()) return text.status();
+  if (absl::Status s = CheckInputFormat(path, *text, "skeletal"); !s.ok()) return s;
+  absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(*text);
+  if (!clip.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(InputName(path), " (BVH): ", clip.status().message()));
+  }
+  return clip;
+}
+
+absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArgs& args,
+                                                               const SkeletalClip& clip) {
   v1::RetimeSkeletalRequest request;
   *request.mutable_motion() = ToProto(clip);
   if (args.omissions) request.set_omissions(*args.omissions);
   if (args.holds) request.set_holds(*args.holds);
   if (args.max_hold) request.set_max_hold(*args.max_hold);
   request.set_keep_length(args.keep_length);
-  request.set_order(args.hold_first ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
+  if (!args.order.empty()) {
+    request.set_order(args.order == "hold-then-omit" ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
+  } else {
+    request.set_order(args.hold_first ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
+  }
+  absl::StatusOr<std::vector<double>> weights = JointWeights(args.joint_weights, clip.skeleton);
+  if (!weights.ok()) return weights.status();
+  request.mutable_joint_weights()->Add(weights->begin(), weights->end());
   request.set_root_relative(args.root_relative);
+  request.mutable_camera()->Add(args.camera.begin(), args.camera.end());
+  if (args.timing_only) {
+    request.set_return_motion(false);
+  } else if (args.return_motion) {
+    request.set_return_motion(*args.return_motion);
+  }
   if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
   if (args.output_at_timing_rate) request.set_output_rate(v1::TIMING_RATE);
   return request;
 }
 
-// "3-5, 9, 12-13": ascending integers as compact ranges; "none" when empty.
-std::string Ranges(const std::vector<int>& sorted) {
-  if (sorted.empty()) return "none";
-  std::vector<std::string> parts;
-  size_t i = 0;
-  while (i < sorted.size()) {
-    size_t j = i;
-    while (j + 1 < sorted.size() && sorted[j + 1] == sorted[j] + 1) ++j;
-    parts.push_back(i == j ? absl::StrCat(sorted[i]) : absl::StrCat(sorted[i], "-", sorted[j]));
-    i = j + 1;
+absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
+  const bool motion_wanted = !args.timing_only && args.return_motion.value_or(true);
+  if (args.timing_only && args.timing.empty()) {
+    return absl::InvalidArgumentError("--timing-only needs --timing OUT.csv (the sheet it writes)");
   }
-  return absl::StrJoin(parts, ", ");
-}
-
-std::vector<int> OutputFramesOfKind(const v1::RetimeSkeletalResponse& response,
-                                    v1::FrameKind kind) {
-  std::vector<int> frames;
-  for (int t = 0; t < response.kinds_size(); ++t) {
-    if (response.kinds(t) == kind) frames.push_back(t);
+  if (motion_wanted && args.output.empty()) {
+    return absl::InvalidArgumentError(
+        "-o/--output OUT.bvh is required (or --timing-only with --timing OUT.csv)");
   }
-  return frames;
-}
-
-// Lengths of the runs of one drawing (one source frame) in output frames, in order.
-std::vector<int> RunLengths(const v1::RetimeSkeletalResponse& response) {
-  std::vector<int> runs;
-  for (int t = 0; t < response.source_frames_size(); ++t) {
-    if (t > 0 && response.source_frames(t) == response.source_frames(t - 1)) {
-      ++runs.back();
-    } else {
-      runs.push_back(1);
-    }
+  if (!motion_wanted && !args.output.empty()) {
+    return absl::InvalidArgumentError(
+        "-o: no motion is asked for (--timing-only or --return-motion false), so there is "
+        "nothing to write there; drop -o");
   }
-  return runs;
-}
-
-// "on the 24 fps film grid: 105 grid frames; drawings shown 42-125 ms (median 83 ms), the
-// source showed each frame 8.3 ms": what the grid did, in the units a viewer sees.
-void PrintGridSummary(const SkeletalClip& clip, const v1::RetimeSkeletalResponse& response) {
-  if (response.timing_fps() <= 0) return;
-  std::vector<int> runs = RunLengths(response);
-  const double frame_ms = 1000.0 * response.motion().frame_time();
-  const double out_ms = frame_ms > 0 ? frame_ms : 1000.0 * clip.frame_time;
-  std::sort(runs.begin(), runs.end());
-  std::printf(
-      "  film grid  %.4g fps: %d grid frames; %zu drawings shown %.0f-%.0f ms (median "
-      "%.0f ms); the source showed each frame %.3g ms\n",
-      response.timing_fps(), response.grid_source_frames_size(), runs.size(), runs.front() * out_ms,
-      runs.back() * out_ms, runs[runs.size() / 2] * out_ms, 1000.0 * clip.frame_time);
-}
-
-int LongestRun(const v1::RetimeSkeletalResponse& response) {
-  int longest = 0;
-  int run = 0;
-  for (int t = 0; t < response.source_frames_size(); ++t) {
-    run = (t > 0 && response.source_frames(t) == response.source_frames(t - 1)) ? run + 1 : 1;
-    longest = std::max(longest, run);
+  if (args.timing.empty() && !motion_wanted) {
+    return absl::InvalidArgumentError("--return-motion false needs --timing OUT.csv");
   }
-  return longest;
-}
-
-void PrintSummary(const SkeletalArgs& args, const SkeletalClip& clip,
-                  const v1::RetimeSkeletalResponse& response) {
-  const std::vector<int> deleted(response.deleted_frames().begin(),
-                                 response.deleted_frames().end());
-  const std::vector<int> hidden(response.hidden_frames().begin(), response.hidden_frames().end());
-  std::printf("%s: %d frames, %zu joints, %.4g fps -> %s (%d frames)\n", args.input.c_str(),
-              clip.frame_count, clip.skeleton.joints.size(), 1.0 / clip.frame_time,
-              args.output.c_str(), response.source_frames_size());
-  std::printf("  omitted    %3d inbetweens; source frames gone: %s\n", response.omissions_applied(),
-              Ranges(deleted).c_str());
-  std::printf("  duplicated %3d frames to keep the length%s; DUPLICATE at output frames %s\n",
-              response.duplicates_applied(),
-              response.duplicates_skipped() > 0
-                  ? absl::StrCat(" (", response.duplicates_skipped(), " skipped)").c_str()
-                  : "",
-              Ranges(OutputFramesOfKind(response, v1::DUPLICATE)).c_str());
-  std::printf("  held       %3d hold steps; HELD at output frames %s\n", response.holds_applied(),
-              Ranges(OutputFramesOfKind(response, v1::HELD)).c_str());
-  std::printf("                 source frames hidden by holds: %s\n", Ranges(hidden).c_str());
-  std::printf("  longest hold %d frames; requested omissions %d, holds %d, max_hold %d%s\n",
-              LongestRun(response), response.omissions_requested(), response.holds_requested(),
-              response.max_hold(), response.timing_fps() > 0 ? " (grid frames)" : "");
-  PrintGridSummary(clip, response);
-  if (!args.timing.empty()) std::printf("  timing sheet: %s\n", args.timing.c_str());
-}
-
-}  // namespace
-
-int RunSkeletal(const SkeletalArgs& args) {
-  absl::StatusOr<std::string> text = ReadFile(args.input);
-  if (!text.ok()) return ReportError(text.status());
-  absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(*text);
-  if (!clip.ok()) {
-    return ReportError(
-        absl::InvalidArgumentError(absl::StrCat(args.input, ": ", clip.status().message())));
+  const int on_stdout =
+      IsStdio(args.output) + IsStdio(args.timing) + IsStdio(args.report) + args.json;
+  if (on_stdout > 1) {
+    return absl::InvalidArgumentError(
+        "only one of -o -, --timing -, --report - and --json can use standard output");
   }
-  if (absl::Status s = CheckWritable({args.output, args.timing}); !s.ok()) return ReportError(s);
-  absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
-  if (!stub.ok()) return ReportError(stub.status());
-  grpc::ClientContext context;
-  SetDeadline(&context, args.deadline_seconds);
-  v1::RetimeSkeletalResponse response;
-  const grpc::Status status =
-      (*stub)->RetimeSkeletal(&context, MakeRequest(args, *clip), &response);
-  if (!status.ok()) return ReportRpcError(status);
+  const FileFormat named = FormatFromName(args.output);
+  if (named != FileFormat::kUnknown && named != FileFormat::kBvh) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("-o ", args.output, ": koma skeletal writes BVH (-o OUT.bvh)"));
+  }
+  return absl::OkStatus();
+}
 
-  absl::StatusOr<SkeletalClip> retimed = ClipFromResponse(response, clip->skeleton);
-  if (!retimed.ok()) return ReportError(retimed.status());
-  if (absl::Status s = WriteFile(args.output, formats::WriteBvh(*retimed)); !s.ok()) {
-    return ReportError(s);
+absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& clip,
+                                  const v1::RetimeSkeletalResponse& response) {
+  if (!args.output.empty() && !args.timing_only && response.has_motion()) {
+    absl::StatusOr<SkeletalClip> retimed = ClipFromResponse(response, clip.skeleton);
+    if (!retimed.ok()) return retimed.status();
+    if (absl::Status s = WriteFile(args.output, formats::WriteBvh(*retimed)); !s.ok()) return s;
   }
   if (!args.timing.empty()) {
     const std::vector<int32_t> grid_frames(response.grid_frames().begin(),
                                            response.grid_frames().end());
-    const double frame_time =
-        response.has_motion() ? response.motion().frame_time() : clip->frame_time;
+    double frame_time = clip.frame_time;
+    if (response.has_motion()) {
+      frame_time = response.motion().frame_time();
+    } else if (args.output_at_timing_rate && response.timing_fps() > 0) {
+      frame_time = 1.0 / response.timing_fps();
+    }
     const std::string sheet =
         formats::WriteTimingSheetCsv(TimingMapFromResponse(response), frame_time,
                                      response.timing_fps() > 0 ? &grid_frames : nullptr);
-    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return ReportError(s);
+    if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }
-  PrintSummary(args, *clip, response);
-  return 0;
+  return absl::OkStatus();
+}
+
+int RunSkeletal(const SkeletalArgs& args) {
+  const CommandOutput out("skeletal", args.json, args.quiet, args.server);
+  if (absl::Status s = CheckSkeletalFlags(args); !s.ok()) return out.UsageFailure(s);
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok())
+    return out.Failure(s);
+  absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(args.input);
+  if (!clip.ok()) return out.Failure(clip.status());
+  absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, *clip);
+  if (!request.ok()) return out.UsageFailure(request.status());
+  absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
+  if (!stub.ok()) return out.UsageFailure(stub.status());
+  grpc::ClientContext context;
+  SetDeadline(&context, args.deadline_seconds);
+  v1::RetimeSkeletalResponse response;
+  const grpc::Status status = (*stub)->RetimeSkeletal(&context, *request, &response);
+  if (!status.ok()) return out.RpcFailure(status);
+  if (absl::Status s = WriteSkeletalOutputs(args, *clip, response); !s.ok()) return out.Failure(s);
+  if (!args.report.empty()) {
+    if (absl::Status s = report::WriteSkeletalReport(args.report, *request, response, args.input);
+        !s.ok()) {
+      return out.Failure(s);
+    }
+  }
+  out.Success(SkeletalSummaryText(args, *clip, response) + ReportLine(args.report),
+              SkeletalSummaryJson(args, *clip, response),
+              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
+  return kExitOk;
 }
 
 }  // namespace koma::client

@@ -1,30 +1,84 @@
 // `koma skeletal IN.bvh -o OUT.bvh ...`: BVH in, RetimeSkeletal, BVH (+ timing sheet) out.
+// The steps are separate functions so other drivers (`koma batch`) run them per file:
+//   ReadSkeletalInput -> BuildSkeletalRequest -> (the RPC) -> WriteSkeletalOutputs
+//   -> SkeletalSummaryText / SkeletalSummaryJson (client/skeletal_summary.h).
 #ifndef KOMA_CLIENT_SKELETAL_COMMAND_H_
 #define KOMA_CLIENT_SKELETAL_COMMAND_H_
 
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "core/retime.h"
+#include "core/skeleton.h"
+#include "koma/v1/retime.pb.h"
+
+#include "absl/status/status.h"
+#include "core/skeleton.h"
+#include "koma/v1/retime.pb.h"
 
 namespace koma::client {
 
+// Flags of `koma skeletal`. Field per request field (see docs/usage.md); unset optionals
+// leave the request field unset, so the server's default applies.
 struct SkeletalArgs {
-  std::string input;                 // BVH file to read
-  std::string output;                // BVH file to write
-  std::string timing;                // timing sheet CSV to write; empty: none
-  std::optional<int> omissions;      // --omit; unset: server default (4)
-  std::optional<int> holds;          // --hold; unset: server default (N / 3)
-  std::optional<int> max_hold;       // --max-hold; unset: server default (3)
-  bool keep_length = true;           // --no-keep-length turns it off
-  bool hold_first = false;           // --hold-first: holds before omissions
-  bool root_relative = false;        // --root-relative
-  std::optional<double> timing_fps;  // --timing-fps: the film grid; unset: server default (24)
+  std::string input;                       // BVH file to read; "-": standard input
+  std::string output;                      // BVH file to write; "-": standard output
+  std::string timing;                      // timing sheet CSV to write; empty: none; "-": stdout
+  std::string report;                      // --report: HTML report to write; empty: none
+  std::optional<int> omissions;            // --omit / --omissions; unset: server default (4)
+  std::optional<int> holds;                // --hold / --holds; unset: server default (N / 3)
+  std::optional<int> max_hold;             // --max-hold; unset: server default (3)
+  bool keep_length = true;                 // --keep-length / --no-keep-length
+  bool hold_first = false;                 // --hold-first: holds before omissions
+  std::string order;                       // --order omit-then-hold|hold-then-omit; wins over
+                                           // --hold-first when given
+  std::vector<std::string> joint_weights;  // --joint-weights: W,... per joint, or NAME=W,...
+  bool root_relative = false;              // --root-relative
+  std::vector<double> camera;              // --camera: 16 numbers, column-major view-projection
+  std::optional<bool> return_motion;   // --return-motion; unset: true (false with --timing-only)
+  bool timing_only = false;            // --timing-only: no motion asked for, only the sheet written
+  std::optional<double> timing_fps;    // --timing-fps: the film grid; unset: server default (24)
   bool output_at_timing_rate = false;  // --output-rate timing: write the BVH at the grid rate
-  std::string server;                // host:port
-  double deadline_seconds = 60.0;    // --deadline
+  std::string server;                  // host:port
+  double deadline_seconds = 60.0;      // --deadline
+  bool json = false;                   // --json: summary as JSON on stdout
+  bool quiet = false;                  // --quiet: no human summary
 };
 
-// Exit code: 0 ok, 1 failure (message on stderr). The summary goes to stdout.
+// The clip in `path` ("-": standard input). A motion3.json or CSV is refused as such; a
+// malformed BVH names the file and line.
+absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path);
+
+// The request for `clip` with every flag of `args` applied. INVALID_ARGUMENT naming the flag
+// when a flag does not fit the clip (--joint-weights: a count other than the joints', an
+// unknown joint name).
+absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArgs& args,
+                                                               const SkeletalClip& clip);
+
+// Before reading or calling: the flags make sense together (-o given unless --timing-only,
+// --timing given with --timing-only, at most one of -o, --timing and --json on standard
+// output). INVALID_ARGUMENT naming the flags: a usage error. Whether the outputs can be
+// written is CheckWritable's (client/files.h).
+absl::Status CheckSkeletalFlags(const SkeletalArgs& args);
+
+// Writes -o (unless --timing-only or the response has no motion) and --timing (when given)
+// from `response` to the request built from `clip`.
+absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& clip,
+                                  const v1::RetimeSkeletalResponse& response);
+
+// The whole command. Exit code: 0 ok, 1 failure, 2 usage error (messages on stderr).
 int RunSkeletal(const SkeletalArgs& args);
+
+// The request RunSkeletal sends for `clip` (`koma batch` sends the same).
+v1::RetimeSkeletalRequest MakeSkeletalRequest(const SkeletalArgs& args, const SkeletalClip& clip);
+
+// Writes args.output (and args.timing when set) from the answer to `clip`, as RunSkeletal
+// does; errors name the file.
+absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& clip,
+                                  const v1::RetimeSkeletalResponse& response);
 
 }  // namespace koma::client
 

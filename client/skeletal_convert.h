@@ -1,25 +1,13 @@
-// SkeletalClip (formats/ side) <-> koma.v1 messages (wire side) for the CLI.
+// The CLI's names for convert/skeletal_convert.h (shared with the server's file requests).
 #ifndef KOMA_CLIENT_SKELETAL_CONVERT_H_
 #define KOMA_CLIENT_SKELETAL_CONVERT_H_
 
-#include "absl/status/statusor.h"
-#include "core/retime.h"
-#include "core/skeleton.h"
-#include "koma/v1/retime.pb.h"
+#include "convert/skeletal_convert.h"
 
 namespace koma::client {
-
-// Channel form, every field copied.
-v1::SkeletalMotion ToProto(const SkeletalClip& clip);
-
-// The retimed clip of a response, on the skeleton that was sent. INVALID_ARGUMENT if the
-// server's motion does not fit that skeleton (a server bug, reported, never written).
-absl::StatusOr<SkeletalClip> ClipFromResponse(const v1::RetimeSkeletalResponse& response,
-                                              const Skeleton& skeleton);
-
-// The response's timing map as the core type (for the timing sheet writer).
-TimingMap TimingMapFromResponse(const v1::RetimeSkeletalResponse& response);
-
+using convert::ClipFromResponse;
+using convert::TimingMapFromResponse;
+using convert::ToProto;
 }  // namespace koma::client
 
 #endif  // KOMA_CLIENT_SKELETAL_CONVERT_H_

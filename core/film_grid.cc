@@ -12,6 +12,9 @@ namespace {
 // 246 / 197 within 1e-4), small enough that p * index stays far inside int64 for any clip the
 // server accepts (indices below 2^31).
 constexpr int64_t kMaxDenominator = 100000;
+// Largest denominator when the source is more than kMaxDenominator times slower than the grid:
+// 1e9 grid frames per source frame, still far from overflow in k * q for any k below 2^31.
+constexpr int64_t kMaxUpsampling = 1000000000;
 // Largest numerator: a grid frame 2^30 source frames long already holds any clip the server
 // accepts in one grid frame; capping the ratio there keeps it an int64 (a timing_fps of 1e-300
 // gives a ratio near 1e306) and 2 * g * p far from overflow for any g below 2^31.
@@ -50,7 +53,13 @@ void SimplestFraction(double ratio, int64_t* p, int64_t* q) {
     p0 = p1, q0 = q1, p1 = p2, q1 = q2;
     rest = inverse - std::floor(inverse);
   }
-  if (p1 == 0) p1 = 1, q1 = kMaxDenominator;  // a ratio below 1e-5: a vast upsampling
+  if (p1 == 0) {
+    // A ratio below 1 / kMaxDenominator (1 fps counted at 1000 fps is 1e-3; 0.001 fps at 1000
+    // is 1e-6): 1 / round(1 / ratio) is within 5e-6 of it. Capped at kMaxUpsampling.
+    p1 = 1;
+    q1 = 1.0 / ratio >= static_cast<double>(kMaxUpsampling) ? kMaxUpsampling
+                                                            : std::llround(1.0 / ratio);
+  }
   *p = p1;
   *q = q1;
 }

@@ -1,5 +1,5 @@
 // RetimeCurves (Miyamune et al. section 3.1): koma-uchi (drawings held for n frames) with
-// tame/tsume spacing between key poses. See ../shared/design/algorithms.md section 2.
+// tame/tsume spacing between key poses. See docs/semantics.md, "RetimeCurves".
 #ifndef KOMA_CORE_KOMA_UCHI_H_
 #define KOMA_CORE_KOMA_UCHI_H_
 
@@ -66,7 +66,7 @@ GridKeyPoses KeyPosesOnGrid(const KomaUchiOptions& options, const CurveSet& set)
 // holds, as even as possible, longer ones first (10 at n = 3 -> 3, 3, 2, 2).
 std::vector<int> HoldLengths(int length, int frames_per_drawing);
 
-// E_0 .. E_{D-1} of algorithms.md section 2: E_0 = 0, strictly increasing, j / D when
+// E_0 .. E_{D-1} of docs/semantics.md, "RetimeCurves": E_0 = 0, strictly increasing, j / D when
 // tame = tsume = 1, geometric with ratio tame in the first half and 1 / tsume in the second.
 // Powers by repeated multiplication (and one sqrt for an odd D), so the bits are the same on
 // every machine.

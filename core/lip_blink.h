@@ -1,5 +1,5 @@
 // LipBlink (Miyamune et al. section 3.2): three-drawing mouth flaps and anime blinks.
-// See ../shared/design/algorithms.md section 3. Frames are integer indices; an interval is
+// See docs/semantics.md, "LipBlink". Frames are integer indices; an interval is
 // half-open [begin, end).
 #ifndef KOMA_CORE_LIP_BLINK_H_
 #define KOMA_CORE_LIP_BLINK_H_
@@ -35,9 +35,13 @@ struct MouthOptions {
   double mid_ratio = 0.5;     // r in (0, 1): M_mid = M_min + r (M_max - M_min)
   std::optional<double> min;  // M_min (closed); default: the curve's minimum
   std::optional<double> max;  // M_max (open); default: the curve's maximum
-  // Speech intervals, sorted, disjoint, within the clip. Empty: detected (the frames where the
-  // curve changes by more than 1e-6 of its range, gaps shorter than n merged).
+  // Speech intervals, sorted, disjoint, within the clip. Empty with detect_speech: detected (the
+  // frames where the curve changes by more than 1e-6 of its range, gaps shorter than n merged).
   std::vector<FrameInterval> speech;
+  // False when the caller gave speech intervals: `speech` is then used even when it is empty
+  // (on a film grid, given intervals shorter than a grid frame vanish), and the mouth keeps its
+  // input values. True (the default): an empty `speech` is detected.
+  bool detect_speech = true;
 };
 
 struct MouthHold {

@@ -1,4 +1,4 @@
-// ConvertEyes (algorithms.md section 3, paper section 3.2.2, Eq. 5-7): levels, blink
+// ConvertEyes (docs/semantics.md, "LipBlink", paper section 3.2.2, Eq. 5-7): levels, blink
 // detection (linked on the normalised mean, or per curve), and the anime repaint: open snaps
 // to closed, closed for at least k frames, half-open for k frames, then open.
 #include <algorithm>

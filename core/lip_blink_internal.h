@@ -37,7 +37,7 @@ Extent ExtentOf(absl::Span<const double> values);
 absl::Status CheckIntervals(const std::vector<FrameInterval>& intervals, absl::string_view path,
                             int frame_count);
 
-// The blinks of `signal` (algorithms.md section 3): closed frames are <= closed_at_most, open
+// The blinks of `signal` (docs/semantics.md, "LipBlink"): closed frames are <= closed_at_most, open
 // frames >= open_at_least; one blink per maximal run of closed frames, in time order, with
 // its closing phase, opening span and hold k (paper Eq. 6-7).
 std::vector<Blink> DetectBlinks(absl::Span<const double> signal, double closed_at_most,

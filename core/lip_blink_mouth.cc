@@ -1,4 +1,4 @@
-// ConvertMouth (algorithms.md section 3, paper section 3.2.1 and Fig. 5): speech intervals,
+// ConvertMouth (docs/semantics.md, "LipBlink", paper section 3.2.1 and Fig. 5): speech intervals,
 // holds of n frames inside them, and one of three shapes per hold, never the previous one.
 #include <algorithm>
 #include <array>
@@ -117,7 +117,7 @@ MouthResult ConvertMouth(absl::Span<const double> input, const MouthOptions& opt
   result.open = options.max.value_or(extent.max);
   result.mid = result.closed + options.mid_ratio * (result.open - result.closed);
   // Given intervals are used as they are (no merging): the caller knows the dialogue.
-  result.speech = options.speech.empty()
+  result.speech = options.speech.empty() && options.detect_speech
                       ? DetectSpeech(input, extent.max - extent.min, options.frames_per_shape)
                       : options.speech;
   size_t hold_count = 0;  // ceil(length / n) per interval

@@ -1,5 +1,5 @@
 // RetimeSkeletal (Kitamura et al.): inbetween omission (nakanashi) and holds (koma-dori) on a
-// sequence of poses. See docs/algorithms.md and ../shared/design/algorithms.md section 1.
+// sequence of poses. See docs/semantics.md, "RetimeSkeletal".
 //
 // Two implementations with identical results:
 //  - RetimeNaive follows the steps literally, rescanning the working sequence each step:

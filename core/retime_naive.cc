@@ -1,6 +1,7 @@
-// RetimeNaive: the steps of algorithms.md section 1, literally. Every step recomputes SSD(t)
-// over the whole current sequence and rescans all candidates: O((omissions + holds) * N * J).
-// It is the reference RetimeFast is tested against, so clarity beats speed here.
+// RetimeNaive: the steps of docs/semantics.md, "RetimeSkeletal", literally. Every step
+// recomputes SSD(t) over the whole current sequence and rescans all candidates:
+// O((omissions + holds) * N * J). It is the reference RetimeFast is tested against, so clarity
+// beats speed here.
 #include <cstdint>
 #include <utility>
 #include <vector>

@@ -1,4 +1,5 @@
-// Holds and tame/tsume spacing of one segment between key poses (algorithms.md section 2).
+// Holds and tame/tsume spacing of one segment between key poses (docs/semantics.md,
+// "RetimeCurves").
 #include <cassert>
 #include <cmath>
 #include <vector>

@@ -2,7 +2,7 @@
 # The main job on the bundled samples: install, build, start koma_server on a loopback port,
 # retime samples/pitch.bvh (RetimeSkeletal), samples/arm_head.motion3.json (RetimeCurves) and
 # samples/talk_blink.motion3.json (LipBlink) through the koma client, write the results and their timing sheets to out/, print the
-# summaries, stop the server.
+# summaries and the paths of their HTML reports, stop the server.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${KOMA_BUILD_DIR:-$root/build}
@@ -21,7 +21,7 @@ server=127.0.0.1:$(cat "$port_file")
 
 echo "koma_server is $("$build/client/koma" health --server "$server") on $server"
 "$build/client/koma" skeletal "$root/samples/pitch.bvh" -o "$out/pitch_anime.bvh" \
-  --timing "$out/pitch_timing.csv" --server "$server"
+  --timing "$out/pitch_timing.csv" --report "$out/pitch_report.html" --server "$server"
 echo
 echo "First output frames of the timing sheet ($out/pitch_timing.csv):"
 head -n 13 "$out/pitch_timing.csv"
@@ -29,17 +29,22 @@ echo
 # Real 120 fps mocap (pybvh's test fixture, MIT): drawings counted on the 24 fps film grid, so
 # holds last 1/12 or 1/8 s as on a film, not 3 frames of 120 fps (25 ms).
 "$build/client/koma" skeletal "$root/samples/mocap_120fps.bvh" -o "$out/mocap_120fps_anime.bvh" \
-  --timing "$out/mocap_120fps_timing.csv" --server "$server"
+  --timing "$out/mocap_120fps_timing.csv" --report "$out/mocap_120fps_report.html" --server "$server"
 echo
 "$build/client/koma" curves "$root/samples/arm_head.motion3.json" \
   -o "$out/arm_head_anime.motion3.json" --timing "$out/arm_head_drawings.csv" --on 3 \
-  --tame 1.5 --tsume 1.5 --server "$server"
+  --tame 1.5 --tsume 1.5 --report "$out/arm_head_report.html" --server "$server"
 echo
 "$build/client/koma" lipblink "$root/samples/talk_blink.motion3.json" \
-  -o "$out/talk_blink_anime.motion3.json" --server "$server"
+  -o "$out/talk_blink_anime.motion3.json" --report "$out/talk_blink_report.html" --server "$server"
 
 kill -TERM "$server_pid"
 wait "$server_pid"
 trap - EXIT
 rm -f "$port_file"
 echo "koma_server stopped cleanly; its log is $out/server.log"
+echo
+echo "Before/after reports (self-contained HTML, open in any browser; docs/report.md):"
+for report in pitch_report mocap_120fps_report arm_head_report talk_blink_report; do
+  echo "  $out/$report.html"
+done

@@ -105,6 +105,14 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
 
 absl::Status PrepareCurvesAnswer(const v1::RetimeCurvesRequest& request,
                                  const RequestLimits& limits, CurvesAnswer* answer) {
+  if (CarriesFile(request)) {
+    v1::RetimeCurvesRequest decoded;
+    auto file = std::make_unique<CurveFile>();
+    KOMA_RETURN_IF_ERROR(DecodeCurvesFile(request, limits, &decoded, file.get()));
+    KOMA_RETURN_IF_ERROR(PrepareCurvesAnswer(decoded, limits, answer));
+    answer->file = std::move(file);
+    return absl::OkStatus();
+  }
   KOMA_ASSIGN_OR_RETURN(CurvesJob job, ValidateCurvesRequest(request, limits));
   answer->set = std::move(job.set);
   answer->options = std::move(job.options);
@@ -113,7 +121,17 @@ absl::Status PrepareCurvesAnswer(const v1::RetimeCurvesRequest& request,
 
 absl::Status CompleteCurvesAnswer(CurvesAnswer* answer) {
   answer->result = RetimeCurves(answer->set, answer->options);
-  return CheckFinite(answer->result);
+  KOMA_RETURN_IF_ERROR(CheckFinite(answer->result));
+  if (answer->file == nullptr) return absl::OkStatus();
+  // As `koma curves` writes its output: every curve's values and stepped keys replace its own.
+  std::vector<convert::CurveReplacement> retimed;
+  retimed.reserve(answer->result.curves.size());
+  for (const RetimedCurve& curve : answer->result.curves) {
+    retimed.push_back({curve.values, curve.steps});
+  }
+  KOMA_ASSIGN_OR_RETURN(answer->file_field, CurvesFileField(*answer->file, std::move(retimed)));
+  answer->file.reset();  // the parsed document is not needed any more
+  return absl::OkStatus();
 }
 
 absl::Status RetimeCurvesAnswer(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,
@@ -150,6 +168,9 @@ absl::Status HandleRetimeCurves(const v1::RetimeCurvesRequest& request, const Re
   CurvesAnswer answer;
   KOMA_RETURN_IF_ERROR(RetimeCurvesAnswer(request, limits, &answer));
   FillCurvesResponse(answer.set, answer.result, response);
+  if (!answer.file_field.empty() && !response->MergeFromString(answer.file_field)) {
+    return absl::InternalError("response: the file field does not parse");
+  }
   return absl::OkStatus();
 }
 

@@ -2,11 +2,15 @@
 #ifndef KOMA_SERVER_CURVES_REQUEST_H_
 #define KOMA_SERVER_CURVES_REQUEST_H_
 
+#include <memory>
+#include <string>
+
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "core/curves.h"
 #include "core/koma_uchi.h"
 #include "koma/v1/retime.pb.h"
+#include "server/file_requests.h"
 #include "server/request_limits.h"
 
 namespace koma::server {
@@ -23,10 +27,14 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
 
 // What a RetimeCurves call answers, before it is put in a response: the request's curves
 // (their ids name the answer's curves) and options, and the core's result for them.
+// A request that carried a file (motion3_json, csv_text) also keeps the parsed file until the
+// retiming is done, and its answer ends with the retimed file (server/file_requests.h).
 struct CurvesAnswer {
   CurveSet set;
   KomaUchiOptions options;
   KomaUchiResult result;
+  std::unique_ptr<CurveFile> file;  // null for a decoded request
+  std::string file_field;           // the response's serialised file field; empty: none
 };
 
 // Validates `request` into the answer's set and options: everything the call reads of the

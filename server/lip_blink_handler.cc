@@ -5,6 +5,7 @@
 #include "core/lip_blink_grid.h"
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
+#include "server/file_requests.h"
 #include "server/lip_blink_request.h"
 
 namespace koma::server {
@@ -139,6 +140,7 @@ absl::Status RunEyes(const LipBlinkJob& job, v1::LipBlinkResponse* response) {
 
 absl::Status HandleLipBlink(const v1::LipBlinkRequest& request, const RequestLimits& limits,
                             v1::LipBlinkResponse* response) {
+  if (CarriesFile(request)) return HandleLipBlinkFile(request, limits, response);
   KOMA_ASSIGN_OR_RETURN(const LipBlinkJob job, ValidateLipBlinkRequest(request, limits));
   KOMA_RETURN_IF_ERROR(RunMouths(job, response));
   KOMA_RETURN_IF_ERROR(RunEyes(job, response));

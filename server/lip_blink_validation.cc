@@ -81,6 +81,7 @@ absl::StatusOr<MouthOptions> ConvertMouth(const v1::MouthSettings& in, int frame
   if (in.has_min()) out.min = in.min();
   if (in.has_max()) out.max = in.max();
   out.speech = Intervals(in.speech());
+  out.detect_speech = in.speech().empty();  // given intervals stay given, even if a grid drops them
   KOMA_RETURN_IF_ERROR(Prefixed(ValidateMouthOptions(out, frame_count), "mouth."));
   return out;
 }

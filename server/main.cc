@@ -20,6 +20,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
+#include "koma/version.h"
 #include "server/logging.h"
 #include "server/malloc_tuning.h"
 #include "server/mutex_tuning.h"
@@ -38,6 +39,9 @@ ABSL_FLAG(int64_t, max_values, 20'000'000,
           "largest frames x values-per-frame in one request (values-per-frame = max(channels, "
           "3 x joints)); larger requests get RESOURCE_EXHAUSTED");
 ABSL_FLAG(int, max_joints, 4096, "largest skeleton in joints");
+ABSL_FLAG(int64_t, max_file_bytes, 64 * 1024 * 1024,
+          "largest file a request may carry (bvh_text, motion3_json, csv_text) in bytes; "
+          "larger files get RESOURCE_EXHAUSTED");
 ABSL_FLAG(int, worker_threads, 0, "threads that run retiming; 0 = one per core");
 ABSL_FLAG(int, threads_per_call, 0,
           "threads one large RetimeSkeletal call's forward kinematics may use (clips of 32768 "
@@ -86,7 +90,7 @@ constexpr const char* kEnvironmentFlags[] = {
     "log_format",       "shutdown_grace_ms",  "tls_cert",          "tls_key",
     "tls_client_ca",    "metrics_address",    "metrics_port_file", "shutdown_delay_ms",
     "inline_max_bytes", "huge_page_cache_mb", "threads_per_call",  "idle_trim_ms",
-    "max_memory_mb"};
+    "max_memory_mb",    "max_file_bytes"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -132,6 +136,7 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.max_message_bytes = absl::GetFlag(FLAGS_max_message_bytes);
   config.limits.max_values = absl::GetFlag(FLAGS_max_values);
   config.limits.max_joints = absl::GetFlag(FLAGS_max_joints);
+  config.limits.max_file_bytes = absl::GetFlag(FLAGS_max_file_bytes);
   const int threads_per_call = absl::GetFlag(FLAGS_threads_per_call);
   config.limits.threads_per_call =
       threads_per_call > 0 ? threads_per_call
@@ -194,6 +199,9 @@ int main(int argc, char** argv) {
     return absl::EndsWith(file, "server/main.cc");
   };
   usage.contains_helpshort_flags = usage.contains_help_flags;
+  // --version: Abseil's default prints the program name and "Debug build (NDEBUG not
+  // #defined)" (Debian's Abseil is built without NDEBUG), whatever this build is.
+  usage.version_string = [] { return std::string("koma_server ") + koma::kVersion + "\n"; };
   absl::SetFlagsUsageConfig(usage);
   absl::SetProgramUsageMessage(
       "koma_server [--address=HOST:PORT] [flags]: the koma gRPC service. Every flag can also be "

@@ -18,7 +18,7 @@ namespace koma::server {
 // or more (a large clip's arrays) are mmap'd and returned to the system when freed; smaller
 // ones come from the heap, which keeps up to 16 MiB of free space instead of returning it at
 // once, so mid-size calls (LipBlink's 800 KB curves) reuse memory rather than fault in fresh
-// pages every call. Measured (docs/benchmarks.md): 256 KiB / 1 MiB kept the 100k-frame peak
+// pages every call. Measured (2026-11-21, load matrix): 256 KiB / 1 MiB kept the 100k-frame peak
 // lowest but made LipBlink 3x100k ~1.7x slower (page faults); 2 MiB / 16 MiB and up made
 // it fastest but the 100k-frame peak ~1.6x higher.
 //

@@ -18,7 +18,9 @@
 #include "server/arena_allocator.h"
 #include "server/call_footprint.h"
 #include "server/curves_request.h"
+#include "server/call_reservation.h"
 #include "server/curves_response.h"
+#include "server/file_requests.h"
 #include "server/lip_blink_request.h"
 #include "server/logging.h"
 #include "server/skeletal_parse.h"
@@ -91,12 +93,14 @@ absl::StatusOr<int64_t> SerialiseInto(const Response& response, grpc::ByteBuffer
 constexpr size_t kCurvesSliceBytes = 512 * 1024;
 absl::StatusOr<int64_t> SerialiseInto(CurvesAnswer& answer, grpc::ByteBuffer* bytes) {
   const CurvesResponseEncoder encoder(answer.set, answer.result);
-  const size_t size = encoder.size();
+  const size_t size = encoder.size() + answer.file_field.size();
   if (size > static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
     return absl::InternalError(absl::StrCat("response: cannot be serialised: ", size,
                                             " bytes is over protobuf's 2 GiB message limit"));
   }
   std::vector<grpc::Slice> slices = EncodeInSlices(encoder, answer.result, kCurvesSliceBytes);
+  // A file request's retimed file: its field (6 or 7) follows the encoder's (1-5).
+  if (!answer.file_field.empty()) slices.emplace_back(std::move(answer.file_field));
   grpc::ByteBuffer(slices.data(), slices.size()).Swap(bytes);
   return static_cast<int64_t>(size);
 }
@@ -130,6 +134,21 @@ void DescribeRequest(const v1::RetimeCurvesRequest& request, RpcRecord& record) 
 void DescribeRequest(const v1::LipBlinkRequest& request, RpcRecord& record) {
   record.frames = request.curves().frame_count();
   record.curves = request.curves().curves_size();
+}
+// A request that carried a file (server/file_requests.h) is described once it is parsed:
+// from its answer.
+void DescribeAnswer(const SkeletalAnswer& answer, RpcRecord& record) {
+  record.frames = answer.frames;
+  record.joints = answer.joints;
+}
+void DescribeAnswer(const CurvesAnswer& answer, RpcRecord& record) {
+  record.frames = answer.set.frame_count;
+  record.curves = static_cast<int>(answer.set.curves.size());
+}
+void DescribeAnswer(const v1::LipBlinkResponse& answer, RpcRecord& record) {
+  // The converted curves (mouth and eyes) have one value per frame of the file.
+  if (answer.curves_size() > 0) record.frames = answer.curves(0).values_size();
+  record.curves = answer.curves_size();
 }
 
 // Parses the received bytes into `request` and frees them (they are not read again; the
@@ -237,7 +256,13 @@ class ArenaBytesCall {
                                                     "this call (request, work, response)");
       if (!fits.ok()) return ToGrpcStatus(fits);
     }
-    absl::Status handled = handler_(*request_, response_.get());
+    absl::Status handled;
+    {
+      // A file request grows its reservation once its file is parsed (server/file_requests.h).
+      const CallReservationScope scope(&reservation_);
+      handled = handler_(*request_, response_.get());
+    }
+    if (handled.ok() && CarriesFile(*request_)) DescribeAnswer(*response_.get(), record);
     FreeRequest();
     if (handled.ok()) handled = CompleteAnswer(*response_.get());
     return ToGrpcStatus(handled);
@@ -332,7 +357,7 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   };
   // A small call (a Pitch-size clip is ~100 KB and retimes in well under a millisecond) runs
   // right here: handing it to a worker and back costs a thread wake-up each way, which on 2
-  // cores measured as much as the retiming (docs/benchmarks.md, "Inline small calls"). Large
+  // cores measured as much as the retiming (docs/benchmarks.md, "Findings"). Large
   // calls go to the pool, so a call of seconds never holds one of gRPC's few callback threads
   // and the bounded queue still applies to them.
   if (record.bytes_in <= inline_max_bytes_) {

@@ -48,6 +48,10 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
     return invalid("--max_joints: ", config.limits.max_joints,
                    " must be >= 1 (it would refuse every skeleton)");
   }
+  if (config.limits.max_file_bytes < 0) {
+    return invalid("--max_file_bytes: ", config.limits.max_file_bytes,
+                   " must be >= 0 (0 refuses every file-carrying request)");
+  }
   if (config.limits.threads_per_call < 1) {
     // Not reachable from the flag: koma_server turns --threads_per_call=0 into one per core.
     return invalid("limits.threads_per_call: ", config.limits.threads_per_call,

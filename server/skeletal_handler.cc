@@ -7,6 +7,7 @@
 #include "core/forward_kinematics.h"
 #include "core/retime_grid.h"
 #include "core/status_macros.h"
+#include "server/file_requests.h"
 #include "server/response_slice.h"
 #include "server/skeletal_request.h"
 #include "server/skeletal_response.h"
@@ -187,6 +188,7 @@ absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
 
 absl::Status RetimeSkeletalAnswer(const v1::RetimeSkeletalRequest& request,
                                   const RequestLimits& limits, SkeletalAnswer* answer) {
+  if (CarriesFile(request)) return RetimeSkeletalFileAnswer(request, limits, answer);
   KOMA_ASSIGN_OR_RETURN(const Retimed retimed, Retime(request, limits));
   v1::RetimeSkeletalResponse head;
   FillHead(retimed.job, retimed.map, retimed.input_ssd, &head);
@@ -209,6 +211,7 @@ absl::Status RetimeSkeletalAnswer(const v1::RetimeSkeletalRequest& request,
 absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
                                   const RequestLimits& limits,
                                   v1::RetimeSkeletalResponse* response) {
+  if (CarriesFile(request)) return HandleRetimeSkeletalFile(request, limits, response);
   KOMA_ASSIGN_OR_RETURN(const Retimed retimed, Retime(request, limits));
   FillHead(retimed.job, retimed.map, retimed.input_ssd, response);
   if (retimed.job.return_motion) {

@@ -1,5 +1,5 @@
-// RetimeCurves on the film grid (algorithms.md section 0, issue 17), on 500 random clips per
-// source rate (25 .. 240 fps and 29.97; and 12, 15 and 23.976, slower than the grid; and
+// RetimeCurves on the film grid (docs/semantics.md, "The film grid", issue 17), on 500 random clips
+// per source rate (25 .. 240 fps and 29.97; and 12, 15 and 23.976, slower than the grid; and
 // grids other than 24: 60 on 30, 50 and 30 on 12, 24 on 8, 25 on 1000, where "24" below
 // reads as that grid's rate):
 //  - retiming at rate R with timing_fps 24 equals retiming the same curves expressed at 24 fps

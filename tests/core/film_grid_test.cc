@@ -36,7 +36,7 @@ struct Rate {
   int64_t den;
 };
 
-// The reference, written from algorithms.md section 0 with the true rates, a source at
+// The reference, written from docs/semantics.md, "The film grid" with the true rates, a source at
 // `r` on a 24 fps grid. Grid frame g lies at g / 24 s, source frame k at k * den / num s.
 int RefGridFrameOf(Rate r, int64_t k) { return static_cast<int>((k * 24 * r.den) / r.num); }
 int RefGridFrameCount(Rate r, int64_t n) {
@@ -195,6 +195,15 @@ TEST(FilmGridTest, ExtremeRatiosStayInRange) {
   EXPECT_EQ(fine.GridFrameCount(100000), INT_MAX);
   EXPECT_EQ(fine.GridFrameOf(100000), INT_MAX);
   EXPECT_GE(fine.GridFrameCount(INT_MAX), 1);
+  // More than 1e5 grid frames a source frame (beyond the continued fraction's denominator
+  // bound): still the true ratio, not a rate clipped to 1e5. A frame every 1000 s at 1000 fps
+  // is 1e6 grid frames a source frame, one every 200 s 200000.
+  EXPECT_EQ(GridOf(1e-3, 1000.0).GridFrameOf(1), 1000000);
+  EXPECT_EQ(GridOf(1e-3, 1000.0).GridFrameCount(3), 2000001);
+  EXPECT_EQ(GridOf(5e-3, 1000.0).GridFrameOf(1), 200000);
+  EXPECT_EQ(GridOf(5e-3, 1000.0).FirstSourceFrameAtOrAfter(200001), 2);
+  EXPECT_EQ(GridOf(5e-3, 1000.0).NearestSourceFrame(300000, 9), 1);  // a tie: the earlier
+  EXPECT_EQ(GridOf(1e-3, 1e300).GridFrameOf(1), 1000000000);        // capped at 1e9
 }
 
 TEST(FilmGridTest, ValidateTimingFps) {

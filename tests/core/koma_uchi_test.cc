@@ -1,4 +1,4 @@
-// RetimeCurves (algorithms.md section 2): key poses, timings, overrides, the paper's
+// RetimeCurves (docs/semantics.md, "RetimeCurves"): key poses, timings, overrides, the paper's
 // experiment, random requests' invariants, and the options' validation. Holds and spacing
 // alone: spacing_test.cc.
 #include "core/koma_uchi.h"

@@ -1,4 +1,4 @@
-// ConvertEyes (algorithms.md section 3, paper section 3.2.2, Eq. 5-7): hand-built blinks for
+// ConvertEyes (docs/semantics.md, "LipBlink", paper section 3.2.2, Eq. 5-7): hand-built blinks for
 // each hold k, the anime shape (open snaps to closed; closed, half, open), long closures, the
 // clip's edges, linked and unlinked eyes, random curves' invariants, and the options'
 // validation. Auto-blink: lip_blink_auto_test.cc.

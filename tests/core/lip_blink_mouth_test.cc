@@ -1,6 +1,6 @@
-// ConvertMouth (algorithms.md section 3, paper section 3.2.1, Fig. 5): three levels, the state
-// diagram (never the same shape twice, closed before each interval), holds of n frames, FOLLOW
-// on hand-built inputs, speech detection, determinism with a golden RANDOM sequence, and the
+// ConvertMouth (docs/semantics.md, "LipBlink", paper section 3.2.1, Fig. 5): three levels, the
+// state diagram (never the same shape twice, closed before each interval), holds of n frames,
+// FOLLOW on hand-built inputs, speech detection, determinism with a golden RANDOM sequence, and the
 // options' validation.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -241,6 +241,20 @@ TEST(ConvertMouthTest, GivenIntervalsAreUsedAsTheyAre) {
   EXPECT_EQ(r.holds[1].begin, 6);
   EXPECT_NE(r.holds[1].shape, MouthShape::kClosed);  // closed again before the second interval
   for (int f : {0, 1, 5, 10, 11}) EXPECT_EQ(r.values[f], 0.3) << f;
+}
+
+TEST(ConvertMouthTest, GivenButEmptySpeechIsNoSpeechNotDetection) {
+  // What a film grid leaves of given intervals all shorter than a grid frame: nothing. The
+  // talking curve is then left as it is, not searched for speech of its own.
+  MouthOptions options;
+  options.detect_speech = false;
+  const std::vector<double> chatter = Chatter();
+  const MouthResult r = ConvertMouth(chatter, options, 7);
+  EXPECT_TRUE(r.speech.empty());
+  EXPECT_TRUE(r.holds.empty());
+  EXPECT_EQ(r.values, chatter);
+  options.detect_speech = true;  // the default: detected
+  EXPECT_FALSE(ConvertMouth(chatter, options, 7).speech.empty());
 }
 
 TEST(ConvertMouthTest, RandomPicksEachAllowedShapeHalfTheTime) {

@@ -1,5 +1,6 @@
 // Helpers for the ConvertEyes tests: eye curves written as letters, random eyes with known
-// closed runs, and the anime-blink invariants (algorithms.md section 3) checked frame by frame.
+// closed runs, and the anime-blink invariants (docs/semantics.md, "LipBlink") checked frame by
+// frame.
 #ifndef KOMA_TESTS_CORE_LIP_BLINK_TEST_UTIL_H_
 #define KOMA_TESTS_CORE_LIP_BLINK_TEST_UTIL_H_
 

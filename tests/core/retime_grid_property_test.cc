@@ -1,4 +1,4 @@
-// RetimeSkeletal on the film grid (algorithms.md section 0), on 500 random clips at each
+// RetimeSkeletal on the film grid (docs/semantics.md, "The film grid"), on 500 random clips at each
 // source rate 24 .. 240 fps and 29.97 (and, for the first property, 10, 12, 15 and 23.976):
 //  - retiming through the grid (GridSamples, RetimeFast on the gathered frames,
 //    ExpandGridTiming) equals retiming the clip's grid-sampled 24 fps version with RetimeNaive

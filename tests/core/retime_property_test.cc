@@ -1,6 +1,6 @@
 // RetimeNaive (the literal reference) and RetimeFast must agree field by field on thousands
 // of random clips, including exact ties and static stretches; the fast result must also
-// satisfy the invariants of algorithms.md section 1.
+// satisfy the invariants of docs/semantics.md, "RetimeSkeletal".
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// Named behaviours of RetimeSkeletal (algorithms.md section 1), each on a tiny 1D clip whose
-// result is worked out by hand. Every case runs both implementations and checks they agree.
+// Named behaviours of RetimeSkeletal (docs/semantics.md, "RetimeSkeletal"), each on a tiny 1D clip
+// whose result is worked out by hand. Every case runs both implementations and checks they agree.
 #include "core/retime.h"
 
 #include <gmock/gmock.h>

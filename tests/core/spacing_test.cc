@@ -1,5 +1,6 @@
-// HoldLengths and Spacing (algorithms.md section 2): the hold rule, and tame/tsume spacing on
-// hand-computed values and its defining properties (even, geometric, symmetric, increasing).
+// HoldLengths and Spacing (docs/semantics.md, "RetimeCurves"): the hold rule, and tame/tsume
+// spacing on hand-computed values and its defining properties (even, geometric, symmetric,
+// increasing).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 

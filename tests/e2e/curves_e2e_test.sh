@@ -62,12 +62,12 @@ sed -n 2,4p "$work/out.csv" | cut -d, -f2 | tr '\n' ' ' | grep -q "^0 0 " \
 
 # A bad parameter: the server's code and message, exit 1, no output written.
 set +e
-"$client_bin" curves "$sample" -o "$work/bad.motion3.json" --tame 0.5 --server "$target" \
+"$client_bin" curves "$sample" -o "$work/bad.motion3.json" --keys 0,30,20 --server "$target" \
   2>"$work/err.txt"
 code=$?
 set -e
-[ "$code" = 1 ] || fail "--tame 0.5 exited $code, want 1"
-grep -q "INVALID_ARGUMENT: tame: 0.5" "$work/err.txt" || fail "error text: $(cat "$work/err.txt")"
+[ "$code" = 1 ] || fail "--keys 0,30,20 exited $code, want 1"
+grep -q "INVALID_ARGUMENT: key_frames\[2\]: 20" "$work/err.txt" || fail "error text: $(cat "$work/err.txt")"
 [ ! -e "$work/bad.motion3.json" ] || fail "a failed call wrote an output file"
 
 # A drawing sheet that cannot be written is refused before the call (the server given cannot

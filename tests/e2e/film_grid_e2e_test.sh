@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # End to end on real mocap no one here wrote (pybvh's fixtures, tests/testdata/README.md): the
 # real koma_server on a free loopback port, the real koma client, 30 and 120 fps BVH files
-# retimed on the 24 fps film grid (algorithms.md section 0). From the --timing sheet: every
-# drawing is held a whole number of grid frames (in seconds, within one source frame) but the
+# retimed on the 24 fps film grid (docs/semantics.md, "The film grid"). From the --timing sheet:
+# every drawing is held a whole number of grid frames (in seconds, within one source frame) but the
 # last, no longer than max_hold grid frames, and source frame k belongs to grid frame
 # floor(k * 24 / fps); the BVH keeps its frame count and Frame Time; --output-rate timing
 # writes one frame per grid frame at 1/24 s; a 24 fps clip is unchanged by the grid.

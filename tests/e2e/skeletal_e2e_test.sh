@@ -38,7 +38,7 @@ set +e
 "$client_bin" health --server "127.0.0.1:1,localhost:2" >/dev/null 2>"$work/err.txt"
 code=$?
 set -e
-[ "$code" = 1 ] && grep -q "server list: must be all IPv4" "$work/err.txt" \
+[ "$code" = 2 ] && grep -q "server list: must be all IPv4" "$work/err.txt" \
   || fail "a mixed --server list: exit $code, $(cat "$work/err.txt")"
 
 # A bad parameter: the server's code and message, exit 1.

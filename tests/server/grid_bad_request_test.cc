@@ -224,14 +224,18 @@ TEST(GridBadRequestTableTest, SpeechThatVanishesOnTheGridDoesNotCrash) {
   EXPECT_EQ(response.mouths(0).speech(0).end(), 3);
   EXPECT_GT(response.mouths(0).open_level(), 0.9);
 
-  // Every interval gone: still an answer.
+  // Every interval gone: still an answer, with no speech (the intervals were given, so none is
+  // detected in their place) and the mouth as it came in.
   request.mutable_mouth()->mutable_speech(0)->set_end(12);  // [11, 12) -> [2, 2)
   grpc::ClientContext gone_context;
   SetTestDeadline(gone_context);
   status = server.stub().LipBlink(&gone_context, request, &response);
   ASSERT_TRUE(status.ok()) << status.error_message();
   ASSERT_EQ(response.mouths_size(), 1);
+  EXPECT_EQ(response.mouths(0).speech_size(), 0);
+  EXPECT_EQ(response.mouths(0).holds_size(), 0);
   ASSERT_EQ(response.curves(0).values_size(), 240);
+  for (int f = 0; f < 240; ++f) ASSERT_EQ(response.curves(0).values(f), mouth.samples(f)) << f;
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
-// 24 fps input is not on a grid (algorithms.md section 0): every RetimeCurves and LipBlink
-// answer with timing_fps unset (the default 24), or 24, or the source's own rate, is the one
-// with timing_fps 0, byte for byte, on random requests whose rate is 24, 24.0001 or 23.999
+// 24 fps input is not on a grid (docs/semantics.md, "The film grid"): every RetimeCurves and
+// LipBlink answer with timing_fps unset (the default 24), or 24, or the source's own rate, is the
+// one with timing_fps 0, byte for byte, on random requests whose rate is 24, 24.0001 or 23.999
 // (within the 1e-4 relative tolerance). Through the real service's wire path (in-process
 // channel, raw bytes).
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-// LipBlink on the film grid (algorithms.md section 0, issue 17), on 500 random requests per
-// source rate (25 .. 240 fps and 29.97; 12, 15 and 23.976, slower than the grid; and on other
+// LipBlink on the film grid (docs/semantics.md, "The film grid", issue 17), on 500 random requests
+// per source rate (25 .. 240 fps and 29.97; 12, 15 and 23.976, slower than the grid; and on other
 // grids, where "24" below reads as the grid's rate: 60 on 30, 50 and 30 on 12, 24 on 8):
 // converting at rate R (timing_fps unset: 24) equals
 // converting the curves sampled at the grid's times as a 24 fps clip with no grid (timing_fps
@@ -244,9 +244,9 @@ Pair RandomPair(SplitMix64& rng, const Rate& r) {
 }
 
 // Grid frames repainted for one curve of the 24 fps answer: its mouth's speech, or its eye's
-// blinks from closing_begin through the repaint's end (algorithms.md section 3: closed through
-// max(C_end, C_start + k - 1), then k half-open frames, the opening span, never into the next
-// blink or past the clip); then the grid frame just before each repainted run.
+// blinks from closing_begin through the repaint's end (docs/semantics.md, "LipBlink": closed
+// through max(C_end, C_start + k - 1), then k half-open frames, the opening span, never into the
+// next blink or past the clip); then the grid frame just before each repainted run.
 std::vector<bool> Repainted(const v1::LipBlinkResponse& at_24, const std::string& id, int g) {
   std::vector<bool> mask(static_cast<size_t>(g), false);
   for (const v1::MouthTrack& m : at_24.mouths()) {
@@ -365,6 +365,12 @@ TEST_P(LipBlinkGridPropertyTest, ConvertingAtRateEqualsConvertingTheGridSamplesE
   for (uint64_t seed = 1; seed <= kRequestsPerRate && failures < 3; ++seed) {
     SplitMix64 rng(seed * 1000003 + static_cast<uint64_t>(r.num));
     const Pair pair = RandomPair(rng, r);
+    if (pair.at_rate.mouth().speech_size() > 0 && pair.at_24.mouth().speech_size() == 0) {
+      // Every given interval vanished: the grid answer has no speech, which a 24 fps request
+      // cannot ask for (no intervals there means "detect"). GridBadRequestTableTest.
+      // SpeechThatVanishesOnTheGridDoesNotCrash checks that case.
+      continue;
+    }
     const std::string context = "seed " + std::to_string(seed) + ", " +
                                 std::to_string(pair.at_rate.curves().frame_count()) +
                                 " frames at " + std::to_string(r.fps()) + " fps";

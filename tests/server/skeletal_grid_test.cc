@@ -1,6 +1,6 @@
-// RetimeSkeletal on the film grid (algorithms.md section 0) through an in-process channel to
-// the real service: bad timing_fps, source rates and grid-sized options get their code and a
-// message naming the field; a 120 fps clip is timed on 24 fps grid frames and written back at
+// RetimeSkeletal on the film grid (docs/semantics.md, "The film grid") through an in-process
+// channel to the real service: bad timing_fps, source rates and grid-sized options get their code
+// and a message naming the field; a 120 fps clip is timed on 24 fps grid frames and written back at
 // 120 fps or, with TIMING_RATE, at 24; 24 fps input gives the bytes it gave without a grid.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

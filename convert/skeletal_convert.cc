@@ -1,8 +1,8 @@
-#include "client/skeletal_convert.h"
+#include "convert/skeletal_convert.h"
 
 #include "absl/strings/str_cat.h"
 
-namespace koma::client {
+namespace koma::convert {
 namespace {
 
 void SetVec3(const Vec3& in, v1::Vec3* out) {
@@ -13,9 +13,12 @@ void SetVec3(const Vec3& in, v1::Vec3* out) {
 
 FrameKind KindFromProto(int kind) {
   switch (kind) {
-    case v1::DUPLICATE: return FrameKind::kDuplicate;
-    case v1::HELD: return FrameKind::kHeld;
-    default: return FrameKind::kOriginal;
+    case v1::DUPLICATE:
+      return FrameKind::kDuplicate;
+    case v1::HELD:
+      return FrameKind::kHeld;
+    default:
+      return FrameKind::kOriginal;
   }
 }
 
@@ -47,9 +50,8 @@ absl::StatusOr<SkeletalClip> ClipFromResponse(const v1::RetimeSkeletalResponse& 
   const int64_t expected = static_cast<int64_t>(clip.frame_count) * ChannelCount(skeleton);
   if (!motion.has_channels() || motion.channels().values_size() != expected) {
     return absl::InvalidArgumentError(absl::StrCat(
-        "response motion.channels.values: expected ", expected, " values (",
-        clip.frame_count, " frames x ", ChannelCount(skeleton), " channels), got ",
-        motion.channels().values_size()));
+        "response motion.channels.values: expected ", expected, " values (", clip.frame_count,
+        " frames x ", ChannelCount(skeleton), " channels), got ", motion.channels().values_size()));
   }
   clip.values.assign(motion.channels().values().begin(), motion.channels().values().end());
   return clip;
@@ -69,4 +71,4 @@ TimingMap TimingMapFromResponse(const v1::RetimeSkeletalResponse& response) {
   return map;
 }
 
-}  // namespace koma::client
+}  // namespace koma::convert

@@ -1,6 +1,6 @@
-#include "client/curves_convert.h"
+#include "convert/curves_convert.h"
 
-namespace koma::client {
+namespace koma::convert {
 namespace {
 
 void PointToProto(const CurvePoint& p, v1::CurvePoint* out) {
@@ -10,10 +10,14 @@ void PointToProto(const CurvePoint& p, v1::CurvePoint* out) {
 
 v1::SegmentType SegmentTypeToProto(SegmentType type) {
   switch (type) {
-    case SegmentType::kLinear: return v1::SEGMENT_LINEAR;
-    case SegmentType::kBezier: return v1::SEGMENT_BEZIER;
-    case SegmentType::kStepped: return v1::SEGMENT_STEPPED;
-    case SegmentType::kInverseStepped: return v1::SEGMENT_INVERSE_STEPPED;
+    case SegmentType::kLinear:
+      return v1::SEGMENT_LINEAR;
+    case SegmentType::kBezier:
+      return v1::SEGMENT_BEZIER;
+    case SegmentType::kStepped:
+      return v1::SEGMENT_STEPPED;
+    case SegmentType::kInverseStepped:
+      return v1::SEGMENT_INVERSE_STEPPED;
   }
   return v1::SEGMENT_TYPE_UNSPECIFIED;
 }
@@ -66,4 +70,4 @@ DrawingTiming TimingFromProto(const v1::DrawingTiming& timing) {
   return out;
 }
 
-}  // namespace koma::client
+}  // namespace koma::convert

@@ -1,0 +1,184 @@
+#include "client/cli_options.h"
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "absl/strings/str_split.h"
+#include "absl/strings/strip.h"
+
+namespace koma::client {
+namespace {
+
+template <typename T>
+T OrThrow(absl::StatusOr<T> value) {
+  if (!value.ok()) ThrowFlagError(value.status());
+  return *std::move(value);
+}
+
+// Every value of every occurrence, split at commas.
+std::vector<std::string> Items(const std::vector<std::string>& values) {
+  std::vector<std::string> items;
+  for (const std::string& value : values) {
+    for (absl::string_view part : absl::StrSplit(value, ',')) {
+      items.emplace_back(absl::StripAsciiWhitespace(part));
+    }
+  }
+  return items;
+}
+
+}  // namespace
+
+void ThrowFlagError(const absl::Status& status) {
+  throw FlagValueError(std::string(status.message()));
+}
+
+std::string FirstLongName(const std::string& names) {
+  for (absl::string_view name : absl::StrSplit(names, ',')) {
+    absl::ConsumePrefix(&name, "!");
+    if (absl::StartsWith(name, "--")) return std::string(name);
+  }
+  return names;
+}
+
+CLI::Option* AddWholeNumber(CLI::App* cmd, const std::string& names, std::optional<int>* out,
+                            int64_t min, int64_t max, const std::string& help) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::string>(
+          names,
+          [=](const std::string& text) {
+            *out = static_cast<int>(OrThrow(ParseWholeNumber(flag, text, min, max)));
+          },
+          help)
+      ->type_name("N")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
+CLI::Option* AddSeed(CLI::App* cmd, const std::string& names, std::optional<uint64_t>* out,
+                     const std::string& help) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::string>(
+          names, [=](const std::string& text) { *out = OrThrow(ParseUnsigned64(flag, text)); },
+          help)
+      ->type_name("N")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
+CLI::Option* AddNumber(CLI::App* cmd, const std::string& names, std::optional<double>* out,
+                       const NumberBounds& bounds, const std::string& help) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::string>(
+          names, [=](const std::string& text) { *out = OrThrow(ParseNumber(flag, text, bounds)); },
+          help)
+      ->type_name("X")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
+CLI::Option* AddNumberWithDefault(CLI::App* cmd, const std::string& names, double* out,
+                                  const NumberBounds& bounds, const std::string& help) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::string>(
+          names, [=](const std::string& text) { *out = OrThrow(ParseNumber(flag, text, bounds)); },
+          help)
+      ->type_name("X")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
+CLI::Option* AddBool(CLI::App* cmd, const std::string& names, std::optional<bool>* out,
+                     const std::string& help) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::string>(
+          names, [=](const std::string& text) { *out = OrThrow(ParseBool(flag, text)); }, help)
+      ->type_name("true|false")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
+CLI::Option* AddChoice(CLI::App* cmd, const std::string& names, std::string* out,
+                       const std::vector<std::string>& choices, const std::string& help) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::string>(
+          names,
+          [=](const std::string& text) {
+            if (std::find(choices.begin(), choices.end(), text) == choices.end()) {
+              throw FlagValueError(absl::StrCat(flag, ": \"", text, "\" is not one of ",
+                                                absl::StrJoin(choices, ", ")));
+            }
+            *out = text;
+          },
+          help)
+      ->type_name(absl::StrJoin(choices, "|"))
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
+CLI::Option* AddWholeNumberList(CLI::App* cmd, const std::string& names, std::vector<int>* out,
+                                int64_t min, int64_t max, const std::string& help) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::vector<std::string>>(
+          names,
+          [=](const std::vector<std::string>& values) {
+            out->clear();
+            for (const std::string& item : Items(values)) {
+              out->push_back(static_cast<int>(OrThrow(ParseWholeNumber(flag, item, min, max))));
+            }
+          },
+          help)
+      ->type_name("N,...")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+CLI::Option* AddNumberList(CLI::App* cmd, const std::string& names, std::vector<double>* out,
+                           const NumberBounds& bounds, int count, const std::string& help) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::string>(
+          names,
+          [=](const std::string& text) {
+            *out = OrThrow(ParseNumberList(flag, text, bounds, count));
+          },
+          help)
+      ->type_name("X,...")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
+CLI::Option* AddStringList(CLI::App* cmd, const std::string& names, std::vector<std::string>* out,
+                           const std::string& help) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::vector<std::string>>(
+          names,
+          [=](const std::vector<std::string>& values) {
+            out->clear();
+            for (const std::string& item : Items(values)) {
+              if (item.empty())
+                throw FlagValueError(absl::StrCat(flag, ": empty name in the list"));
+              out->push_back(item);
+            }
+          },
+          help)
+      ->type_name("ID,...")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+CLI::Option* AddIntervals(CLI::App* cmd, const std::string& names, std::vector<FlagInterval>* out,
+                          const std::string& help) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::vector<std::string>>(
+          names,
+          [=](const std::vector<std::string>& values) {
+            out->clear();
+            for (const std::string& item : Items(values)) {
+              out->push_back(OrThrow(ParseInterval(flag, item)));
+            }
+          },
+          help)
+      ->type_name("BEGIN-END,...")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+}  // namespace koma::client

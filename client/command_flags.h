@@ -1,0 +1,45 @@
+// The flags of each `koma` subcommand, registered on a CLI11 app. Request fields are named as
+// in koma.v1 in kebab-case (omissions -> --omissions, mouth.mid_ratio -> --mouth-mid-ratio,
+// eyes.auto_blink.spread_s -> --auto-blink-spread-s), with the short names of earlier
+// versions kept as aliases (--omit, --hold, --on, --keys, ...). docs/usage.md lists them all.
+#ifndef KOMA_CLIENT_COMMAND_FLAGS_H_
+#define KOMA_CLIENT_COMMAND_FLAGS_H_
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "client/curves_command.h"
+#include "client/health_command.h"
+#include "client/lip_blink_command.h"
+#include "client/skeletal_command.h"
+
+namespace koma::client {
+
+// --preset NAME of skeletal, curves and lipblink: common settings as flags.
+//   twos    drawings held 2 frames (skeletal --max-hold 2, curves/lipblink --on 2)
+//   threes  held 3 frames (--max-hold 3, --on 3)
+//   snappy  more omissions and bunching near the keys (skeletal --omit 6 --max-hold 3;
+//           curves --on 3 --tame 1.5 --tsume 2; lipblink --on 2)
+//   subtle  fewer omissions, shorter holds (skeletal --omit 2 --max-hold 2; curves --on 2;
+//           lipblink --on 3 --mode follow)
+const std::vector<std::string>& PresetNames();
+// The flags of preset `name` for `command`; nullptr for an unknown name.
+const std::vector<std::string>* PresetFlags(const std::string& command, const std::string& name);
+// Registers --preset on `cmd` (for --help and the unknown-option check; the command line
+// parser expands it before CLI11 sees it).
+void AddPresetFlag(CLI::App* cmd);
+
+// --server, --deadline (seconds), --json, --quiet: on every subcommand.
+void AddCommonFlags(CLI::App* cmd, std::string* server, double* deadline_seconds, bool* json,
+                    bool* quiet, const std::string& default_deadline);
+
+// Each adds its subcommand to `app` with every flag bound to `args`, and returns it.
+CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args);
+CLI::App* AddCurvesCommand(CLI::App& app, CurvesArgs& args);
+CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args);
+CLI::App* AddHealthCommand(CLI::App& app, HealthArgs& args);
+
+}  // namespace koma::client
+
+#endif  // KOMA_CLIENT_COMMAND_FLAGS_H_

@@ -1,0 +1,66 @@
+#include "client/file_format.h"
+
+#include "absl/strings/ascii.h"
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
+
+namespace koma::client {
+namespace {
+
+constexpr absl::string_view kUtf8Bom = "\xEF\xBB\xBF";
+
+std::string DisplayName(const std::string& path) { return path == "-" ? "standard input" : path; }
+
+}  // namespace
+
+FileFormat FormatFromName(const std::string& path) {
+  if (absl::EndsWithIgnoreCase(path, ".bvh")) return FileFormat::kBvh;
+  if (absl::EndsWithIgnoreCase(path, ".json")) return FileFormat::kMotion3;
+  if (absl::EndsWithIgnoreCase(path, ".csv")) return FileFormat::kCsv;
+  return FileFormat::kUnknown;
+}
+
+FileFormat SniffFormat(absl::string_view text) {
+  if (absl::StartsWith(text, kUtf8Bom)) text.remove_prefix(kUtf8Bom.size());
+  text = absl::StripLeadingAsciiWhitespace(text);
+  if (absl::StartsWith(text, "HIERARCHY")) return FileFormat::kBvh;
+  if (absl::StartsWith(text, "{")) return FileFormat::kMotion3;
+  for (absl::string_view header : {"frame,", "frame;", "\"frame\",", "\"frame\";"}) {
+    if (absl::StartsWith(text, header)) return FileFormat::kCsv;
+  }
+  return FileFormat::kUnknown;
+}
+
+absl::string_view FormatName(FileFormat format) {
+  switch (format) {
+    case FileFormat::kBvh:
+      return "BVH";
+    case FileFormat::kMotion3:
+      return "motion3.json";
+    case FileFormat::kCsv:
+      return "CSV";
+    case FileFormat::kUnknown:
+      break;
+  }
+  return "unknown";
+}
+
+absl::Status CheckInputFormat(const std::string& path, absl::string_view text,
+                              absl::string_view command) {
+  const FileFormat found = SniffFormat(text);
+  const bool skeletal = command == "skeletal";
+  if (skeletal && (found == FileFormat::kMotion3 || found == FileFormat::kCsv)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        DisplayName(path), " is a ", FormatName(found),
+        " file, not BVH: `koma skeletal` reads BVH motion capture; retime curves with `koma "
+        "curves` or `koma lipblink`"));
+  }
+  if (!skeletal && found == FileFormat::kBvh) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        DisplayName(path), " is a BVH file, not motion3.json or CSV: `koma ", command,
+        "` reads Live2D motion3.json or per-frame CSV; retime BVH clips with `koma skeletal`"));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace koma::client

@@ -1,0 +1,82 @@
+#include "client/cli_options.h"
+#include "client/command_flags.h"
+
+namespace koma::client {
+
+CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
+  CLI::App* cmd =
+      app.add_subcommand("lipblink", "Three-drawing mouth flaps and anime blinks (LipBlink)");
+  cmd->add_option("input", args.input,
+                  "motion3.json, or CSV (frame,<id>,... per frame); - reads standard input")
+      ->required()
+      ->type_name("IN");
+  cmd->add_option("-o,--output", args.output,
+                  "motion3.json or .csv to write; - writes standard output")
+      ->type_name("OUT");
+  cmd->add_option("--report", args.report,
+                  "before/after HTML report to write, one self-contained file (docs/report.md)")
+      ->type_name("OUT.html");
+  // mouth
+  AddStringList(cmd, "--mouth,--mouth-ids", &args.mouth_ids,
+                "mouth-open curve ids (default ParamMouthOpenY)");
+  AddChoice(cmd, "--mode,--mouth-mode", &args.mode, {"random", "follow"},
+            "random (the paper: uniform between the allowed shapes) or follow the input "
+            "(default random)");
+  AddWholeNumber(cmd, "--on,--mouth-frames-per-shape", &args.frames_per_shape, 1, INT32_MAX,
+                 "frames each mouth drawing is held (grid frames with a film grid; default 3)");
+  AddNumber(cmd, "--mouth-mid-ratio", &args.mouth_mid_ratio, OpenInterval(0, 1),
+            "r of the half-open mouth, M_mid = M_min + r (M_max - M_min) (default 0.5)");
+  AddNumber(cmd, "--mouth-min", &args.mouth_min, {},
+            "the closed mouth level M_min (default: the curve's minimum)");
+  AddNumber(cmd, "--mouth-max", &args.mouth_max, {},
+            "the open mouth level M_max (default: the curve's maximum)");
+  AddIntervals(cmd, "--speech,--mouth-speech", &args.speech,
+               "speech intervals in frames, BEGIN-END with END one past the last (default: "
+               "detected where the mouth moves)");
+  // eyes
+  AddStringList(cmd, "--eyes,--eyes-ids", &args.eye_ids,
+                "eye-open curve ids (default ParamEyeLOpen,ParamEyeROpen)");
+  AddNumber(cmd, "--eyes-mid-ratio", &args.eyes_mid_ratio, OpenInterval(0, 1),
+            "r of the half-open eye, E_mid = E_min + r (E_max - E_min) (default 0.5)");
+  AddNumber(cmd, "--eyes-threshold", &args.eyes_threshold, OpenInterval(0, 0.5),
+            "delta: closed at or below E_min + delta of the range, open at or above E_max - "
+            "delta (default 0.1)");
+  AddNumber(cmd, "--eyes-min", &args.eyes_min, {},
+            "the closed eye level E_min (default: the curves' minimum)");
+  AddNumber(cmd, "--eyes-max", &args.eyes_max, {},
+            "the open eye level E_max (default: the curves' maximum)");
+  AddBool(cmd, "--eyes-linked", &args.eyes_linked,
+          "one blink timing for all eye curves (default true)");
+  cmd->add_flag("--unlinked-eyes", args.unlinked_eyes, "same as --eyes-linked false");
+  // eyes.auto_blink
+  AddNumber(cmd, "--auto-blink,--auto-blink-mean-interval-s", &args.auto_blink_mean_s, Above(0),
+            "insert blinks about every MEAN_S seconds where the eyes do not blink (default 4 "
+            "when auto-blinks are on)")
+      ->type_name("MEAN_S");
+  AddBool(cmd, "--auto-blink-enabled", &args.auto_blink_enabled,
+          "insert automatic blinks (default: on when any --auto-blink* flag is given)");
+  AddNumber(cmd, "--auto-blink-spread-s", &args.auto_blink_spread_s, AtLeast(0),
+            "intervals uniform in mean +- spread seconds, spread < mean (default min(1, mean/4))")
+      ->type_name("SECONDS");
+  AddWholeNumber(cmd, "--auto-blink-hold", &args.auto_blink_hold, 1, 3,
+                 "frames an automatic blink stays closed, then half-open (default 2)");
+  AddIntervals(cmd, "--auto-blink-keep", &args.auto_blink_keep,
+               "frames automatic blinks must not touch, BEGIN-END,...");
+  AddSeed(cmd, "--seed", &args.seed,
+          "seed of the random mouth shapes and auto-blinks, 0 .. 2^64-1 (default 0x6b6f6d61)");
+  AddNumberWithDefault(cmd, "--fps", &args.csv_fps, Above(0),
+                       "frames per second of a CSV input (default 30)")
+      ->type_name("FPS");
+  AddNumber(cmd, "--timing-fps", &args.timing_fps, {},
+            "film grid mouth and blink holds are counted on, frames per second (default 24; "
+            "0 = count in the input's own frames; at most 1000)")
+      ->type_name("FPS");
+  AddChoice(cmd, "--format", &args.format, {"motion3", "csv"},
+            "format of the output -o - (default: the input's; an input's format is read from its "
+            "contents)");
+  AddPresetFlag(cmd);
+  AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "60");
+  return cmd;
+}
+
+}  // namespace koma::client

@@ -1,0 +1,137 @@
+#include "client/lip_blink_summary.h"
+
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+
+namespace koma::client {
+namespace {
+
+const char* ShapeName(int shape) {
+  switch (shape) {
+    case v1::MOUTH_CLOSED:
+      return "closed";
+    case v1::MOUTH_MID:
+      return "mid";
+    case v1::MOUTH_OPEN:
+      return "open";
+    default:
+      return "?";
+  }
+}
+
+// Frame numbers of the response: the curves' frames, or film-grid frames (timing_fps > 0),
+// which the summary also gives in seconds.
+struct Frames {
+  double grid_fps = 0;
+  const char* noun() const { return grid_fps > 0 ? "grid frames" : "frames"; }
+  const char* one() const { return grid_fps > 0 ? "grid frame" : "frame"; }
+  std::string Range(int first, int last) const {
+    std::string text = absl::StrCat(first, "-", last);
+    if (grid_fps > 0) {
+      absl::StrAppend(&text,
+                      absl::StrFormat(" (%.2f-%.2f s)", first / grid_fps, (last + 1) / grid_fps));
+    }
+    return text;
+  }
+  std::string At(int frame) const {
+    return grid_fps > 0 ? absl::StrFormat("%d (%.2f s)", frame, frame / grid_fps)
+                        : absl::StrCat(frame);
+  }
+};
+
+std::string MouthLine(const v1::MouthTrack& mouth, const Frames& frames) {
+  std::vector<std::string> speech;
+  for (const v1::FrameInterval& i : mouth.speech()) {
+    speech.push_back(frames.Range(i.begin(), i.end() - 1));
+  }
+  std::vector<std::string> shapes;
+  for (const v1::MouthHold& hold : mouth.holds()) shapes.push_back(ShapeName(hold.shape()));
+  return absl::StrFormat("  mouth %s: speech at %s %s; %d holds: %s\n", mouth.id(), frames.noun(),
+                         speech.empty() ? "none" : absl::StrJoin(speech, ", "), mouth.holds_size(),
+                         absl::StrJoin(shapes, " "));
+}
+
+std::string EyeLine(const v1::EyeTrack& eye, const Frames& frames) {
+  std::vector<std::string> blinks;
+  for (const v1::Blink& b : eye.blinks()) {
+    blinks.push_back(absl::StrCat(frames.one(), " ", frames.At(b.closed_begin()), " (hold ",
+                                  b.hold(), b.automatic() ? ", auto)" : ")"));
+  }
+  return absl::StrFormat("  eye %s: %d blinks%s%s\n", eye.id(), eye.blinks_size(),
+                         blinks.empty() ? "" : ": ", absl::StrJoin(blinks, ", "));
+}
+
+nlohmann::json Intervals(const google::protobuf::RepeatedPtrField<v1::FrameInterval>& list) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const v1::FrameInterval& i : list) out.push_back({{"begin", i.begin()}, {"end", i.end()}});
+  return out;
+}
+
+}  // namespace
+
+std::string LipBlinkSummaryText(const LipBlinkArgs& args, const CurveSet& curves,
+                                const v1::LipBlinkResponse& response) {
+  std::string text = absl::StrFormat(
+      "%s: %d frames at %.4g fps -> %s (seed %d, %s mouth)\n",
+      args.input == "-" ? "standard input" : args.input, curves.frame_count, curves.fps,
+      args.output == "-" ? "standard output" : args.output, response.seed(), args.mode);
+  const Frames frames{response.timing_fps()};
+  if (frames.grid_fps > 0) {
+    absl::StrAppendFormat(
+        &text,
+        "  on the %.4g fps film grid: holds and frames below are its frames (%.1f ms each)\n",
+        frames.grid_fps, 1000.0 / frames.grid_fps);
+  }
+  for (const v1::MouthTrack& mouth : response.mouths()) text += MouthLine(mouth, frames);
+  for (const v1::EyeTrack& eye : response.eyes()) text += EyeLine(eye, frames);
+  return text;
+}
+
+nlohmann::json LipBlinkSummaryJson(const LipBlinkArgs& args, const CurveSet& curves,
+                                   const v1::LipBlinkResponse& response) {
+  nlohmann::json j;
+  j["input"] = args.input;
+  j["outputs"] = {{"curves", args.output}};
+  j["frames"] = curves.frame_count;
+  j["fps"] = curves.fps;
+  j["seed"] = response.seed();
+  j["mouth_mode"] = args.mode;
+  j["timing_fps"] = response.timing_fps();
+  j["mouths"] = nlohmann::json::array();
+  for (const v1::MouthTrack& mouth : response.mouths()) {
+    nlohmann::json holds = nlohmann::json::array();
+    for (const v1::MouthHold& h : mouth.holds()) {
+      holds.push_back(
+          {{"begin", h.begin()}, {"length", h.length()}, {"shape", ShapeName(h.shape())}});
+    }
+    j["mouths"].push_back({{"id", mouth.id()},
+                           {"speech", Intervals(mouth.speech())},
+                           {"holds", holds},
+                           {"closed_level", mouth.closed_level()},
+                           {"mid_level", mouth.mid_level()},
+                           {"open_level", mouth.open_level()}});
+  }
+  j["eyes"] = nlohmann::json::array();
+  for (const v1::EyeTrack& eye : response.eyes()) {
+    nlohmann::json blinks = nlohmann::json::array();
+    for (const v1::Blink& b : eye.blinks()) {
+      blinks.push_back({{"closing_begin", b.closing_begin()},
+                        {"closed_begin", b.closed_begin()},
+                        {"closed_end", b.closed_end()},
+                        {"open_span", b.open_span()},
+                        {"hold", b.hold()},
+                        {"automatic", b.automatic()}});
+    }
+    j["eyes"].push_back({{"id", eye.id()},
+                         {"blinks", blinks},
+                         {"closed_level", eye.closed_level()},
+                         {"mid_level", eye.mid_level()},
+                         {"open_level", eye.open_level()}});
+  }
+  return j;
+}
+
+}  // namespace koma::client

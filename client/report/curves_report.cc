@@ -1,0 +1,134 @@
+#include "client/report/curves_report.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "client/report/input_curves.h"
+#include "client/report/report_data.h"
+#include "core/film_grid.h"
+
+namespace koma::client::report {
+namespace {
+
+// A retimed curve's stepped keys as a plot: each point's time in seconds and its value. A
+// curve with more keys than a plot shows gives its per-frame values, thinned, instead.
+nlohmann::json AfterPlot(const v1::RetimedCurve& curve, double fps) {
+  if (curve.stepped().segments_size() + 1 > kMaxPlotPoints) {
+    nlohmann::json plot =
+        ThinnedPlot(absl::MakeConstSpan(curve.values().data(), curve.values_size()), 1.0 / fps);
+    plot["stepped"] = false;
+    return plot;
+  }
+  nlohmann::json x = nlohmann::json::array();
+  nlohmann::json y = nlohmann::json::array();
+  x.push_back(Round6(curve.stepped().start().frame() / fps));
+  y.push_back(Round6(curve.stepped().start().value()));
+  for (const v1::CurveSegment& s : curve.stepped().segments()) {
+    x.push_back(Round6(s.end().frame() / fps));
+    y.push_back(Round6(s.end().value()));
+  }
+  return {{"x", std::move(x)}, {"y", std::move(y)}, {"stepped", true}};
+}
+
+}  // namespace
+
+std::string CurvesReportWriter::Title() const { return absl::StrCat("koma curves: ", input_name_); }
+
+nlohmann::json CurvesReportWriter::Data() const {
+  const v1::RetimeCurvesRequest& q = request_;
+  const v1::RetimeCurvesResponse& r = response_;
+  const double fps = q.curves().fps();
+  const int frames = q.curves().frame_count();
+  const bool grid = r.timing_fps() > 0;
+  const std::optional<FilmGrid> film = grid ? FilmGrid::Make(fps, r.timing_fps()) : std::nullopt;
+
+  nlohmann::json options = nlohmann::json::array();
+  options.push_back({"frames_per_drawing", q.has_frames_per_drawing()
+                                               ? absl::StrCat(q.frames_per_drawing())
+                                               : std::string("3 (default)")});
+  options.push_back({"key poses", q.key_frames_size() > 0 ? "given" : "the keyframe times"});
+  options.push_back({"tame", Round6(q.has_tame() ? q.tame() : 1.0)});
+  options.push_back({"tsume", Round6(q.has_tsume() ? q.tsume() : 1.0)});
+  std::vector<std::string> overrides;
+  for (const v1::CurveOverride& o : q.curve_overrides()) {
+    overrides.push_back(absl::StrCat(o.curve_id(), "=", o.frames_per_drawing()));
+  }
+  options.push_back(
+      {"curve overrides", overrides.empty() ? "none" : absl::StrJoin(overrides, ", ")});
+  options.push_back({"segment overrides", q.segment_overrides_size()});
+  options.push_back({"timing_fps", grid ? absl::StrFormat("%.6g (film grid)", r.timing_fps())
+                                        : std::string("0 (counted in source frames)")});
+
+  nlohmann::json counts = nlohmann::json::array();
+  counts.push_back({"curves", r.curves_size()});
+  counts.push_back({"frames", frames});
+  counts.push_back({"fps", Round6(fps)});
+  if (film) counts.push_back({"grid frames", film->GridFrameCount(frames)});
+  counts.push_back({"key poses", r.key_frames_size()});
+  for (const v1::DrawingTiming& t : r.timings()) {
+    counts.push_back(
+        {absl::StrCat("drawings on ", t.frames_per_drawing(), "s"), t.drawing_start_size()});
+  }
+
+  nlohmann::json data;
+  data["header"] = Header("RetimeCurves", input_name_, options, counts);
+  data["fps"] = fps;
+  data["frames"] = frames;
+  data["timing_fps"] = r.timing_fps();
+  data["grid_count"] = film ? film->GridFrameCount(frames) : 0;
+  std::vector<int> grid_first_frame;  // per grid frame: the first source frame at or after it
+  if (film) {
+    const int count = film->GridFrameCount(frames);
+    for (int g = 0; g < count; ++g) grid_first_frame.push_back(film->FirstSourceFrameAtOrAfter(g));
+  }
+  data["grid_first_frame"] = grid_first_frame;
+  data["key_frames"] = std::vector<int>(r.key_frames().begin(), r.key_frames().end());
+  data["key_grid_frames"] =
+      std::vector<int>(r.key_grid_frames().begin(), r.key_grid_frames().end());
+  nlohmann::json timings = nlohmann::json::array();
+  for (const v1::DrawingTiming& t : r.timings()) {
+    timings.push_back(
+        {{"n", t.frames_per_drawing()},
+         {"drawing_of_frame",
+          std::vector<int>(t.drawing_of_frame().begin(), t.drawing_of_frame().end())},
+         {"drawing_start", std::vector<int>(t.drawing_start().begin(), t.drawing_start().end())},
+         {"drawing_start_grid",
+          std::vector<int>(t.drawing_start_grid().begin(), t.drawing_start_grid().end())}});
+  }
+  data["timings"] = timings;
+  nlohmann::json curves = nlohmann::json::array();
+  for (int i = 0; i < r.curves_size(); ++i) {
+    const v1::RetimedCurve& c = r.curves(i);
+    nlohmann::json histogram = nlohmann::json::array();
+    for (const v1::HoldCount& h : c.hold_histogram())
+      histogram.push_back({h.length(), h.drawings()});
+    std::vector<double> before;
+    for (int k = 0; k < q.curves().curves_size(); ++k) {
+      if (q.curves().curves(k).id() == c.id()) before = SampleInputCurve(q.curves(), k);
+    }
+    curves.push_back({{"id", c.id()},
+                      {"timing", c.timing()},
+                      {"before", ThinnedPlot(before, 1.0 / fps)},
+                      {"after", AfterPlot(c, fps)},
+                      {"histogram", histogram}});
+  }
+  data["curves"] = curves;
+  return data;
+}
+
+absl::Status WriteCurvesReport(const std::string& path, const v1::RetimeCurvesRequest& request,
+                               const v1::RetimeCurvesResponse& response,
+                               const std::string& input_name) {
+  if (!request.has_curves()) {
+    // The file forms (motion3_json, csv_text) are not parsed here: the CLI sends the curves.
+    return absl::InvalidArgumentError(
+        absl::StrCat("--report ", path, ": the request has no parsed curves to draw"));
+  }
+  return WriteReport(path, CurvesReportWriter(request, response, input_name));
+}
+
+}  // namespace koma::client::report

@@ -1,0 +1,17 @@
+// The request's curves as the reports plot them ("before"): sampled at every frame with
+// motion3.json's rules (core/curves.h).
+#ifndef KOMA_CLIENT_REPORT_INPUT_CURVES_H_
+#define KOMA_CLIENT_REPORT_INPUT_CURVES_H_
+
+#include <vector>
+
+#include "koma/v1/motion.pb.h"
+
+namespace koma::client::report {
+
+// Curve `index` of `set` at frames 0 .. frame_count - 1.
+std::vector<double> SampleInputCurve(const v1::CurveSet& set, int index);
+
+}  // namespace koma::client::report
+
+#endif  // KOMA_CLIENT_REPORT_INPUT_CURVES_H_

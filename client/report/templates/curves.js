@@ -1,0 +1,126 @@
+// koma report, RetimeCurves: each curve before (smooth) and after (stepped) with the key
+// poses and the drawings marked, the hold histogram, the drawing sheet.
+(function curvesReport(D) {
+  const grid = D.timing_fps > 0;
+  const duration = (D.frames - 1) / D.fps;
+  const keyTimes = grid ? D.key_grid_frames.map((g) => g / D.timing_fps) : D.key_frames.map((k) => k / D.fps);
+
+  const curvesSection = section('Curves before and after');
+  const cursors = [];  // a time cursor on every plot, following the player below the plots
+  curvesSection.append(legend([['var(--before)', 'before (input, smooth)'], ['var(--after)', 'after (drawings, stepped)'],
+                               ['var(--key)', `key poses (${D.key_frames.length})`]]));
+  for (const c of D.curves) {
+    const timing = D.timings[c.timing];
+    const [lo1, hi1] = range(c.before.y), [lo2, hi2] = range(c.after.y);
+    const plot = plotFrame({xMax: duration, yMin: Math.min(lo1, lo2), yMax: Math.max(hi1, hi2), height: 170});
+    plot.svg.classList.add('curve-plot');
+    plot.svg.dataset.curve = c.id;
+    for (const t of keyTimes) {
+      plot.svg.append(svgEl('line', {class: 'key', x1: plot.x(t), x2: plot.x(t), y1: plot.top, y2: plot.bottom}));
+    }
+    plot.svg.append(svgEl('path', {class: 'before', d: pathOf(plot, c.before.x, c.before.y, false)}));
+    plot.svg.append(svgEl('path', {class: 'after', d: pathOf(plot, c.after.x, c.after.y, true, duration)}));
+    // A dot where each drawing starts (its first grid frame, else its first output frame).
+    const starts = grid ? timing.drawing_start_grid.map((g) => g / D.timing_fps) : timing.drawing_start.map((f) => f / D.fps);
+    const dots = svgEl('g', {class: 'drawings'});
+    if (starts.length <= 4000) {
+      for (let j = 0; j < starts.length; ++j) {
+        const t = starts[j];
+        // The value the drawing shows: the stepped plot's value at its start.
+        let v = c.after.y[0];
+        for (let i = 0; i < c.after.x.length && c.after.x[i] <= t + 1e-9; ++i) v = c.after.y[i];
+        dots.append(svgEl('circle', {class: 'drawing', cx: plot.x(t), cy: plot.y(v), r: 2.5, 'data-drawing': j}));
+      }
+    }
+    plot.svg.append(dots);
+    const cursor = svgEl('line', {class: 'cursor', y1: plot.top, y2: plot.bottom});
+    plot.svg.append(cursor);
+    cursors.push({plot, line: cursor});
+    curvesSection.append(el('h3', {}, `${c.id} — on ${timing.n}s, ${starts.length} drawings`), plot.svg);
+  }
+
+  // ---- hold histograms ------------------------------------------------------------------------
+  const histSection = section('Hold histogram (' + (grid ? 'holds in grid frames' : 'holds in frames') + ')');
+  const seen = new Set();
+  for (const c of D.curves) {
+    if (seen.has(c.timing)) continue;
+    seen.add(c.timing);
+    const ids = D.curves.filter((o) => o.timing === c.timing).map((o) => o.id);
+    const maxCount = Math.max(1, ...c.histogram.map((h) => h[1]));
+    const width = 60 + 56 * c.histogram.length, height = 150, bottom = 120;
+    const svg = svgEl('svg', {width, height, viewBox: `0 0 ${width} ${height}`, class: 'histogram', 'data-timing': c.timing});
+    c.histogram.forEach(([length, count], i) => {
+      const h = 100 * count / maxCount, x = 40 + 56 * i;
+      svg.append(svgEl('rect', {x, y: bottom - h, width: 40, height: h, class: 'kind-H', 'data-length': length, 'data-drawings': count}));
+      svg.append(svgEl('text', {x: x + 20, y: bottom - h - 4, 'text-anchor': 'middle'}, String(count)));
+      svg.append(svgEl('text', {x: x + 20, y: bottom + 16, 'text-anchor': 'middle'}, length + 'f'));
+    });
+    histSection.append(el('h3', {}, `on ${D.timings[c.timing].n}s: ${ids.join(', ')}`), svg);
+  }
+
+  // ---- the drawing sheet ----------------------------------------------------------------------
+  // Rows: grid frames with a film grid, else frames; one drawing column per timing.
+  const rows = grid ? D.grid_count : D.frames;
+  const drawingAt = D.timings.map((timing) => {
+    const at = new Int32Array(rows);
+    if (grid) {
+      let j = 0;
+      for (let g = 0; g < rows; ++g) {
+        while (j + 1 < timing.drawing_start_grid.length && timing.drawing_start_grid[j + 1] <= g) ++j;
+        at[g] = j;
+      }
+    } else {
+      for (let f = 0; f < rows; ++f) at[f] = timing.drawing_of_frame[f];
+    }
+    return at;
+  });
+  const keyRows = new Set(grid ? D.key_grid_frames : D.key_frames);
+  const columns = [grid ? 'grid frame' : 'frame', 'time', 'key pose'];
+  if (grid) columns.push('source frames');
+  for (const timing of D.timings) columns.push(`drawing (on ${timing.n}s)`);
+  const fixed = grid ? 4 : 3;
+  const cell = (r, c) => {
+    if (c === 0) return [String(r)];
+    if (c === 1) return [(grid ? r / D.timing_fps : r / D.fps).toFixed(3)];
+    if (c === 2) return keyRows.has(r) ? ['KEY', 'new'] : [''];
+    if (grid && c === 3) {
+      const first = D.grid_first_frame[r], next = r + 1 < rows ? D.grid_first_frame[r + 1] : D.frames;
+      return [next - 1 > first ? `${first}–${next - 1}` : next - 1 === first ? String(first) : '–'];
+    }
+    const at = drawingAt[c - fixed];
+    return drawingCell(r === 0 || at[r] !== at[r - 1], at[r] + 1);
+  };
+  const sheetSection = section('Drawing sheet');
+  sheetSection.append(el('p', {class: 'legend'}, (grid ? `One row per frame of the ${D.timing_fps} fps film grid` : 'One row per frame') +
+    '; a thick line every second. Each new drawing is numbered; | means it is held.'));
+  const rowFps = grid ? D.timing_fps : D.fps;
+  const sheet = makeSheet(rows, columns, cell, (r) => ({second: r > 0 && Math.abs(r / rowFps - Math.round(r / rowFps)) < 1e-9}));
+  sheetSection.append(sheet.element);
+  // ---- the player: scrub the curves' frames; the cursors and the sheet follow ------------------
+  // Output frame t shows, per timing, drawing drawing_of_frame[t]; with a grid it lies in the
+  // grid frame whose source frames (grid_first_frame) include it.
+  const rowOfFrame = (t) => {
+    if (!grid) return t;
+    let lo = 0, hi = rows - 1;
+    while (lo < hi) {
+      const mid = (lo + hi + 1) >> 1;
+      if (D.grid_first_frame[mid] <= t) lo = mid; else hi = mid - 1;
+    }
+    return lo;
+  };
+  const describe = (t) => {
+    let text = `frame ${t} / ${D.frames - 1} · ${seconds(t / D.fps)}`;
+    if (grid) text += ` · grid frame ${rowOfFrame(t)}`;
+    return text + ' · ' + D.timings.map((timing) => `drawing ${timing.drawing_of_frame[t] + 1} on ${timing.n}s`).join(', ');
+  };
+  const player = makePlayer(D.frames, D.fps, (t) => {
+    for (const c of cursors) {
+      c.line.setAttribute('x1', c.plot.x(t / D.fps));
+      c.line.setAttribute('x2', c.plot.x(t / D.fps));
+    }
+    sheet.highlight(rowOfFrame(t));
+  }, describe);
+  curvesSection.insertBefore(player.controls, curvesSection.children[2]);
+  player.show(0);
+  reportReady();
+})(KOMA);

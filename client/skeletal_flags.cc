@@ -1,0 +1,70 @@
+#include "client/cli_options.h"
+#include "client/command_flags.h"
+
+namespace koma::client {
+
+CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
+  CLI::App* cmd =
+      app.add_subcommand("skeletal", "Retime a BVH mocap clip into anime timing (RetimeSkeletal)");
+  cmd->add_option("input", args.input, "BVH file to retime; - reads standard input")
+      ->required()
+      ->type_name("IN.bvh");
+  cmd->add_option("-o,--output", args.output, "retimed BVH file to write; - writes standard output")
+      ->type_name("OUT.bvh");
+  cmd->add_option("--timing", args.timing,
+                  "timing sheet CSV to write (output_frame,source_frame,kind,time_s); - writes "
+                  "standard output")
+      ->type_name("OUT.csv");
+  cmd->add_flag("--timing-only", args.timing_only,
+                "ask for no motion (return_motion false) and write only --timing");
+  cmd->add_option("--report", args.report,
+                  "before/after HTML report to write, one self-contained file (docs/report.md)")
+      ->type_name("OUT.html");
+  AddWholeNumber(cmd, "--omit,--omissions", &args.omissions, 0, INT32_MAX,
+                 "Nio, inbetween omissions (nakanashi): frames removed where the motion is "
+                 "fastest (default min(4, frames - 3))");
+  AddWholeNumber(cmd, "--hold,--holds", &args.holds, 0, INT32_MAX,
+                 "Nhf, hold steps (koma-dori): frames that repeat their predecessor where the "
+                 "motion is stillest (default frames / 3)");
+  AddWholeNumber(cmd, "--max-hold", &args.max_hold, 1, INT32_MAX,
+                 "longest run of one drawing, in frames (grid frames with a film grid; "
+                 "default 3, 'on threes')");
+  cmd->add_flag("--keep-length,!--no-keep-length", args.keep_length,
+                "re-insert a duplicate after each omission so the clip keeps its length "
+                "(default); --no-keep-length: the clip gets shorter by the omissions");
+  AddChoice(cmd, "--order", &args.order, {"omit-then-hold", "hold-then-omit"},
+            "which step runs first (default omit-then-hold, the paper's)");
+  cmd->add_flag("--hold-first", args.hold_first, "same as --order hold-then-omit");
+  AddStringList(cmd, "--joint-weights", &args.joint_weights,
+                "weights of the joints in the speed measure, >= 0: one per joint in file order "
+                "(1,1,0.5,...) or NAME=W for some (Hips=0,Head=2; the others 1)")
+      ->type_name("W,...|NAME=W,...");
+  cmd->add_flag("--root-relative", args.root_relative,
+                "measure speed relative to the root joint (ignore locomotion)");
+  AddNumberList(cmd, "--camera", &args.camera, {}, 16,
+                "4x4 view-projection matrix, 16 numbers column-major (OpenGL/glTF): measure "
+                "speed on screen");
+  AddBool(cmd, "--return-motion", &args.return_motion,
+          "ask for the retimed motion (default true; false: the timing map only, needs "
+          "--timing)");
+  AddNumber(cmd, "--timing-fps", &args.timing_fps, {},
+            "film grid the drawings are counted on, frames per second (default 24; 0 = count "
+            "in the BVH's own frames; at most 1000)")
+      ->type_name("FPS");
+  cmd->add_option_function<std::string>(
+         "--output-rate",
+         [&args](const std::string& rate) {
+           if (rate != "source" && rate != "timing") {
+             throw FlagValueError("--output-rate: \"" + rate + "\" is not one of source, timing");
+           }
+           args.output_at_timing_rate = rate == "timing";
+         },
+         "source (default: the BVH's rate and length) or timing (one frame per grid frame)")
+      ->type_name("source|timing")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  AddPresetFlag(cmd);
+  AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "60");
+  return cmd;
+}
+
+}  // namespace koma::client

@@ -1,0 +1,150 @@
+#include "client/skeletal_summary.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+
+namespace koma::client {
+namespace {
+
+// "3-5, 9, 12-13": ascending integers as compact ranges; "none" when empty.
+std::string Ranges(const std::vector<int>& sorted) {
+  if (sorted.empty()) return "none";
+  std::vector<std::string> parts;
+  size_t i = 0;
+  while (i < sorted.size()) {
+    size_t j = i;
+    while (j + 1 < sorted.size() && sorted[j + 1] == sorted[j] + 1) ++j;
+    parts.push_back(i == j ? absl::StrCat(sorted[i]) : absl::StrCat(sorted[i], "-", sorted[j]));
+    i = j + 1;
+  }
+  return absl::StrJoin(parts, ", ");
+}
+
+std::vector<int> OutputFramesOfKind(const v1::RetimeSkeletalResponse& response,
+                                    v1::FrameKind kind) {
+  std::vector<int> frames;
+  for (int t = 0; t < response.kinds_size(); ++t) {
+    if (response.kinds(t) == kind) frames.push_back(t);
+  }
+  return frames;
+}
+
+// Lengths of the runs of one drawing (one source frame) in output frames, in order.
+std::vector<int> RunLengths(const v1::RetimeSkeletalResponse& response) {
+  std::vector<int> runs;
+  for (int t = 0; t < response.source_frames_size(); ++t) {
+    if (t > 0 && response.source_frames(t) == response.source_frames(t - 1)) {
+      ++runs.back();
+    } else {
+      runs.push_back(1);
+    }
+  }
+  return runs;
+}
+
+int LongestRun(const v1::RetimeSkeletalResponse& response) {
+  const std::vector<int> runs = RunLengths(response);
+  return runs.empty() ? 0 : *std::max_element(runs.begin(), runs.end());
+}
+
+// Seconds per output frame: the motion's when returned, else what it would have been.
+double OutputFrameTime(const SkeletalArgs& args, const SkeletalClip& clip,
+                       const v1::RetimeSkeletalResponse& response) {
+  if (response.has_motion() && response.motion().frame_time() > 0) {
+    return response.motion().frame_time();
+  }
+  if (args.output_at_timing_rate && response.timing_fps() > 0) return 1.0 / response.timing_fps();
+  return clip.frame_time;
+}
+
+std::string OutputName(const std::string& path) { return path == "-" ? "standard output" : path; }
+
+std::string InputName(const std::string& path) { return path == "-" ? "standard input" : path; }
+
+}  // namespace
+
+std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& clip,
+                                const v1::RetimeSkeletalResponse& response) {
+  const std::vector<int> deleted(response.deleted_frames().begin(),
+                                 response.deleted_frames().end());
+  const std::vector<int> hidden(response.hidden_frames().begin(), response.hidden_frames().end());
+  const std::string written = response.has_motion() && !args.output.empty() && !args.timing_only
+                                  ? OutputName(args.output)
+                                  : "(timing only)";
+  std::string text =
+      absl::StrFormat("%s: %d frames, %zu joints, %.4g fps -> %s (%d frames)\n",
+                      InputName(args.input), clip.frame_count, clip.skeleton.joints.size(),
+                      1.0 / clip.frame_time, written, response.source_frames_size());
+  absl::StrAppendFormat(&text, "  omitted    %3d inbetweens; source frames gone: %s\n",
+                        response.omissions_applied(), Ranges(deleted));
+  absl::StrAppendFormat(
+      &text, "  duplicated %3d frames to keep the length%s; DUPLICATE at output frames %s\n",
+      response.duplicates_applied(),
+      response.duplicates_skipped() > 0
+          ? absl::StrCat(" (", response.duplicates_skipped(), " skipped)")
+          : "",
+      Ranges(OutputFramesOfKind(response, v1::DUPLICATE)));
+  absl::StrAppendFormat(&text, "  held       %3d hold steps; HELD at output frames %s\n",
+                        response.holds_applied(), Ranges(OutputFramesOfKind(response, v1::HELD)));
+  absl::StrAppendFormat(&text, "                 source frames hidden by holds: %s\n",
+                        Ranges(hidden));
+  absl::StrAppendFormat(
+      &text, "  longest hold %d frames; requested omissions %d, holds %d, max_hold %d%s\n",
+      LongestRun(response), response.omissions_requested(), response.holds_requested(),
+      response.max_hold(), response.timing_fps() > 0 ? " (grid frames)" : "");
+  if (response.timing_fps() > 0 && response.source_frames_size() > 0) {
+    // What the grid did, in the units a viewer sees.
+    std::vector<int> runs = RunLengths(response);
+    const double out_ms = 1000.0 * OutputFrameTime(args, clip, response);
+    std::sort(runs.begin(), runs.end());
+    absl::StrAppendFormat(
+        &text,
+        "  film grid  %.4g fps: %d grid frames; %zu drawings shown %.0f-%.0f ms (median "
+        "%.0f ms); the source showed each frame %.3g ms\n",
+        response.timing_fps(), response.grid_source_frames_size(), runs.size(),
+        runs.front() * out_ms, runs.back() * out_ms, runs[runs.size() / 2] * out_ms,
+        1000.0 * clip.frame_time);
+  }
+  if (!args.timing.empty())
+    absl::StrAppend(&text, "  timing sheet: ", OutputName(args.timing), "\n");
+  return text;
+}
+
+nlohmann::json SkeletalSummaryJson(const SkeletalArgs& args, const SkeletalClip& clip,
+                                   const v1::RetimeSkeletalResponse& response) {
+  nlohmann::json j;
+  j["input"] = args.input;
+  j["outputs"] = nlohmann::json::object();
+  if (response.has_motion() && !args.timing_only && !args.output.empty()) {
+    j["outputs"]["motion"] = args.output;
+  }
+  if (!args.timing.empty()) j["outputs"]["timing"] = args.timing;
+  j["input_frames"] = clip.frame_count;
+  j["joints"] = clip.skeleton.joints.size();
+  j["input_fps"] = 1.0 / clip.frame_time;
+  j["output_frames"] = response.source_frames_size();
+  j["output_fps"] = 1.0 / OutputFrameTime(args, clip, response);
+  j["timing_fps"] = response.timing_fps();
+  j["grid_frames"] = response.grid_source_frames_size();
+  j["omissions_requested"] = response.omissions_requested();
+  j["omissions_applied"] = response.omissions_applied();
+  j["duplicates_applied"] = response.duplicates_applied();
+  j["duplicates_skipped"] = response.duplicates_skipped();
+  j["holds_requested"] = response.holds_requested();
+  j["holds_applied"] = response.holds_applied();
+  j["max_hold"] = response.max_hold();
+  j["longest_hold"] = LongestRun(response);
+  j["deleted_frames"] =
+      std::vector<int>(response.deleted_frames().begin(), response.deleted_frames().end());
+  j["hidden_frames"] =
+      std::vector<int>(response.hidden_frames().begin(), response.hidden_frames().end());
+  j["duplicate_output_frames"] = OutputFramesOfKind(response, v1::DUPLICATE);
+  j["held_output_frames"] = OutputFramesOfKind(response, v1::HELD);
+  return j;
+}
+
+}  // namespace koma::client

@@ -1,0 +1,256 @@
+"""koma.Client: the three koma RPCs and the health check, from a file path or its text."""
+import os
+
+import grpc
+
+from koma import _health_pb2, _options
+from koma._errors import KomaError
+from koma._results import CurvesResult, LipBlinkResult, SkeletalResult
+from koma.v1 import motion_pb2, retime_pb2, retime_pb2_grpc
+
+# As the C++ client: a 100k-frame, 31-joint clip is about 77 MB on the wire.
+MAX_MESSAGE_BYTES = 256 * 1024 * 1024
+DEFAULT_TIMEOUT_S = 60.0
+
+
+class Positions:
+    """A skeletal clip as world joint positions (RetimeSkeletal's positions form), for tools
+    that evaluate their own rig (Blender, Maya): no BVH needed.
+
+    Args:
+        names: joint names, one per joint.
+        parents: per joint, the index of its parent joint, -1 for a root; parents come
+            before their children.
+        frame_time: seconds per frame (1 / fps), > 0.
+        positions: frame-major world positions in the clip's length unit: either a flat
+            sequence of frames x joints x 3 numbers, or a sequence of frames, each a sequence
+            of joints, each (x, y, z).
+    """
+
+    def __init__(self, names, parents, frame_time, positions):
+        if len(names) != len(parents):
+            raise ValueError(f"Positions: {len(names)} names but {len(parents)} parents")
+        self.names = list(names)
+        self.parents = [int(p) for p in parents]
+        self.frame_time = float(frame_time)
+        flat = []
+        for item in positions:
+            if hasattr(item, "__iter__"):
+                for joint in item:
+                    if hasattr(joint, "__iter__"):
+                        flat.extend(float(v) for v in joint)
+                    else:
+                        flat.append(float(joint))
+            else:
+                flat.append(float(item))
+        per_frame = 3 * len(self.names)
+        if per_frame == 0 or len(flat) % per_frame != 0:
+            raise ValueError(f"Positions: {len(flat)} numbers is not frames x {len(self.names)} "
+                             "joints x 3")
+        self.values = flat
+        self.frame_count = len(flat) // per_frame
+
+    def to_proto(self):
+        motion = motion_pb2.SkeletalMotion()
+        for name, parent in zip(self.names, self.parents):
+            motion.skeleton.joints.add(name=name, parent=parent)
+        motion.frame_time = self.frame_time
+        motion.frame_count = self.frame_count
+        motion.positions.values.extend(self.values)
+        return motion
+
+
+def _looks_like_text(source, starts):
+    stripped = source.lstrip()
+    return "\n" in source or any(stripped.startswith(s) for s in starts)
+
+
+def _read_source(source, text_starts):
+    """(the file's bytes, its path or None) of a path, a path-like, bytes or a text."""
+    if isinstance(source, bytes):
+        return source, None
+    if isinstance(source, os.PathLike) or (isinstance(source, str) and
+                                           not _looks_like_text(source, text_starts)):
+        path = os.fspath(source)
+        with open(path, "rb") as f:
+            return f.read(), path
+    if isinstance(source, str):
+        return source.encode("utf-8"), None
+    raise TypeError(f"expected a path, a file's text (str) or bytes, got {type(source).__name__}")
+
+
+def _is_csv(data, path, file_format):
+    if file_format is not None:
+        if file_format not in ("motion3", "csv"):
+            raise ValueError(f"format: {file_format!r} is not 'motion3' or 'csv'")
+        return file_format == "csv"
+    if path is not None:
+        return path.lower().endswith(".csv")
+    return not data.lstrip().startswith(b"{")
+
+
+def _credentials(tls):
+    """grpc.ChannelCredentials for `tls`, or None for plaintext."""
+    if tls is None or tls is False:
+        return None
+    if tls is True:
+        return grpc.ssl_channel_credentials()
+    if isinstance(tls, grpc.ChannelCredentials):
+        return tls
+    if isinstance(tls, (str, os.PathLike)):
+        tls = (tls, None, None)
+    if isinstance(tls, tuple) and len(tls) == 3:
+        def read(path):
+            if path is None:
+                return None
+            with open(path, "rb") as f:
+                return f.read()
+        ca, cert, key = (read(p) for p in tls)
+        if (cert is None) != (key is None):
+            raise ValueError("tls: a client certificate needs its key, and a key its certificate")
+        return grpc.ssl_channel_credentials(root_certificates=ca, private_key=key,
+                                            certificate_chain=cert)
+    raise TypeError("tls: expected False, True, a CA file path, (ca, cert, key) paths or "
+                    "grpc.ChannelCredentials")
+
+
+class Client:
+    """A connection to a koma_server.
+
+    Args:
+        address: "host:port" of the server, e.g. "127.0.0.1:50051".
+        timeout: seconds each call may take (its gRPC deadline), > 0; default 60. A call
+            that takes longer raises KomaError with code DEADLINE_EXCEEDED.
+        tls: False (plaintext, the default), True (TLS with the system's CAs), the path of a
+            PEM CA file, a (ca, client_cert, client_key) tuple of PEM paths (mutual TLS;
+            ca may be None), or a grpc.ChannelCredentials.
+
+    Every call raises KomaError (gRPC code and the server's message naming the field) when
+    the server refuses it, TypeError / ValueError for a misnamed or mistyped option before
+    sending anything, and OSError when an input path cannot be read. Usable as a context
+    manager; close() closes the channel.
+    """
+
+    def __init__(self, address, timeout=DEFAULT_TIMEOUT_S, tls=False):
+        if not isinstance(address, str) or not address:
+            raise TypeError(f"address: expected 'host:port', got {address!r}")
+        if isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or \
+                not timeout > 0:
+            raise ValueError(f"timeout: {timeout!r} must be a number of seconds > 0")
+        self.address = address
+        self.timeout = float(timeout)
+        options = [("grpc.max_receive_message_length", MAX_MESSAGE_BYTES),
+                   ("grpc.max_send_message_length", MAX_MESSAGE_BYTES)]
+        credentials = _credentials(tls)
+        if credentials is None:
+            self._channel = grpc.insecure_channel(address, options=options)
+        else:
+            self._channel = grpc.secure_channel(address, credentials, options=options)
+        self._stub = retime_pb2_grpc.RetimeStub(self._channel)
+        self._health = self._channel.unary_unary(
+            "/grpc.health.v1.Health/Check",
+            request_serializer=_health_pb2.HealthCheckRequest.SerializeToString,
+            response_deserializer=_health_pb2.HealthCheckResponse.FromString)
+
+    def close(self):
+        self._channel.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def _call(self, method, request):
+        try:
+            return method(request, timeout=self.timeout)
+        except grpc.RpcError as error:
+            raise KomaError.from_rpc_error(error) from None
+
+    def retime_skeletal(self, source, **options):
+        """Inbetween omission and holds on a skeletal clip (RetimeSkeletal).
+
+        Args:
+            source: a BVH file's path (str or path-like), its text (str containing a newline
+                or starting with "HIERARCHY"), its bytes, or a koma.Positions clip.
+            **options: RetimeSkeletalRequest fields: omissions (steps, int), holds (steps,
+                int), max_hold (frames, int), keep_length (bool), order ("OMIT_THEN_HOLD" or
+                "HOLD_THEN_OMIT"), joint_weights (list of float), root_relative (bool),
+                camera (16 floats, column-major view-projection), return_motion (bool),
+                timing_fps (frames per second of the film grid; unset 24, 0 none),
+                output_rate ("SOURCE_RATE" or "TIMING_RATE"). Frame counts are in grid frames
+                when a grid is used.
+
+        Returns:
+            SkeletalResult: with a BVH source, .output is the retimed BVH text, byte for
+            byte what `koma skeletal IN -o OUT` writes; with Positions, .response.motion
+            holds the retimed positions.
+        """
+        request = retime_pb2.RetimeSkeletalRequest()
+        _options.fill(request, options, skip=("motion", "bvh_text"))
+        if isinstance(source, Positions):
+            request.motion.CopyFrom(source.to_proto())
+        else:
+            request.bvh_text, _ = _read_source(source, ("HIERARCHY",))
+        return SkeletalResult(self._call(self._stub.RetimeSkeletal, request))
+
+    def _curve_request(self, request, source, file_format, csv_fps):
+        data, path = _read_source(source, ("{", "frame,"))
+        if _is_csv(data, path, file_format):
+            request.csv_text = data
+            if csv_fps is not None:
+                _options.fill(request, {"csv_fps": csv_fps})
+        else:
+            if csv_fps is not None:
+                raise ValueError("csv_fps: only for a CSV input")
+            request.motion3_json = data
+
+    def retime_curves(self, source, format=None, csv_fps=None, **options):
+        """Koma-uchi on twos/threes with tame/tsume spacing (RetimeCurves).
+
+        Args:
+            source: a motion3.json or per-frame CSV file's path, its text or its bytes.
+            format: "motion3" or "csv"; default from the path's extension (.csv) or the
+                text (a motion3.json starts with "{").
+            csv_fps: frames per second of a CSV input (default 30).
+            **options: RetimeCurvesRequest fields: key_frames (frames, list of int),
+                frames_per_drawing (1 on ones, 2 on twos, 3 on threes), tame and tsume
+                (strengths >= 1), curve_overrides (list of {"curve_id", "frames_per_drawing"}),
+                segment_overrides (list of {"segment", "frames_per_drawing", "tame",
+                "tsume"}), timing_fps (film grid, frames per second; unset 24, 0 none).
+
+        Returns:
+            CurvesResult whose .output is the retimed file in the input's format, byte for
+            byte what `koma curves IN -o OUT` writes.
+        """
+        request = retime_pb2.RetimeCurvesRequest()
+        _options.fill(request, options,
+                      skip=("curves", "motion3_json", "csv_text", "csv_fps"))
+        self._curve_request(request, source, format, csv_fps)
+        return CurvesResult(self._call(self._stub.RetimeCurves, request))
+
+    def lip_blink(self, source, format=None, csv_fps=None, **options):
+        """Three-drawing mouth flaps and anime blinks (LipBlink).
+
+        Args:
+            source, format, csv_fps: as retime_curves.
+            **options: LipBlinkRequest fields: mouth (dict: ids, mode "MOUTH_RANDOM" or
+                "MOUTH_FOLLOW", frames_per_shape (frames), mid_ratio, min, max, speech as
+                [(begin, end)] frames), eyes (dict: ids, mid_ratio, threshold, min, max,
+                linked, auto_blink {"enabled", "mean_interval_s" (s), "spread_s" (s), "hold"
+                (frames), "keep"}), seed (int), timing_fps (film grid, frames per second).
+
+        Returns:
+            LipBlinkResult whose .output is the converted file in the input's format, byte
+            for byte what `koma lipblink IN -o OUT` writes.
+        """
+        request = retime_pb2.LipBlinkRequest()
+        _options.fill(request, options, skip=("curves", "motion3_json", "csv_text", "csv_fps"))
+        self._curve_request(request, source, format, csv_fps)
+        return LipBlinkResult(self._call(self._stub.LipBlink, request))
+
+    def health(self, service=""):
+        """The server's grpc.health.v1 status: "SERVING" when it takes calls ("NOT_SERVING"
+        while it shuts down). `service` "" is the whole server, "koma.v1.Retime" the service."""
+        response = self._call(self._health, _health_pb2.HealthCheckRequest(service=service))
+        return _health_pb2.HealthCheckResponse.ServingStatus.Name(response.status)

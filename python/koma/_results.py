@@ -1,0 +1,172 @@
+"""What the three calls return: the retimed file's text, the timing map and the counts."""
+from koma.v1 import retime_pb2
+
+
+def _kind_name(kind):
+    return retime_pb2.FrameKind.Name(kind)
+
+
+class _Result:
+    """Common part: `output` (str, the retimed file) and writing it."""
+
+    output_bytes = None
+
+    @property
+    def output(self):
+        """The retimed file's text (str), or None when the request sent no file or asked
+        for no motion (return_motion=False)."""
+        return None if self.output_bytes is None else self.output_bytes.decode("utf-8")
+
+    def write(self, path):
+        """Writes the retimed file to `path`, byte for byte as the server wrote it (what
+        `koma ... -o path` writes). ValueError when there is no file to write."""
+        if self.output_bytes is None:
+            raise ValueError("no retimed file in this result (the request carried no file, "
+                             "or return_motion was False)")
+        with open(path, "wb") as out:
+            out.write(self.output_bytes)
+
+
+class SkeletalResult(_Result):
+    """A RetimeSkeletal answer.
+
+    Attributes:
+        output / output_bytes: the retimed BVH (file requests), as `koma skeletal -o` writes it.
+        source_frames: per output frame t, the 0-based source frame it shows.
+        kinds: per output frame, "ORIGINAL", "DUPLICATE" or "HELD".
+        timing: the timing map as a dict {output frame: source frame}.
+        counts: dict with frames (output frames), omissions_applied, duplicates_applied,
+            duplicates_skipped, holds_applied, omissions_requested, holds_requested, max_hold
+            (counts in grid frames when timing_fps > 0).
+        deleted_frames, hidden_frames: source frames no longer shown (omitted / held over).
+        input_ssd: per input frame (grid frame with a grid) the squared distance to the one
+            before, in squared length units.
+        timing_fps: the film grid used in frames per second; 0 when counting source frames.
+        grid_frames, grid_source_frames: with a grid, per output frame its grid frame, and
+            per grid frame its sampled source frame.
+        frame_time: seconds per output frame (with a decoded motion or a file), else None.
+        response: the koma.v1.RetimeSkeletalResponse message itself.
+    """
+
+    def __init__(self, response):
+        self.response = response
+        self.output_bytes = response.bvh_text if response.bvh_text else None
+        self.source_frames = list(response.source_frames)
+        self.kinds = [_kind_name(k) for k in response.kinds]
+        self.timing = dict(enumerate(self.source_frames))
+        self.deleted_frames = list(response.deleted_frames)
+        self.hidden_frames = list(response.hidden_frames)
+        self.input_ssd = list(response.input_ssd)
+        self.timing_fps = response.timing_fps
+        self.grid_frames = list(response.grid_frames)
+        self.grid_source_frames = list(response.grid_source_frames)
+        self.frame_time = response.motion.frame_time if response.HasField("motion") else None
+        self.counts = {
+            "frames": len(self.source_frames),
+            "omissions_applied": response.omissions_applied,
+            "duplicates_applied": response.duplicates_applied,
+            "duplicates_skipped": response.duplicates_skipped,
+            "holds_applied": response.holds_applied,
+            "omissions_requested": response.omissions_requested,
+            "holds_requested": response.holds_requested,
+            "max_hold": response.max_hold,
+        }
+
+    def __repr__(self):
+        return f"SkeletalResult(counts={self.counts})"
+
+
+class CurvesResult(_Result):
+    """A RetimeCurves answer.
+
+    Attributes:
+        output / output_bytes: the retimed motion3.json or CSV (file requests), as
+            `koma curves IN -o OUT` writes it.
+        key_frames: the key poses used (frames, ascending).
+        timing: the default timing map {output frame: source time in frames (fractional)};
+            timings has every timing (one more per distinct curve override).
+        timings: list of dicts: frames_per_drawing, drawing_of_frame, source_frame,
+            drawing_start, drawing_start_grid (frames; grid frames for the last).
+        curves: {curve id: {"timing": index into timings, "values": per-frame values,
+            "holds": {length in frames: drawings}}}.
+        counts: dict with curves, frames, key_poses, drawings (of the default timing).
+        timing_fps: the film grid used (frames per second); 0 when counting source frames.
+        response: the koma.v1.RetimeCurvesResponse message itself.
+    """
+
+    def __init__(self, response):
+        self.response = response
+        which = response.WhichOneof("output")
+        self.output_bytes = getattr(response, which) if which else None
+        self.key_frames = list(response.key_frames)
+        self.timing_fps = response.timing_fps
+        self.timings = [{
+            "frames_per_drawing": t.frames_per_drawing,
+            "drawing_of_frame": list(t.drawing_of_frame),
+            "source_frame": list(t.source_frame),
+            "drawing_start": list(t.drawing_start),
+            "drawing_start_grid": list(t.drawing_start_grid),
+        } for t in response.timings]
+        self.timing = dict(enumerate(self.timings[0]["source_frame"])) if self.timings else {}
+        self.curves = {c.id: {"timing": c.timing, "values": list(c.values),
+                              "holds": {h.length: h.drawings for h in c.hold_histogram}}
+                       for c in response.curves}
+        self.counts = {
+            "curves": len(response.curves),
+            "frames": len(self.timing),
+            "key_poses": len(self.key_frames),
+            "drawings": len(self.timings[0]["drawing_start"]) if self.timings else 0,
+        }
+
+    def __repr__(self):
+        return f"CurvesResult(counts={self.counts})"
+
+
+class LipBlinkResult(_Result):
+    """A LipBlink answer.
+
+    Attributes:
+        output / output_bytes: the converted motion3.json or CSV (file requests), as
+            `koma lipblink IN -o OUT` writes it.
+        mouths: list of {"id", "speech": [(begin, end)], "holds": [(begin, length, shape)],
+            "closed_level", "mid_level", "open_level"}; frames (grid frames with a grid).
+        eyes: list of {"id", "blinks": [dict of closing_begin, closed_begin, closed_end,
+            open_span, hold, automatic], "closed_level", "mid_level", "open_level"}.
+        timing: {curve id: its mouth holds or its blinks, as in mouths / eyes}.
+        curves: {curve id: per-frame values} of the converted curves.
+        counts: dict with mouth_curves, eye_curves, mouth_holds, blinks.
+        seed: the seed used. timing_fps: the film grid used; 0 when counting source frames.
+        response: the koma.v1.LipBlinkResponse message itself.
+    """
+
+    def __init__(self, response):
+        self.response = response
+        which = response.WhichOneof("output")
+        self.output_bytes = getattr(response, which) if which else None
+        self.seed = response.seed
+        self.timing_fps = response.timing_fps
+        self.mouths = [{
+            "id": m.id,
+            "speech": [(i.begin, i.end) for i in m.speech],
+            "holds": [(h.begin, h.length, retime_pb2.MouthShape.Name(h.shape)) for h in m.holds],
+            "closed_level": m.closed_level, "mid_level": m.mid_level, "open_level": m.open_level,
+        } for m in response.mouths]
+        self.eyes = [{
+            "id": e.id,
+            "blinks": [{"closing_begin": b.closing_begin, "closed_begin": b.closed_begin,
+                        "closed_end": b.closed_end, "open_span": b.open_span, "hold": b.hold,
+                        "automatic": b.automatic} for b in e.blinks],
+            "closed_level": e.closed_level, "mid_level": e.mid_level, "open_level": e.open_level,
+        } for e in response.eyes]
+        self.timing = {m["id"]: m["holds"] for m in self.mouths}
+        self.timing.update({e["id"]: e["blinks"] for e in self.eyes})
+        self.curves = {c.id: list(c.values) for c in response.curves}
+        self.counts = {
+            "mouth_curves": len(self.mouths),
+            "eye_curves": len(self.eyes),
+            "mouth_holds": sum(len(m["holds"]) for m in self.mouths),
+            "blinks": sum(len(e["blinks"]) for e in self.eyes),
+        }
+
+    def __repr__(self):
+        return f"LipBlinkResult(counts={self.counts})"

@@ -1,0 +1,213 @@
+#include "server/file_requests.h"
+
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "convert/curves_convert.h"
+#include "convert/skeletal_convert.h"
+#include "core/status_macros.h"
+#include "formats/bvh.h"
+#include "server/call_footprint.h"
+#include "server/call_reservation.h"
+#include "server/lip_blink_request.h"
+#include "server/response_slice.h"
+
+namespace koma::server {
+namespace {
+
+// The CLI's default for `--fps` of a CSV input.
+constexpr double kDefaultCsvFps = 30.0;
+
+absl::Status CheckFileSize(const std::string& text, absl::string_view field,
+                           const RequestLimits& limits) {
+  if (static_cast<int64_t>(text.size()) <= limits.max_file_bytes) return absl::OkStatus();
+  return absl::ResourceExhaustedError(absl::StrCat(field, ": ", text.size(),
+                                                   " bytes exceeds the server limit "
+                                                   "--max_file_bytes=",
+                                                   limits.max_file_bytes));
+}
+
+// A reader's error with the request field in front: "bvh_text: line 12: ...".
+absl::Status InField(const absl::Status& status, absl::string_view field) {
+  return absl::Status(status.code(), absl::StrCat(field, ": ", status.message()));
+}
+
+// Unset or 0: the CLI's 30; else finite and > 0.
+absl::StatusOr<double> CsvFps(double csv_fps) {
+  if (csv_fps == 0) return kDefaultCsvFps;
+  if (!std::isfinite(csv_fps) || csv_fps < 0) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "csv_fps: ", csv_fps, " must be finite and > 0 (frames per second of csv_text; 0: 30)"));
+  }
+  return csv_fps;
+}
+
+// The motion3_json or csv_text of a RetimeCurves or LipBlink request, parsed.
+template <typename Request>
+absl::StatusOr<CurveFile> ParseCurveFile(const Request& request, const RequestLimits& limits) {
+  const bool csv = request.input_case() == Request::kCsvText;
+  const std::string& text = csv ? request.csv_text() : request.motion3_json();
+  const absl::string_view field = csv ? "csv_text" : "motion3_json";
+  KOMA_RETURN_IF_ERROR(CheckFileSize(text, field, limits));
+  double fps = kDefaultCsvFps;
+  if (csv) {
+    KOMA_ASSIGN_OR_RETURN(fps, CsvFps(request.csv_fps()));
+  }
+  absl::StatusOr<convert::CurveInput> input = convert::ParseCurveText(text, csv, fps);
+  if (!input.ok()) return InField(input.status(), field);
+  return CurveFile{*std::move(input), csv};
+}
+
+// The request with the file's curves in place of the file (every other field kept).
+template <typename Request>
+void Decode(const Request& request, const CurveFile& file, Request* decoded) {
+  decoded->CopyFrom(request);
+  *decoded->mutable_curves() = convert::CurveSetToProto(file.input.curves);  // drops the text
+  decoded->clear_csv_fps();
+}
+
+constexpr char kParsedFile[] =
+    "this file request (the parsed file, the decoded request, work, response)";
+
+// Once the file is parsed its call's size is known: the memory budget's reservation grows
+// from the text's estimate to the decoded request's footprint plus the file's own
+// (server/call_footprint.h); RESOURCE_EXHAUSTED naming the budget when that does not fit.
+template <typename Request>
+absl::Status ReserveDecoded(const Request& decoded, size_t file_bytes, bool bvh,
+                            const RequestLimits& limits) {
+  const auto bytes = static_cast<int64_t>(file_bytes);
+  return GrowCallReservation(
+      FileOverheadFootprint(bytes, bvh) + ExpectedFootprint(decoded, bytes, limits), kParsedFile);
+}
+
+// The size of a RetimeCurves or LipBlink request's file.
+template <typename Request>
+size_t CurveFileBytes(const Request& request) {
+  return request.input_case() == Request::kCsvText ? request.csv_text().size()
+                                                   : request.motion3_json().size();
+}
+
+// `message` (one field set) serialised.
+template <typename Message>
+absl::StatusOr<std::string> Serialised(const Message& message) {
+  std::string bytes;
+  if (!message.SerializeToString(&bytes)) {
+    return absl::InternalError("response: the file field cannot be serialised");
+  }
+  return bytes;
+}
+
+}  // namespace
+
+bool CarriesFile(const v1::RetimeSkeletalRequest& request) {
+  return request.input_case() == v1::RetimeSkeletalRequest::kBvhText;
+}
+bool CarriesFile(const v1::RetimeCurvesRequest& request) {
+  return request.input_case() == v1::RetimeCurvesRequest::kMotion3Json ||
+         request.input_case() == v1::RetimeCurvesRequest::kCsvText;
+}
+bool CarriesFile(const v1::LipBlinkRequest& request) {
+  return request.input_case() == v1::LipBlinkRequest::kMotion3Json ||
+         request.input_case() == v1::LipBlinkRequest::kCsvText;
+}
+
+absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
+                                      const RequestLimits& limits,
+                                      v1::RetimeSkeletalResponse* response,
+                                      SkeletalAnswer* described) {
+  KOMA_RETURN_IF_ERROR(CheckFileSize(request.bvh_text(), "bvh_text", limits));
+  absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(request.bvh_text());
+  if (!clip.ok()) return InField(clip.status(), "bvh_text");
+  if (described != nullptr) {
+    described->frames = clip->frame_count;
+    described->joints = static_cast<int>(clip->skeleton.joints.size());
+  }
+  {
+    v1::RetimeSkeletalRequest decoded;
+    decoded.CopyFrom(request);
+    *decoded.mutable_motion() = convert::ToProto(*clip);  // drops the text
+    // The frames now live in `decoded` only (the writer needs just the skeleton): a file near
+    // --max_file_bytes decodes to tens of MB, held once here, not twice.
+    std::vector<double>().swap(clip->values);
+    KOMA_RETURN_IF_ERROR(ReserveDecoded(decoded, request.bvh_text().size(), /*bvh=*/true, limits));
+    KOMA_RETURN_IF_ERROR(HandleRetimeSkeletal(decoded, limits, response));
+  }  // `decoded` freed before the retimed clip and its text are built
+  if (!response->has_motion()) return absl::OkStatus();  // return_motion false
+  // The CLI's steps exactly: the retimed clip from the response, on the parsed skeleton.
+  absl::StatusOr<SkeletalClip> retimed = convert::ClipFromResponse(*response, clip->skeleton);
+  if (!retimed.ok()) return absl::InternalError(retimed.status().message());
+  response->clear_motion();
+  response->set_bvh_text(formats::WriteBvh(*retimed));
+  return absl::OkStatus();
+}
+
+absl::Status RetimeSkeletalFileAnswer(const v1::RetimeSkeletalRequest& request,
+                                      const RequestLimits& limits, SkeletalAnswer* answer) {
+  v1::RetimeSkeletalResponse response;
+  KOMA_RETURN_IF_ERROR(HandleRetimeSkeletalFile(request, limits, &response, answer));
+  const size_t size = response.ByteSizeLong();
+  if (size > static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "response: ", size, " bytes is over protobuf's 2 GiB message limit; send fewer frames"));
+  }
+  answer->bytes = UninitialisedSlice(size);
+  response.SerializeWithCachedSizesToArray(const_cast<uint8_t*>(answer->bytes.begin()));
+  return absl::OkStatus();
+}
+
+absl::Status DecodeCurvesFile(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,
+                              v1::RetimeCurvesRequest* decoded, CurveFile* file) {
+  KOMA_ASSIGN_OR_RETURN(*file, ParseCurveFile(request, limits));
+  Decode(request, *file, decoded);
+  return ReserveDecoded(*decoded, CurveFileBytes(request), /*bvh=*/false, limits);
+}
+
+absl::StatusOr<std::string> CurvesFileField(const CurveFile& file,
+                                            std::vector<convert::CurveReplacement> retimed) {
+  std::vector<std::optional<convert::CurveReplacement>> replacements;
+  replacements.reserve(retimed.size());
+  for (convert::CurveReplacement& curve : retimed) replacements.emplace_back(std::move(curve));
+  absl::StatusOr<std::string> text = convert::CurveOutputText(file.input, replacements, file.csv);
+  if (!text.ok()) return absl::InternalError(text.status().message());
+  v1::RetimeCurvesResponse field;
+  if (file.csv) {
+    field.set_csv_text(*std::move(text));
+  } else {
+    field.set_motion3_json(*std::move(text));
+  }
+  return Serialised(field);
+}
+
+absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const RequestLimits& limits,
+                                v1::LipBlinkResponse* response) {
+  KOMA_ASSIGN_OR_RETURN(const CurveFile file, ParseCurveFile(request, limits));
+  v1::LipBlinkRequest decoded;
+  Decode(request, file, &decoded);
+  KOMA_RETURN_IF_ERROR(ReserveDecoded(decoded, CurveFileBytes(request), /*bvh=*/false, limits));
+  KOMA_RETURN_IF_ERROR(HandleLipBlink(decoded, limits, response));
+  // As `koma lipblink` writes its output: the converted curves replace theirs by id.
+  const std::vector<Curve>& curves = file.input.curves.curves;
+  std::vector<std::optional<convert::CurveReplacement>> replacements(curves.size());
+  for (const v1::ConvertedCurve& converted : response->curves()) {
+    for (size_t i = 0; i < curves.size(); ++i) {
+      if (curves[i].id != converted.id()) continue;
+      replacements[i] = convert::CurveReplacement{
+          std::vector<double>(converted.values().begin(), converted.values().end()),
+          convert::StepsFromProto(converted.stepped())};
+      break;
+    }
+  }
+  absl::StatusOr<std::string> text = convert::CurveOutputText(file.input, replacements, file.csv);
+  if (!text.ok()) return absl::InternalError(text.status().message());
+  if (file.csv) {
+    response->set_csv_text(*std::move(text));
+  } else {
+    response->set_motion3_json(*std::move(text));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace koma::server

@@ -1,0 +1,337 @@
+// Every field of the three request messages is reachable from the CLI through a flag named
+// after it: the test walks the proto descriptors, and for each field (nested settings
+// messages walked into, repeated messages taken whole) runs the real command line parser with
+// that field's kebab-case flag and checks the request the command builds has the field set to
+// the value given. A field added to the proto without a flag (and not listed in kExcluded)
+// fails WalksEveryField.
+#include <gmock/gmock.h>
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/text_format.h>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "absl/strings/str_join.h"
+#include "absl/strings/str_replace.h"
+#include "client/cli.h"
+#include "client/curve_files.h"
+#include "koma/v1/retime.pb.h"
+#include "tests/testing/status_matchers.h"
+
+namespace koma::client {
+namespace {
+
+using google::protobuf::Descriptor;
+using google::protobuf::FieldDescriptor;
+using google::protobuf::Message;
+using google::protobuf::Reflection;
+
+const std::string kBvh = std::string(KOMA_SAMPLES_DIR) + "/pitch.bvh";  // 21 joints
+const std::string kArmHead = std::string(KOMA_SAMPLES_DIR) + "/arm_head.motion3.json";
+const std::string kTalk = std::string(KOMA_SAMPLES_DIR) + "/talk_blink.motion3.json";
+
+// Fields deliberately without a flag, with the reason.
+const std::map<std::string, std::string> kExcluded = {
+    {"RetimeSkeletalRequest.motion", "the whole clip: the input file"},
+    {"RetimeCurvesRequest.curves", "the whole curve set: the input file"},
+    {"LipBlinkRequest.curves", "the whole curve set: the input file"},
+    // Files over the wire (the oneof beside the decoded motion): the CLI reads and checks the
+    // file itself and sends the decoded message; --fps is a CSV input's rate there.
+    {"RetimeSkeletalRequest.bvh_text", "the input file as text: the CLI sends it decoded"},
+    {"RetimeCurvesRequest.motion3_json", "the input file as text: the CLI sends it decoded"},
+    {"RetimeCurvesRequest.csv_text", "the input file as text: the CLI sends it decoded"},
+    {"RetimeCurvesRequest.csv_fps", "a csv_text's rate: the CLI's --fps decodes the CSV itself"},
+    {"LipBlinkRequest.motion3_json", "the input file as text: the CLI sends it decoded"},
+    {"LipBlinkRequest.csv_text", "the input file as text: the CLI sends it decoded"},
+    {"LipBlinkRequest.csv_fps", "a csv_text's rate: the CLI's --fps decodes the CSV itself"},
+};
+
+// Singular message fields whose fields are settings, each with its own flag.
+const std::set<std::string> kSettingsMessages = {"LipBlinkRequest.mouth", "LipBlinkRequest.eyes",
+                                                 "EyeSettings.auto_blink"};
+
+struct FieldCase {
+  FieldCase(std::vector<std::string> v, std::string e, std::vector<std::string> x = {})
+      : values(std::move(v)), expected(std::move(e)), extra(std::move(x)) {}
+  std::vector<std::string> values;  // after the flag (none for a plain switch; "=V": --flag=V)
+  std::string expected;             // the field's text in the built request
+  std::vector<std::string> extra;   // other flags the value needs
+};
+
+std::string Ones(int n, const std::string& first) {
+  std::vector<std::string> parts(n, "1");
+  parts[0] = first;
+  return absl::StrJoin(parts, ", ");
+}
+
+// Keyed by "Message.field" path from the request (as FieldPaths below writes them).
+const std::map<std::string, FieldCase>& Cases() {
+  static const auto* cases = new std::map<std::string, FieldCase>{
+      // RetimeSkeletal
+      {"RetimeSkeletalRequest.omissions", {{"5"}, "5"}},
+      {"RetimeSkeletalRequest.holds", {{"7"}, "7"}},
+      {"RetimeSkeletalRequest.max_hold", {{"2"}, "2"}},
+      {"RetimeSkeletalRequest.keep_length", {{"=false"}, "false"}},
+      {"RetimeSkeletalRequest.order", {{"hold-then-omit"}, "HOLD_THEN_OMIT"}},
+      {"RetimeSkeletalRequest.joint_weights", {{"Hips=0.5"}, Ones(21, "0.5")}},
+      {"RetimeSkeletalRequest.root_relative", {{}, "true"}},
+      {"RetimeSkeletalRequest.camera",
+       {{"1,0,0,0,0,2,0,0,0,0,1,0,0,0,-5,1"}, "1, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1"}},
+      {"RetimeSkeletalRequest.return_motion", {{"false"}, "false", {"--timing", "t.csv"}}},
+      {"RetimeSkeletalRequest.timing_fps", {{"30"}, "30"}},
+      {"RetimeSkeletalRequest.output_rate", {{"timing"}, "TIMING_RATE"}},
+      // RetimeCurves
+      {"RetimeCurvesRequest.key_frames", {{"0,10,25"}, "0, 10, 25"}},
+      {"RetimeCurvesRequest.frames_per_drawing", {{"2"}, "2"}},
+      {"RetimeCurvesRequest.tame", {{"1.5"}, "1.5"}},
+      {"RetimeCurvesRequest.tsume", {{"2.25"}, "2.25"}},
+      {"RetimeCurvesRequest.curve_overrides",
+       {{"ParamArmRA=2"}, "curve_id: \"ParamArmRA\" frames_per_drawing: 2"}},
+      {"RetimeCurvesRequest.segment_overrides",
+       {{"1:frames-per-drawing=2,tame=1.5,tsume=2"},
+        "segment: 1 frames_per_drawing: 2 tame: 1.5 tsume: 2"}},
+      {"RetimeCurvesRequest.timing_fps", {{"12"}, "12"}},
+      // LipBlink
+      {"LipBlinkRequest.mouth.ids",
+       {{"ParamMouthOpenY,ParamMouthForm"}, "\"ParamMouthOpenY\", \"ParamMouthForm\""}},
+      {"LipBlinkRequest.mouth.mode", {{"follow"}, "MOUTH_FOLLOW"}},
+      {"LipBlinkRequest.mouth.frames_per_shape", {{"2"}, "2"}},
+      {"LipBlinkRequest.mouth.mid_ratio", {{"0.4"}, "0.4"}},
+      {"LipBlinkRequest.mouth.min", {{"0.05"}, "0.05"}},
+      {"LipBlinkRequest.mouth.max", {{"0.9"}, "0.9"}},
+      {"LipBlinkRequest.mouth.speech", {{"10-40,50-70"}, "begin: 10 end: 40, begin: 50 end: 70"}},
+      {"LipBlinkRequest.eyes.ids", {{"ParamEyeLOpen"}, "\"ParamEyeLOpen\""}},
+      {"LipBlinkRequest.eyes.mid_ratio", {{"0.6"}, "0.6"}},
+      {"LipBlinkRequest.eyes.threshold", {{"0.2"}, "0.2"}},
+      {"LipBlinkRequest.eyes.min", {{"0.1"}, "0.1"}},
+      {"LipBlinkRequest.eyes.max", {{"0.95"}, "0.95"}},
+      {"LipBlinkRequest.eyes.linked", {{"false"}, "false"}},
+      {"LipBlinkRequest.eyes.auto_blink.enabled", {{"true"}, "true"}},
+      {"LipBlinkRequest.eyes.auto_blink.mean_interval_s", {{"3"}, "3"}},
+      {"LipBlinkRequest.eyes.auto_blink.spread_s", {{"0.5"}, "0.5"}},
+      {"LipBlinkRequest.eyes.auto_blink.hold", {{"3"}, "3"}},
+      {"LipBlinkRequest.eyes.auto_blink.keep", {{"5-10"}, "begin: 5 end: 10"}},
+      {"LipBlinkRequest.seed", {{"18446744073709551615"}, "18446744073709551615"}},
+      {"LipBlinkRequest.timing_fps", {{"0"}, "0"}},
+  };
+  return *cases;
+}
+
+struct FieldPath {
+  std::string key;                             // "LipBlinkRequest.eyes.auto_blink.hold"
+  std::vector<const FieldDescriptor*> fields;  // from the request down
+};
+
+void Walk(const Descriptor* message, const std::string& prefix,
+          std::vector<const FieldDescriptor*> above, std::vector<FieldPath>* out) {
+  for (int i = 0; i < message->field_count(); ++i) {
+    const FieldDescriptor* field = message->field(i);
+    const std::string key = prefix + "." + field->name();
+    std::vector<const FieldDescriptor*> path = above;
+    path.push_back(field);
+    const std::string own = message->name() + "." + field->name();  // "EyeSettings.auto_blink"
+    if (kExcluded.count(key)) continue;
+    if (!field->is_repeated() && field->type() == FieldDescriptor::TYPE_MESSAGE &&
+        (kSettingsMessages.count(key) || kSettingsMessages.count(own))) {
+      Walk(field->message_type(), key, path, out);
+      continue;
+    }
+    out->push_back({key, path});
+  }
+}
+
+std::vector<FieldPath> FieldPaths() {
+  std::vector<FieldPath> paths;
+  for (const Descriptor* request :
+       {v1::RetimeSkeletalRequest::descriptor(), v1::RetimeCurvesRequest::descriptor(),
+        v1::LipBlinkRequest::descriptor()}) {
+    Walk(request, request->name(), {}, &paths);
+  }
+  return paths;
+}
+
+// "--" + the kebab-case name: the field's own name, after its settings message's field
+// ("mouth", "eyes", "auto-blink") for nested ones.
+std::string FlagName(const FieldPath& path) {
+  std::string name;
+  if (path.fields.size() >= 2) name = path.fields[path.fields.size() - 2]->name() + "-";
+  name += path.fields.back()->name();
+  return "--" + absl::StrReplaceAll(name, {{"_", "-"}});
+}
+
+std::string ValueText(const Message& message, const FieldDescriptor* field, int index) {
+  if (field->type() == FieldDescriptor::TYPE_MESSAGE) {
+    const Message& sub = index < 0
+                             ? message.GetReflection()->GetMessage(message, field)
+                             : message.GetReflection()->GetRepeatedMessage(message, field, index);
+    return sub.ShortDebugString();
+  }
+  std::string text;
+  google::protobuf::TextFormat::PrintFieldValueToString(message, field, index, &text);
+  return text;
+}
+
+// The field's value in `request` as text: "<unset>" when a field with presence is unset,
+// repeated values joined by ", ".
+std::string FieldText(const Message& request, const FieldPath& path) {
+  const Message* message = &request;
+  for (size_t i = 0; i + 1 < path.fields.size(); ++i) {
+    message = &message->GetReflection()->GetMessage(*message, path.fields[i]);
+  }
+  const FieldDescriptor* field = path.fields.back();
+  const Reflection* reflection = message->GetReflection();
+  if (field->is_repeated()) {
+    std::vector<std::string> parts;
+    for (int i = 0; i < reflection->FieldSize(*message, field); ++i) {
+      parts.push_back(ValueText(*message, field, i));
+    }
+    return parts.empty() ? "<empty>" : absl::StrJoin(parts, ", ");
+  }
+  if (field->has_presence() && !reflection->HasField(*message, field)) return "<unset>";
+  return ValueText(*message, field, -1);
+}
+
+// The request `koma COMMAND INPUT -o OUT <flags>` builds, through the real parser.
+absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(
+    const std::string& request_name, const std::vector<std::string>& flags) {
+  std::vector<std::string> argv{"koma"};
+  if (request_name == "RetimeSkeletalRequest") argv.insert(argv.end(), {"skeletal", kBvh});
+  if (request_name == "RetimeCurvesRequest") argv.insert(argv.end(), {"curves", kArmHead});
+  if (request_name == "LipBlinkRequest") argv.insert(argv.end(), {"lipblink", kTalk});
+  argv.insert(argv.end(), flags.begin(), flags.end());
+  KomaCommandLine line;
+  if (const int code = ParseCommandLine(argv, &line); code != -1) {
+    return absl::InvalidArgumentError("parse exit code " + std::to_string(code) + " for " +
+                                      absl::StrJoin(argv, " "));
+  }
+  if (line.command == "skeletal") {
+    absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(line.skeletal.input);
+    if (!clip.ok()) return clip.status();
+    absl::StatusOr<v1::RetimeSkeletalRequest> r = BuildSkeletalRequest(line.skeletal, *clip);
+    if (!r.ok()) return r.status();
+    return std::unique_ptr<Message>(new v1::RetimeSkeletalRequest(*r));
+  }
+  if (line.command == "curves") {
+    absl::StatusOr<CurveInput> input = ReadCurveInput(line.curves.input, line.curves.csv_fps);
+    if (!input.ok()) return input.status();
+    absl::StatusOr<v1::RetimeCurvesRequest> r = BuildCurvesRequest(line.curves, input->curves);
+    if (!r.ok()) return r.status();
+    return std::unique_ptr<Message>(new v1::RetimeCurvesRequest(*r));
+  }
+  absl::StatusOr<CurveInput> input = ReadCurveInput(line.lip_blink.input, line.lip_blink.csv_fps);
+  if (!input.ok()) return input.status();
+  return std::unique_ptr<Message>(
+      new v1::LipBlinkRequest(BuildLipBlinkRequest(line.lip_blink, input->curves)));
+}
+
+TEST(RequestFlagsTest, WalksEveryField) {
+  const std::vector<FieldPath> paths = FieldPaths();
+  std::set<std::string> walked;
+  for (const FieldPath& path : paths) {
+    walked.insert(path.key);
+    EXPECT_TRUE(Cases().count(path.key))
+        << path.key << " has no CLI flag case: add a flag " << FlagName(path)
+        << " and a case here, or list it in kExcluded with the reason";
+  }
+  for (const auto& [key, unused] : Cases()) {
+    EXPECT_TRUE(walked.count(key)) << key << ": a case for a field the proto does not have";
+  }
+  // 11 + 7 + 20 fields today; the count catches a settings message walked wrongly.
+  EXPECT_EQ(paths.size(), 38u);
+}
+
+TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {
+  for (const FieldPath& path : FieldPaths()) {
+    SCOPED_TRACE(path.key);
+    const auto it = Cases().find(path.key);
+    if (it == Cases().end()) continue;  // WalksEveryField reports it
+    const FieldCase& c = it->second;
+    const std::string request_name = path.fields.front()->containing_type()->name();
+    std::vector<std::string> flags;
+    const std::string flag = FlagName(path);
+    if (!c.values.empty() && c.values[0][0] == '=') {
+      flags.push_back(flag + c.values[0]);
+    } else {
+      flags.push_back(flag);
+      flags.insert(flags.end(), c.values.begin(), c.values.end());
+    }
+    flags.insert(flags.end(), c.extra.begin(), c.extra.end());
+    flags.insert(flags.end(), {"-o", "out"});
+    absl::StatusOr<std::unique_ptr<Message>> with = BuildFromCommandLine(request_name, flags);
+    ASSERT_THAT(with, koma::testing::IsOk()) << absl::StrJoin(flags, " ");
+    absl::StatusOr<std::unique_ptr<Message>> without =
+        BuildFromCommandLine(request_name, {"-o", "out"});
+    ASSERT_THAT(without, koma::testing::IsOk());
+    EXPECT_EQ(FieldText(**with, path), c.expected) << absl::StrJoin(flags, " ");
+    EXPECT_NE(FieldText(**without, path), c.expected)
+        << "the case's value is the default, so it proves nothing";
+    // A repeated message is set whole: every one of its fields through the one flag.
+    const FieldDescriptor* field = path.fields.back();
+    if (field->is_repeated() && field->type() == FieldDescriptor::TYPE_MESSAGE) {
+      for (int i = 0; i < field->message_type()->field_count(); ++i) {
+        EXPECT_THAT(c.expected, ::testing::HasSubstr(field->message_type()->field(i)->name() + ":"))
+            << "the case leaves " << field->message_type()->field(i)->name() << " unset";
+      }
+    }
+  }
+}
+
+// The short names of earlier versions still reach the same fields.
+TEST(RequestFlagsTest, AliasesSetTheSameFields) {
+  struct Alias {
+    std::string request;
+    std::vector<std::string> short_form;
+    std::vector<std::string> long_form;
+  };
+  const std::vector<Alias> aliases = {
+      {"RetimeSkeletalRequest",
+       {"--omit", "5", "--hold", "7", "--hold-first", "--no-keep-length"},
+       {"--omissions", "5", "--holds", "7", "--order", "hold-then-omit", "--keep-length=false"}},
+      {"RetimeCurvesRequest",
+       {"--on", "2", "--keys", "0,10", "--curve-on", "ParamArmRA=1"},
+       {"--frames-per-drawing", "2", "--key-frames", "0,10", "--curve-overrides", "ParamArmRA=1"}},
+      {"LipBlinkRequest",
+       {"--mouth", "ParamMouthOpenY", "--eyes", "ParamEyeLOpen", "--mode", "follow", "--on", "2",
+        "--unlinked-eyes", "--auto-blink", "3", "--speech", "1-5"},
+       {"--mouth-ids", "ParamMouthOpenY", "--eyes-ids", "ParamEyeLOpen", "--mouth-mode", "follow",
+        "--mouth-frames-per-shape", "2", "--eyes-linked", "false", "--auto-blink-mean-interval-s",
+        "3", "--mouth-speech", "1-5"}},
+  };
+  for (const Alias& alias : aliases) {
+    std::vector<std::string> a = alias.short_form;
+    std::vector<std::string> b = alias.long_form;
+    a.insert(a.end(), {"-o", "out"});
+    b.insert(b.end(), {"-o", "out"});
+    absl::StatusOr<std::unique_ptr<Message>> short_request = BuildFromCommandLine(alias.request, a);
+    absl::StatusOr<std::unique_ptr<Message>> long_request = BuildFromCommandLine(alias.request, b);
+    ASSERT_THAT(short_request, koma::testing::IsOk());
+    ASSERT_THAT(long_request, koma::testing::IsOk());
+    EXPECT_EQ((*short_request)->SerializeAsString(), (*long_request)->SerializeAsString())
+        << alias.request;
+  }
+}
+
+TEST(RequestFlagsTest, JointWeightsByPositionAndErrors) {
+  std::vector<std::string> weights(21, "1");
+  weights[3] = "0.25";
+  absl::StatusOr<std::unique_ptr<Message>> r = BuildFromCommandLine(
+      "RetimeSkeletalRequest", {"--joint-weights", absl::StrJoin(weights, ","), "-o", "out"});
+  ASSERT_THAT(r, koma::testing::IsOk());
+  const auto& request = static_cast<const v1::RetimeSkeletalRequest&>(**r);
+  ASSERT_EQ(request.joint_weights_size(), 21);
+  EXPECT_EQ(request.joint_weights(3), 0.25);
+  EXPECT_THAT(
+      BuildFromCommandLine("RetimeSkeletalRequest", {"--joint-weights", "1,2", "-o", "o"}),
+      koma::testing::StatusIs(absl::StatusCode::kInvalidArgument,
+                              ::testing::HasSubstr("--joint-weights: 2 weights for 21 joints")));
+  EXPECT_THAT(
+      BuildFromCommandLine("RetimeSkeletalRequest", {"--joint-weights", "Hip=2", "-o", "o"}),
+      koma::testing::StatusIs(absl::StatusCode::kInvalidArgument,
+                              ::testing::HasSubstr("no joint \"Hip\"; did you mean \"Hips\"?")));
+}
+
+}  // namespace
+}  // namespace koma::client

@@ -1,0 +1,135 @@
+"""The same request through the Python package (a file-carrying request: the server parses and
+writes the file) and through the C++ `koma` CLI (it parses and writes locally, and sends the
+decoded motion) gives byte-identical files, for every sample and real mocap file."""
+import pathlib
+
+import pytest
+
+from conftest import run_cli, run_python_cli, source_path
+
+BVH_FILES = [source_path("samples", "pitch.bvh"), source_path("samples", "mocap_120fps.bvh")] + \
+    [source_path("tests", "testdata", name) for name in
+     ("bvh_test1.bvh", "bvh_test2.bvh", "bvh_test3.bvh")]
+# 2- and 3-frame edge cases (CRLF, unusual channels): too short for a film grid or omissions.
+SMALL_BVH_FILES = [source_path("tests", "testdata", name) for name in
+                   ("two_joints_crlf.bvh", "unusual_channels.bvh")]
+
+# (CLI flags, the same as Python options)
+SKELETAL_OPTIONS = [
+    ([], {}),
+    (["--timing-fps", "0", "--omit", "2", "--hold", "5"],
+     {"timing_fps": 0, "omissions": 2, "holds": 5}),
+    (["--output-rate", "timing", "--max-hold", "2"], {"output_rate": "TIMING_RATE", "max_hold": 2}),
+    (["--timing-fps", "0", "--hold-first", "--root-relative", "--no-keep-length"],
+     {"timing_fps": 0, "order": "HOLD_THEN_OMIT", "root_relative": True, "keep_length": False}),
+]
+
+
+@pytest.mark.parametrize("path", BVH_FILES, ids=lambda p: pathlib.Path(p).name)
+@pytest.mark.parametrize("flags,options", SKELETAL_OPTIONS, ids=["default", "no-grid", "timing-rate",
+                                                                 "hold-first"])
+def test_skeletal_output_equals_the_cli(server, client, tmp_path, path, flags, options):
+    expected = tmp_path / "cli.bvh"
+    run_cli("skeletal", path, "-o", str(expected), "--server", server.address, *flags)
+    result = client.retime_skeletal(path, **options)
+    assert result.output_bytes == expected.read_bytes()
+    # The timing map agrees with the file: as many output frames as the BVH has.
+    frames_line = next(l for l in result.output.splitlines() if l.startswith("Frames:"))
+    assert int(frames_line.split()[1]) == len(result.source_frames) == result.counts["frames"]
+    assert result.timing == dict(enumerate(result.source_frames))
+
+
+@pytest.mark.parametrize("path", SMALL_BVH_FILES, ids=lambda p: pathlib.Path(p).name)
+def test_small_skeletal_output_equals_the_cli(server, client, tmp_path, path):
+    expected = tmp_path / "cli.bvh"
+    run_cli("skeletal", path, "-o", str(expected), "--server", server.address, "--timing-fps", "0")
+    assert client.retime_skeletal(path, timing_fps=0).output_bytes == expected.read_bytes()
+
+
+CURVE_FILES = [source_path("samples", "arm_head.motion3.json"),
+               source_path("samples", "talk_blink.motion3.json"),
+               source_path("tests", "testdata", "small.motion3.json"),
+               source_path("tests", "testdata", "curves_crlf.csv")]
+
+CURVES_OPTIONS = [
+    ([], {}),
+    (["--on", "2", "--timing-fps", "0"], {"frames_per_drawing": 2, "timing_fps": 0}),
+    (["--tame", "1.5", "--tsume", "1.25", "--keys", "0,2"],
+     {"tame": 1.5, "tsume": 1.25, "key_frames": [0, 2]}),
+]
+
+
+@pytest.mark.parametrize("path,curve", [
+    (source_path("samples", "arm_head.motion3.json"), "ParamAngleX"),
+    (source_path("tests", "testdata", "curves_crlf.csv"), "ParamEyeLOpen"),
+], ids=["motion3", "csv"])
+def test_curve_overrides_equal_the_cli(server, client, tmp_path, path, curve):
+    expected = tmp_path / ("cli" + _suffix(path))
+    run_cli("curves", path, "-o", str(expected), "--server", server.address, "--on", "3",
+            "--curve-on", f"{curve}=2", "--timing-fps", "0")
+    result = client.retime_curves(path, frames_per_drawing=3, timing_fps=0,
+                                  curve_overrides=[{"curve_id": curve, "frames_per_drawing": 2}])
+    assert result.output_bytes == expected.read_bytes()
+    assert len(result.timings) == 2 and result.curves[curve]["timing"] == 1
+
+
+def _suffix(path):
+    return ".csv" if path.endswith(".csv") else ".motion3.json"
+
+
+@pytest.mark.parametrize("path", CURVE_FILES, ids=lambda p: pathlib.Path(p).name)
+@pytest.mark.parametrize("flags,options", CURVES_OPTIONS, ids=["default", "twos", "tame-tsume"])
+def test_curves_output_equals_the_cli(server, client, tmp_path, path, flags, options):
+    expected = tmp_path / ("cli" + _suffix(path))
+    run_cli("curves", path, "-o", str(expected), "--server", server.address, *flags)
+    result = client.retime_curves(path, **options)
+    assert result.output_bytes == expected.read_bytes()
+    assert result.key_frames[0] == 0
+    assert result.counts["curves"] == len(result.curves) > 0
+
+
+LIPBLINK_OPTIONS = [
+    ([], {}),
+    (["--seed", "7", "--mode", "follow"], {"seed": 7, "mouth": {"mode": "MOUTH_FOLLOW"}}),
+    (["--timing-fps", "0", "--auto-blink", "1", "--unlinked-eyes", "--on", "2"],
+     {"timing_fps": 0, "eyes": {"auto_blink": {"enabled": True, "mean_interval_s": 1.0},
+                                "linked": False},
+      "mouth": {"frames_per_shape": 2}}),
+]
+
+
+@pytest.mark.parametrize("flags,options", LIPBLINK_OPTIONS, ids=["default", "follow", "auto-blink"])
+def test_lip_blink_output_equals_the_cli(server, client, tmp_path, flags, options):
+    path = source_path("samples", "talk_blink.motion3.json")
+    expected = tmp_path / "cli.motion3.json"
+    run_cli("lipblink", path, "-o", str(expected), "--server", server.address, *flags)
+    result = client.lip_blink(path, **options)
+    assert result.output_bytes == expected.read_bytes()
+    assert result.counts["mouth_holds"] > 0 and result.counts["eye_curves"] == 2
+
+
+def test_lip_blink_csv_output_equals_the_cli(server, client, tmp_path):
+    # talk_blink as CSV, written by the CLI itself (no retiming: --on 1 on ones, no grid).
+    csv = tmp_path / "talk.csv"
+    run_cli("curves", source_path("samples", "talk_blink.motion3.json"), "-o", str(csv),
+            "--on", "1", "--timing-fps", "0", "--server", server.address)
+    expected = tmp_path / "cli.csv"
+    run_cli("lipblink", str(csv), "-o", str(expected), "--fps", "25", "--server", server.address)
+    result = client.lip_blink(str(csv), csv_fps=25)
+    assert result.output_bytes == expected.read_bytes()
+
+
+@pytest.mark.parametrize("command,path,flags", [
+    ("skeletal", source_path("samples", "pitch.bvh"), ["--omit", "3"]),
+    ("skeletal", source_path("tests", "testdata", "bvh_test3.bvh"), ["--output-rate", "timing"]),
+    ("curves", source_path("samples", "arm_head.motion3.json"), ["--on", "2"]),
+    ("curves", source_path("tests", "testdata", "curves_crlf.csv"), ["--fps", "24"]),
+    ("lipblink", source_path("samples", "talk_blink.motion3.json"), ["--seed", "3"]),
+], ids=["skeletal", "skeletal-timing-rate", "curves", "curves-csv", "lipblink"])
+def test_python_m_koma_writes_what_the_cli_writes(server, tmp_path, command, path, flags):
+    suffix = ".bvh" if command == "skeletal" else _suffix(path)
+    expected, got = tmp_path / ("cli" + suffix), tmp_path / ("py" + suffix)
+    run_cli(command, path, "-o", str(expected), "--server", server.address, *flags)
+    done = run_python_cli(command, path, "-o", str(got), "--server", server.address, *flags)
+    assert done.returncode == 0, done.stderr
+    assert got.read_bytes() == expected.read_bytes()
