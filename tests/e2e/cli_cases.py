@@ -54,10 +54,10 @@ with open(w("section.toml"), "w") as f:
     f.write("[skeletl]\nomissions = 6\n")
 
 MISUSE = [
-    ([], 2, "koma: a command is required: skeletal, curves, lipblink, health"),
+    ([], 2, "koma: a command is required: skeletal, curves, lipblink, health, batch"),
     (["skeletl", BVH], 2, 'koma: unknown command "skeletl"; did you mean "skeletal"?'),
     (["lipsync", TALK], 2,
-     'koma: unknown command "lipsync" (commands: skeletal, curves, lipblink, health)'),
+     'koma: unknown command "lipsync" (commands: skeletal, curves, lipblink, health, batch)'),
     (["--omit", "3", "skeletal", BVH], 2,
      "koma: --omit is an option of `koma skeletal`: put it after the command (koma skeletal ... --omit)"),
     (["--versoin"], 2, "koma: unknown option --versoin; did you mean --version?"),
@@ -117,9 +117,9 @@ MISUSE = [
     (["skeletal", BVH, "--timing-only"], 2,
      "koma skeletal: --timing-only needs --timing OUT.csv (the sheet it writes)"),
     (["skeletal", BVH, "-o", "-", "--timing", "-"], 2,
-     "koma skeletal: only one of -o -, --timing - and --json can use standard output"),
+     "koma skeletal: only one of -o -, --timing -, --report - and --json can use standard output"),
     (["skeletal", BVH, "-o", "-", "--json"], 2,
-     "koma skeletal: only one of -o -, --timing - and --json can use standard output"),
+     "koma skeletal: only one of -o -, --timing -, --report - and --json can use standard output"),
     (["skeletal", BVH, "-o", "{W}/o.json"], 2,
      "koma skeletal: -o {W}/o.json: koma skeletal writes BVH (-o OUT.bvh)"),
     (["curves", ARM, "-o", "{W}/o.bvh", "--server", "{T}"], 2,
