@@ -1,9 +1,12 @@
 #include "client/cli.h"
 
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <set>
 
 #include "absl/strings/match.h"
@@ -20,15 +23,15 @@ namespace {
 
 constexpr const char* kGlossary =
     "Terms: koma-uchi, drawings held 1 ('on ones'), 2 ('on twos') or 3 frames ('on threes'); "
-    "nakanuki (inbetween omission, --omit), removing the fastest inbetween frames; koma-dori "
+    "nakanashi (inbetween omission, --omit), removing the fastest inbetween frames; koma-dori "
     "(holds, --hold), repeating a frame where the motion is stillest; genga, the key poses; "
     "tame, a slow start out of a key; tsume, a slow arrival into the next key; the film grid "
     "(--timing-fps), the 24 fps grid drawings are counted on. Exit codes: 0 ok, 1 failure "
-    "(RPC error, unreadable or malformed file), 2 usage error. Full reference: docs/usage.md.";
+    "(RPC error, unreadable or malformed file), 2 usage error. Full reference: docs/usage.md.\n";
 
 // Options of the top-level app that take a value (and so consume the next argument).
 const std::set<std::string>& GlobalValueOptions() {
-  static const std::set<std::string> names{"--tls-ca", "--tls-cert", "--tls-key"};
+  static const std::set<std::string> names{"--tls-ca", "--tls-cert", "--tls-key", "--config"};
   return names;
 }
 
@@ -38,6 +41,12 @@ void AddGlobalOptions(CLI::App& app, TlsFiles& tls) {
   app.add_option("--tls-cert", tls.cert, "PEM client certificate (mutual TLS)")
       ->envname("KOMA_TLS_CERT");
   app.add_option("--tls-key", tls.key, "PEM key of --tls-cert")->envname("KOMA_TLS_KEY");
+  // Studio defaults: a TOML file with a [COMMAND] section of option = value lines (names as
+  // the long flags without "--"); flags on the command line win.
+  app.set_config("--config", "",
+                 "TOML file of defaults, e.g. [skeletal] omissions = 6 / server = \"host:50051\"; "
+                 "command-line flags win (also $KOMA_CONFIG)")
+      ->type_name("FILE");
   app.set_version_flag("--version", std::string("koma ") + kVersion,
                        "print the version (koma MAJOR.MINOR.PATCH) and exit");
 }
@@ -68,10 +77,54 @@ std::string DidYouMean(const std::string& typed, const std::vector<std::string>&
   return close.empty() ? "" : absl::StrCat("; did you mean ", close, "?");
 }
 
+// The --config file (or $KOMA_CONFIG): readable, and every key an option of its section's
+// command (CLI11 would ignore a misspelt key in a command's section). -1 when fine, else the
+// exit code after printing.
+int CheckConfigFile(const CLI::App& app, const std::string& path) {
+  std::ifstream in(path);
+  if (!in) {
+    return UsageError("koma",
+                      absl::StrCat("--config ", path, ": cannot read: ", std::strerror(errno)),
+                      "koma --help");
+  }
+  std::vector<CLI::ConfigItem> items;
+  try {
+    items = CLI::ConfigTOML().from_config(in);
+  } catch (const CLI::ParseError& e) {
+    return UsageError("koma", absl::StrCat("--config ", path, ": ", e.what()), "koma --help");
+  }
+  for (const CLI::ConfigItem& item : items) {
+    if (item.name == "++" || item.name == "--") continue;
+    const CLI::App* owner = &app;
+    std::string section = "top level";
+    if (!item.parents.empty()) {
+      section = "[" + item.parents[0] + "]";
+      if (std::find(CommandNames().begin(), CommandNames().end(), item.parents[0]) ==
+          CommandNames().end()) {
+        return UsageError("koma",
+                          absl::StrCat("--config ", path, ": unknown section ", section,
+                                       DidYouMean(item.parents[0], CommandNames())),
+                          "koma --help");
+      }
+      owner = app.get_subcommand(item.parents[0]);
+    }
+    std::vector<std::string> keys;
+    for (const std::string& name : LongNames(owner)) keys.push_back(name.substr(2));
+    if (item.parents.size() > 1 || std::find(keys.begin(), keys.end(), item.name) == keys.end()) {
+      return UsageError("koma",
+                        absl::StrCat("--config ", path, ": ", section, " ", item.name,
+                                     ": unknown option", DidYouMean(item.name, keys)),
+                        "koma --help");
+    }
+  }
+  return -1;
+}
+
 // koma's checks before CLI11's: a missing or unknown command, an unknown option. Returns -1
 // when the line may go to CLI11, else the exit code (after printing). `command` gets the
 // command named.
-int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::string* command) {
+int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::string* command,
+             size_t* command_index) {
   const std::vector<std::string> global = LongNames(&app);
   size_t i = 1;
   for (; i < args.size(); ++i) {
@@ -94,8 +147,7 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
                             "koma --help");
         }
       }
-      return UsageError("koma",
-                        absl::StrCat("unknown option ", name, DidYouMean(name, global)),
+      return UsageError("koma", absl::StrCat("unknown option ", name, DidYouMean(name, global)),
                         "koma --help");
     }
     if (absl::StartsWith(arg, "-") && arg.size() > 1) continue;  // CLI11 names it
@@ -113,12 +165,21 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
         "koma",
         absl::StrCat("unknown command \"", typed, "\"",
                      close.empty() ? "" : absl::StrCat("; did you mean \"", close, "\"?"),
-                     close.empty() ? absl::StrCat(" (commands: ",
-                                                  absl::StrJoin(CommandNames(), ", "), ")")
-                                   : ""),
+                     close.empty()
+                         ? absl::StrCat(" (commands: ", absl::StrJoin(CommandNames(), ", "), ")")
+                         : ""),
         "koma --help");
   }
   *command = typed;
+  *command_index = i;
+  std::string config;
+  for (size_t j = 1; j < args.size(); ++j) {
+    if (args[j] == "--config" && j + 1 < args.size()) config = args[j + 1];
+    if (absl::StartsWith(args[j], "--config=")) config = args[j].substr(9);
+  }
+  if (!config.empty()) {
+    if (int code = CheckConfigFile(app, config); code >= 0) return code;
+  }
   const CLI::App* sub = app.get_subcommand(typed);
   std::vector<std::string> known = LongNames(sub);
   known.insert(known.end(), global.begin(), global.end());
@@ -126,11 +187,25 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
   for (size_t j = i + 1; j < args.size(); ++j) {
     const std::string& arg = args[j];
     if (arg == "--") break;
-    if (!absl::StartsWith(arg, "--")) continue;
+    const bool is_short = arg.size() == 2 && arg[0] == '-' && arg[1] != '-';
+    if (!absl::StartsWith(arg, "--") && !is_short) continue;
     const std::string name = arg.substr(0, arg.find('='));
-    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
-    return UsageError(who, absl::StrCat("unknown option ", name, DidYouMean(name, known)),
-                      who + " --help");
+    if (!is_short && std::find(known.begin(), known.end(), name) == known.end()) {
+      return UsageError(who, absl::StrCat("unknown option ", name, DidYouMean(name, known)),
+                        who + " --help");
+    }
+    // CLI11 takes the next argument as the value even when it is an option ("-o --json"
+    // would write a file named "--json"): refuse that.
+    const CLI::Option* option = sub->get_option_no_throw(name);
+    if (option == nullptr) option = app.get_option_no_throw(name);
+    if (option != nullptr && name == arg && option->get_items_expected_min() > 0 &&
+        j + 1 < args.size()) {
+      const std::string next = args[j + 1].substr(0, args[j + 1].find('='));
+      if (std::find(known.begin(), known.end(), next) != known.end()) {
+        return UsageError(who, absl::StrCat(name, " needs a value (", next, " is an option)"),
+                          who + " --help");
+      }
+    }
   }
   return -1;
 }
@@ -138,23 +213,66 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
 // CLI11's own messages, in koma's words where they are terse.
 std::string ParseErrorText(const CLI::ParseError& e) {
   const std::string what = e.what();
-  if (e.get_name() == "RequiredError" && absl::StartsWith(what, "input")) {
+  if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && absl::StartsWith(what, "input")) {
     return "the input file is required (a path, or - for standard input)";
   }
-  if (e.get_name() == "ExtrasError") {
+  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
     std::string extras = what;
-    const std::string prefix = "The following arguments were not expected: ";
-    if (absl::StartsWith(extras, prefix)) extras = extras.substr(prefix.size());
+    const size_t colon = extras.find(": ");
+    if (colon != std::string::npos) extras = extras.substr(colon + 2);
     return absl::StrCat("unexpected argument(s): ", extras, " (one input file per call)");
   }
-  if (e.get_name() == "ArgumentMismatch") return absl::StrCat("a value is missing: ", what);
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr) {
+    // CLI11: "--omit: 1 required N missing".
+    const size_t colon = what.find(": ");
+    if (colon != std::string::npos && absl::StrContains(what, "missing")) {
+      return absl::StrCat(what.substr(0, colon), " needs a value");
+    }
+    return absl::StrCat("a value is missing: ", what);
+  }
   return what;
+}
+
+// --preset NAME: its flags, placed right after the command so that flags given on the line
+// win (a repeated option keeps its last value); a --config file's values lose to both.
+int ExpandPreset(const std::string& command, size_t command_index, std::vector<std::string>* line) {
+  std::string name;
+  size_t at = 0;
+  size_t width = 0;
+  for (size_t j = command_index + 1; j < line->size(); ++j) {
+    const std::string& arg = (*line)[j];
+    if (arg == "--") break;
+    if (arg == "--preset" && j + 1 < line->size()) {
+      name = (*line)[j + 1];
+      at = j;
+      width = 2;
+    } else if (absl::StartsWith(arg, "--preset=")) {
+      name = arg.substr(9);
+      at = j;
+      width = 1;
+    }
+  }
+  if (width == 0) return -1;
+  const std::vector<std::string>* flags = PresetFlags(command, name);
+  const std::string who = "koma " + command;
+  if (flags == nullptr) {
+    return UsageError(
+        who,
+        absl::StrCat("--preset: \"", name, "\" is not one of ", absl::StrJoin(PresetNames(), ", ")),
+        who + " --help");
+  }
+  line->erase(line->begin() + static_cast<long>(at), line->begin() + static_cast<long>(at + width));
+  line->insert(line->begin() + static_cast<long>(command_index) + 1, flags->begin(), flags->end());
+  return -1;
 }
 
 }  // namespace
 
 const std::vector<std::string>& CommandNames() {
-  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health"};
+  // batch runs before this parser sees the line (client/main.cc, batch/batch_command.h); it
+  // is listed so the messages about commands name it.
+  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health",
+                                              "batch"};
   return names;
 }
 
@@ -170,10 +288,26 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
   AddCurvesCommand(app, out->curves);
   AddLipBlinkCommand(app, out->lip_blink);
   AddHealthCommand(app, out->health);
+  // Listed for --help only: main() hands `koma batch ...` to batch::RunIfBatch before this
+  // parser sees the line (client/batch/batch_command.h).
+  app.add_subcommand("batch",
+                     "Retime many clips: files, folders or @lists, across servers, with "
+                     "progress, retries and skipping of finished work (koma batch --help)");
 
+  // $KOMA_CONFIG: as --config, unless the line has one.
+  std::vector<std::string> line = args;
+  const char* config_from_env = std::getenv("KOMA_CONFIG");
+  const bool has_config = std::any_of(args.begin(), args.end(), [](const std::string& a) {
+    return a == "--config" || absl::StartsWith(a, "--config=");
+  });
+  if (config_from_env != nullptr && *config_from_env != '\0' && !has_config && !line.empty()) {
+    line.insert(line.begin() + 1, {"--config", config_from_env});
+  }
   std::string command;
-  if (int code = PreCheck(app, args, &command); code >= 0) return code;
-  std::vector<std::string> reversed(args.begin() + 1, args.end());
+  size_t command_index = 0;
+  if (int code = PreCheck(app, line, &command, &command_index); code >= 0) return code;
+  if (int code = ExpandPreset(command, command_index, &line); code >= 0) return code;
+  std::vector<std::string> reversed(line.begin() + 1, line.end());
   std::reverse(reversed.begin(), reversed.end());  // CLI11 parses a reversed vector
   try {
     app.parse(reversed);
@@ -187,9 +321,7 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
     const std::string who = command.empty() ? "koma" : "koma " + command;
     return UsageError(who, ParseErrorText(e), who + " --help");
   }
-  for (const std::string& name : CommandNames()) {
-    if (app.got_subcommand(name)) out->command = name;
-  }
+  for (const CLI::App* sub : app.get_subcommands()) out->command = sub->get_name();  // the one parsed
   return -1;
 }
 

@@ -154,7 +154,8 @@ CLI::Option* AddStringList(CLI::App* cmd, const std::string& names, std::vector<
           [=](const std::vector<std::string>& values) {
             out->clear();
             for (const std::string& item : Items(values)) {
-              if (item.empty()) throw FlagValueError(absl::StrCat(flag, ": empty name in the list"));
+              if (item.empty())
+                throw FlagValueError(absl::StrCat(flag, ": empty name in the list"));
               out->push_back(item);
             }
           },
@@ -163,8 +164,8 @@ CLI::Option* AddStringList(CLI::App* cmd, const std::string& names, std::vector<
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 }
 
-CLI::Option* AddIntervals(CLI::App* cmd, const std::string& names,
-                          std::vector<FlagInterval>* out, const std::string& help) {
+CLI::Option* AddIntervals(CLI::App* cmd, const std::string& names, std::vector<FlagInterval>* out,
+                          const std::string& help) {
   const std::string flag = FirstLongName(names);
   return cmd
       ->add_option_function<std::vector<std::string>>(

@@ -5,7 +5,6 @@
 #define KOMA_CLIENT_CLI_OPTIONS_H_
 
 #include <CLI/CLI.hpp>
-
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -53,8 +52,8 @@ CLI::Option* AddNumberList(CLI::App* cmd, const std::string& names, std::vector<
 CLI::Option* AddStringList(CLI::App* cmd, const std::string& names, std::vector<std::string>* out,
                            const std::string& help);
 // Comma-separated frame intervals BEGIN-END, repeatable.
-CLI::Option* AddIntervals(CLI::App* cmd, const std::string& names,
-                          std::vector<FlagInterval>* out, const std::string& help);
+CLI::Option* AddIntervals(CLI::App* cmd, const std::string& names, std::vector<FlagInterval>* out,
+                          const std::string& help);
 
 }  // namespace koma::client
 

@@ -6,8 +6,8 @@
 #define KOMA_CLIENT_COMMAND_FLAGS_H_
 
 #include <CLI/CLI.hpp>
-
 #include <string>
+#include <vector>
 
 #include "client/curves_command.h"
 #include "client/health_command.h"
@@ -15,6 +15,20 @@
 #include "client/skeletal_command.h"
 
 namespace koma::client {
+
+// --preset NAME of skeletal, curves and lipblink: common settings as flags.
+//   twos    drawings held 2 frames (skeletal --max-hold 2, curves/lipblink --on 2)
+//   threes  held 3 frames (--max-hold 3, --on 3)
+//   snappy  more omissions and bunching near the keys (skeletal --omit 6 --max-hold 3;
+//           curves --on 3 --tame 1.5 --tsume 2; lipblink --on 2)
+//   subtle  fewer omissions, shorter holds (skeletal --omit 2 --max-hold 2; curves --on 2;
+//           lipblink --on 3 --mode follow)
+const std::vector<std::string>& PresetNames();
+// The flags of preset `name` for `command`; nullptr for an unknown name.
+const std::vector<std::string>* PresetFlags(const std::string& command, const std::string& name);
+// Registers --preset on `cmd` (for --help and the unknown-option check; the command line
+// parser expands it before CLI11 sees it).
+void AddPresetFlag(CLI::App* cmd);
 
 // --server, --deadline (seconds), --json, --quiet: on every subcommand.
 void AddCommonFlags(CLI::App* cmd, std::string* server, double* deadline_seconds, bool* json,

@@ -25,14 +25,14 @@ std::string RpcErrorText(const grpc::Status& status, const std::string& server) 
   std::string text = absl::StrCat(CodeName(code), ": ");
   switch (status.error_code()) {
     case grpc::StatusCode::UNAVAILABLE:
-      absl::StrAppend(&text, "cannot reach koma_server at ", server, " (gRPC: ",
-                      status.error_message(), ")\n", "hint: is koma_server running at ", server,
-                      "? Start it with `koma_server --address=", server,
+      absl::StrAppend(&text, "cannot reach koma_server at ", server,
+                      " (gRPC: ", status.error_message(), ")\n", "hint: is koma_server running at ",
+                      server, "? Start it with `koma_server --address=", server,
                       "`, or point --server (or $KOMA_SERVER) at a running one");
       break;
     case grpc::StatusCode::DEADLINE_EXCEEDED:
-      absl::StrAppend(&text, "no answer from ", server, " within the deadline (gRPC: ",
-                      status.error_message(), ")\n",
+      absl::StrAppend(&text, "no answer from ", server,
+                      " within the deadline (gRPC: ", status.error_message(), ")\n",
                       "hint: a long clip may need more time: raise --deadline (seconds)");
       break;
     default:

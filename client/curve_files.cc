@@ -10,9 +10,7 @@
 namespace koma::client {
 namespace {
 
-std::string DisplayName(const std::string& path) {
-  return IsStdio(path) ? "standard input" : path;
-}
+std::string DisplayName(const std::string& path) { return IsStdio(path) ? "standard input" : path; }
 
 }  // namespace
 
@@ -65,8 +63,8 @@ absl::StatusOr<CurveFormat> CurveOutputFormat(const std::string& path, CurveForm
                                               const CurveInput& input) {
   if (format == CurveFormat::kAuto) {
     if (absl::EndsWithIgnoreCase(path, ".bvh")) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "-o ", path, ": curves are written as motion3.json or CSV, not BVH"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("-o ", path, ": curves are written as motion3.json or CSV, not BVH"));
     }
     format = IsCsvPath(path) ? CurveFormat::kCsv
              : IsStdio(path) ? input.format

@@ -105,9 +105,9 @@ absl::Status CheckCurvesFlags(const CurvesArgs& args) {
         "-o/--output OUT.motion3.json or OUT.csv is required (or --timing-only with --timing "
         "OUT.csv)");
   }
-  if (IsStdio(args.output) + IsStdio(args.timing) + args.json > 1) {
+  if (IsStdio(args.output) + IsStdio(args.timing) + IsStdio(args.report) + args.json > 1) {
     return absl::InvalidArgumentError(
-        "only one of -o -, --timing - and --json can use standard output");
+        "only one of -o -, --timing -, --report - and --json can use standard output");
   }
   return absl::OkStatus();
 }
@@ -125,8 +125,8 @@ absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
       return absl::InternalError(absl::StrCat("the server answered ", replacements.size(),
                                               " curves for ", input.curves.curves.size()));
     }
-    if (absl::Status s = WriteCurveOutput(args.output, input, replacements,
-                                          CurveFormatFromFlag(args.format));
+    if (absl::Status s =
+            WriteCurveOutput(args.output, input, replacements, CurveFormatFromFlag(args.format));
         !s.ok()) {
       return s;
     }
@@ -143,7 +143,7 @@ int RunCurves(const CurvesArgs& args) {
   const CommandOutput out("curves", args.json, args.quiet, args.server);
   if (absl::Status s = CheckCurvesFlags(args); !s.ok()) return out.UsageFailure(s);
   absl::StatusOr<CurveInput> input =
-      ReadCurveInput(args.input, args.csv_fps, CurveFormatFromFlag(args.format), "curves");
+      ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, "curves");
   if (!input.ok()) return out.Failure(input.status());
   if (!args.timing_only) {
     absl::StatusOr<CurveFormat> format =
@@ -171,7 +171,7 @@ int RunCurves(const CurvesArgs& args) {
   }
   out.Success(CurvesSummaryText(args, input->curves, response) + ReportLine(args.report),
               CurvesSummaryJson(args, input->curves, response),
-              IsStdio(args.output) || IsStdio(args.timing));
+              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
   return kExitOk;
 }
 

@@ -38,14 +38,14 @@ struct CurvesArgs {
   std::optional<double> tsume;            // --tsume; unset: 1
   std::vector<std::string> curve_on;      // --curve-on / --curve-overrides ID=N, repeatable
   std::vector<SegmentOverrideFlag> segment_overrides;  // --segment-overrides, repeatable
-  double csv_fps = 30.0;                  // --fps, frames per second of a CSV input
-  std::optional<double> timing_fps;       // --timing-fps: the film grid; unset: server's 24
-  std::string format;                     // --format motion3|csv: of "-" input/output
-  bool timing_only = false;               // --timing-only: write only the drawing sheet
+  double csv_fps = 30.0;                               // --fps, frames per second of a CSV input
+  std::optional<double> timing_fps;  // --timing-fps: the film grid; unset: server's 24
+  std::string format;                // --format motion3|csv: of the output "-"
+  bool timing_only = false;          // --timing-only: write only the drawing sheet
   std::string server;
   double deadline_seconds = 60.0;
-  bool json = false;                      // --json
-  bool quiet = false;                     // --quiet
+  bool json = false;   // --json
+  bool quiet = false;  // --quiet
 };
 
 // The request for `curves` with every flag of `args` applied. INVALID_ARGUMENT naming the

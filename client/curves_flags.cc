@@ -58,7 +58,9 @@ CLI::App* AddCurvesCommand(CLI::App& app, CurvesArgs& args) {
             "in the input's own frames; at most 1000)")
       ->type_name("FPS");
   AddChoice(cmd, "--format", &args.format, {"motion3", "csv"},
-            "format of a - input or output (default: from the contents, the input's for -o -)");
+            "format of the output -o - (default: the input's; an input's format is read from its "
+            "contents)");
+  AddPresetFlag(cmd);
   AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "60");
   return cmd;
 }

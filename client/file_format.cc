@@ -9,9 +9,7 @@ namespace {
 
 constexpr absl::string_view kUtf8Bom = "\xEF\xBB\xBF";
 
-std::string DisplayName(const std::string& path) {
-  return path == "-" ? "standard input" : path;
-}
+std::string DisplayName(const std::string& path) { return path == "-" ? "standard input" : path; }
 
 }  // namespace
 

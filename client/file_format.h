@@ -4,9 +4,9 @@
 #define KOMA_CLIENT_FILE_FORMAT_H_
 
 #include <string>
-#include "absl/strings/string_view.h"
 
 #include "absl/status/status.h"
+#include "absl/strings/string_view.h"
 
 namespace koma::client {
 

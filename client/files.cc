@@ -19,7 +19,7 @@ namespace {
 constexpr int kMaxLinks = 40;  // as the kernel's own limit for a path (ELOOP)
 
 absl::Status OsError(absl::string_view action, const std::string& path, int error) {
-  const std::string name = !IsStdio(path)      ? path
+  const std::string name = !IsStdio(path)     ? path
                            : action == "read" ? "standard input"
                                               : "standard output";
   return absl::ErrnoToStatus(error, absl::StrCat("cannot ", action, " ", name));
@@ -163,7 +163,8 @@ absl::Status WriteFile(const std::string& path, const std::string& contents) {
   if (!target.ok()) return target.status();
   absl::Status s = ReplaceRegularFile(*target, contents);
   if (!s.ok() && *target != path) {
-    return absl::Status(s.code(), absl::StrCat(s.message(), " (the target of the link ", path, ")"));
+    return absl::Status(s.code(),
+                        absl::StrCat(s.message(), " (the target of the link ", path, ")"));
   }
   return s;
 }

@@ -50,8 +50,8 @@ absl::StatusOr<int64_t> ParseWholeNumber(absl::string_view flag, absl::string_vi
   const bool huge = error == std::errc::result_out_of_range ||
                     magnitude > static_cast<uint64_t>(std::numeric_limits<int64_t>::max());
   if (huge) {
-    return FlagError(flag, absl::StrCat(text, " is too ", negative ? "small" : "large", ": ",
-                                        range));
+    return FlagError(flag,
+                     absl::StrCat(text, " is too ", negative ? "small" : "large", ": ", range));
   }
   const int64_t value =
       negative ? -static_cast<int64_t>(magnitude) : static_cast<int64_t>(magnitude);
@@ -65,8 +65,8 @@ absl::StatusOr<int64_t> ParseWholeNumber(absl::string_view flag, absl::string_vi
 }
 
 absl::StatusOr<uint64_t> ParseUnsigned64(absl::string_view flag, absl::string_view text) {
-  const std::string range = absl::StrCat("a whole number from 0 to ",
-                                         std::numeric_limits<uint64_t>::max());
+  const std::string range =
+      absl::StrCat("a whole number from 0 to ", std::numeric_limits<uint64_t>::max());
   absl::string_view digits = text;
   if (absl::ConsumePrefix(&digits, "-")) {
     if (AllDigits(digits)) return FlagError(flag, absl::StrCat(text, " is negative: ", range));
@@ -91,9 +91,7 @@ NumberBounds Above(double min) {
   b.min_open = true;
   return b;
 }
-NumberBounds OpenInterval(double min, double max) {
-  return NumberBounds{min, max, true, true};
-}
+NumberBounds OpenInterval(double min, double max) { return NumberBounds{min, max, true, true}; }
 
 std::string DescribeBounds(const NumberBounds& b) {
   const bool has_min = std::isfinite(b.min);
@@ -156,8 +154,8 @@ absl::StatusOr<std::vector<double>> ParseNumberList(absl::string_view flag, absl
     }
   }
   if (count > 0 && static_cast<int>(values.size()) != count) {
-    return FlagError(flag, absl::StrCat("expected ", count, " comma-separated numbers, got ",
-                                        values.size()));
+    return FlagError(
+        flag, absl::StrCat("expected ", count, " comma-separated numbers, got ", values.size()));
   }
   return values;
 }

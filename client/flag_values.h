@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <limits>
 #include <string>
-#include "absl/strings/string_view.h"
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 
 namespace koma::client {
 
@@ -47,8 +47,7 @@ absl::StatusOr<bool> ParseBool(absl::string_view flag, absl::string_view text);
 
 // Comma-separated numbers, each as ParseNumber; "" gives none. `count` > 0: exactly that many.
 absl::StatusOr<std::vector<double>> ParseNumberList(absl::string_view flag, absl::string_view text,
-                                                    const NumberBounds& bounds = {},
-                                                    int count = 0);
+                                                    const NumberBounds& bounds = {}, int count = 0);
 
 // A frame interval "BEGIN-END" (half-open: END one past the last frame), 0 <= BEGIN < END.
 struct FlagInterval {

@@ -7,11 +7,11 @@
 namespace koma::client {
 
 struct HealthArgs {
-  std::string server;              // host:port
-  std::string service;             // "" = the whole server
+  std::string server;   // host:port
+  std::string service;  // "" = the whole server
   double deadline_seconds = 5.0;
-  bool json = false;               // --json: {"status": "ok", "serving_status": "SERVING", ...}
-  bool quiet = false;              // --quiet: print nothing; the exit code tells
+  bool json = false;   // --json: {"status": "ok", "serving_status": "SERVING", ...}
+  bool quiet = false;  // --quiet: print nothing; the exit code tells
 };
 
 // Prints SERVING / NOT_SERVING / ... to stdout. Exit code 0 when SERVING, 1 otherwise.

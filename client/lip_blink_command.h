@@ -21,40 +21,40 @@
 namespace koma::client {
 
 struct LipBlinkArgs {
-  std::string input;                        // .motion3.json or .csv; "-": standard input
-  std::string output;                       // .motion3.json (needs a motion3 input) or .csv; "-"
-  std::string report;                       // --report: HTML report to write; empty: none
+  std::string input;   // .motion3.json or .csv; "-": standard input
+  std::string output;  // .motion3.json (needs a motion3 input) or .csv; "-"
+  std::string report;  // --report: HTML report to write; empty: none
   // mouth (MouthSettings)
-  std::vector<std::string> mouth_ids;       // --mouth / --mouth-ids; empty: ParamMouthOpenY
-  std::string mode = "random";              // --mode / --mouth-mode random|follow
-  std::optional<int> frames_per_shape;      // --on / --mouth-frames-per-shape
-  std::optional<double> mouth_mid_ratio;    // --mouth-mid-ratio r, 0 < r < 1
-  std::optional<double> mouth_min;          // --mouth-min: the closed level
-  std::optional<double> mouth_max;          // --mouth-max: the open level
-  std::vector<FlagInterval> speech;         // --speech / --mouth-speech BEGIN-END,...
+  std::vector<std::string> mouth_ids;     // --mouth / --mouth-ids; empty: ParamMouthOpenY
+  std::string mode = "random";            // --mode / --mouth-mode random|follow
+  std::optional<int> frames_per_shape;    // --on / --mouth-frames-per-shape
+  std::optional<double> mouth_mid_ratio;  // --mouth-mid-ratio r, 0 < r < 1
+  std::optional<double> mouth_min;        // --mouth-min: the closed level
+  std::optional<double> mouth_max;        // --mouth-max: the open level
+  std::vector<FlagInterval> speech;       // --speech / --mouth-speech BEGIN-END,...
   // eyes (EyeSettings)
-  std::vector<std::string> eye_ids;         // --eyes / --eyes-ids; empty: ParamEyeLOpen, ...R
-  std::optional<double> eyes_mid_ratio;     // --eyes-mid-ratio r, 0 < r < 1
-  std::optional<double> eyes_threshold;     // --eyes-threshold delta, 0 < delta < 0.5
-  std::optional<double> eyes_min;           // --eyes-min
-  std::optional<double> eyes_max;           // --eyes-max
-  bool unlinked_eyes = false;               // --unlinked-eyes (= --eyes-linked false)
-  std::optional<bool> eyes_linked;          // --eyes-linked true|false
+  std::vector<std::string> eye_ids;      // --eyes / --eyes-ids; empty: ParamEyeLOpen, ...R
+  std::optional<double> eyes_mid_ratio;  // --eyes-mid-ratio r, 0 < r < 1
+  std::optional<double> eyes_threshold;  // --eyes-threshold delta, 0 < delta < 0.5
+  std::optional<double> eyes_min;        // --eyes-min
+  std::optional<double> eyes_max;        // --eyes-max
+  bool unlinked_eyes = false;            // --unlinked-eyes (= --eyes-linked false)
+  std::optional<bool> eyes_linked;       // --eyes-linked true|false
   // eyes.auto_blink (AutoBlink)
-  std::optional<double> auto_blink_mean_s;  // --auto-blink / --auto-blink-mean-interval-s
-  std::optional<bool> auto_blink_enabled;   // --auto-blink-enabled; unset: on when any
-                                            // other auto-blink flag is given
+  std::optional<double> auto_blink_mean_s;    // --auto-blink / --auto-blink-mean-interval-s
+  std::optional<bool> auto_blink_enabled;     // --auto-blink-enabled; unset: on when any
+                                              // other auto-blink flag is given
   std::optional<double> auto_blink_spread_s;  // --auto-blink-spread-s
-  std::optional<int> auto_blink_hold;       // --auto-blink-hold 1..3
+  std::optional<int> auto_blink_hold;         // --auto-blink-hold 1..3
   std::vector<FlagInterval> auto_blink_keep;  // --auto-blink-keep BEGIN-END,...
-  std::optional<uint64_t> seed;             // --seed; unset: the server's default
-  double csv_fps = 30.0;                    // --fps of a CSV input
-  std::optional<double> timing_fps;         // --timing-fps: the film grid; unset: server's 24
-  std::string format;                       // --format motion3|csv: of "-" input/output
+  std::optional<uint64_t> seed;               // --seed; unset: the server's default
+  double csv_fps = 30.0;                      // --fps of a CSV input
+  std::optional<double> timing_fps;           // --timing-fps: the film grid; unset: server's 24
+  std::string format;                         // --format motion3|csv: of "-" input/output
   std::string server;
   double deadline_seconds = 60.0;
-  bool json = false;                        // --json
-  bool quiet = false;                       // --quiet
+  bool json = false;   // --json
+  bool quiet = false;  // --quiet
 };
 
 v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSet& curves);

@@ -81,7 +81,8 @@ std::string LipBlinkSummaryText(const LipBlinkArgs& args, const CurveSet& curves
   const Frames frames{response.timing_fps()};
   if (frames.grid_fps > 0) {
     absl::StrAppendFormat(
-        &text, "  on the %.4g fps film grid: holds and frames below are its frames (%.1f ms each)\n",
+        &text,
+        "  on the %.4g fps film grid: holds and frames below are its frames (%.1f ms each)\n",
         frames.grid_fps, 1000.0 / frames.grid_fps);
   }
   for (const v1::MouthTrack& mouth : response.mouths()) text += MouthLine(mouth, frames);

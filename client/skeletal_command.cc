@@ -39,9 +39,9 @@ absl::StatusOr<std::vector<double>> JointWeights(const std::vector<std::string>&
       weights.push_back(*w);
     }
     if (weights.size() != skeleton.joints.size()) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          kFlag, ": ", weights.size(), " weights for ", skeleton.joints.size(),
-          " joints: give one per joint in file order, or NAME=W for some joints"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(kFlag, ": ", weights.size(), " weights for ", skeleton.joints.size(),
+                       " joints: give one per joint in file order, or NAME=W for some joints"));
     }
     return weights;
   }
@@ -86,7 +86,7 @@ absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path) {
 }
 
 absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArgs& args,
-                                                                const SkeletalClip& clip) {
+                                                               const SkeletalClip& clip) {
   v1::RetimeSkeletalRequest request;
   *request.mutable_motion() = ToProto(clip);
   if (args.omissions) request.set_omissions(*args.omissions);
@@ -130,10 +130,11 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
   if (args.timing.empty() && !motion_wanted) {
     return absl::InvalidArgumentError("--return-motion false needs --timing OUT.csv");
   }
-  const int on_stdout = IsStdio(args.output) + IsStdio(args.timing) + args.json;
+  const int on_stdout =
+      IsStdio(args.output) + IsStdio(args.timing) + IsStdio(args.report) + args.json;
   if (on_stdout > 1) {
     return absl::InvalidArgumentError(
-        "only one of -o -, --timing - and --json can use standard output");
+        "only one of -o -, --timing -, --report - and --json can use standard output");
   }
   const FileFormat named = FormatFromName(args.output);
   if (named != FileFormat::kUnknown && named != FileFormat::kBvh) {
@@ -170,7 +171,8 @@ absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& 
 int RunSkeletal(const SkeletalArgs& args) {
   const CommandOutput out("skeletal", args.json, args.quiet, args.server);
   if (absl::Status s = CheckSkeletalFlags(args); !s.ok()) return out.UsageFailure(s);
-  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) return out.Failure(s);
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok())
+    return out.Failure(s);
   absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(args.input);
   if (!clip.ok()) return out.Failure(clip.status());
   absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, *clip);
@@ -189,8 +191,9 @@ int RunSkeletal(const SkeletalArgs& args) {
       return out.Failure(s);
     }
   }
-  out.Success(SkeletalSummaryText(args, *clip, response) + ReportLine(args.report), SkeletalSummaryJson(args, *clip, response),
-              IsStdio(args.output) || IsStdio(args.timing));
+  out.Success(SkeletalSummaryText(args, *clip, response) + ReportLine(args.report),
+              SkeletalSummaryJson(args, *clip, response),
+              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
   return kExitOk;
 }
 

@@ -20,28 +20,28 @@ namespace koma::client {
 // Flags of `koma skeletal`. Field per request field (see docs/usage.md); unset optionals
 // leave the request field unset, so the server's default applies.
 struct SkeletalArgs {
-  std::string input;                 // BVH file to read; "-": standard input
-  std::string output;                // BVH file to write; "-": standard output
-  std::string timing;                // timing sheet CSV to write; empty: none; "-": stdout
-  std::string report;                // --report: HTML report to write; empty: none
-  std::optional<int> omissions;      // --omit / --omissions; unset: server default (4)
-  std::optional<int> holds;          // --hold / --holds; unset: server default (N / 3)
-  std::optional<int> max_hold;       // --max-hold; unset: server default (3)
-  bool keep_length = true;           // --keep-length / --no-keep-length
-  bool hold_first = false;           // --hold-first: holds before omissions
-  std::string order;                 // --order omit-then-hold|hold-then-omit; wins over
-                                     // --hold-first when given
+  std::string input;                       // BVH file to read; "-": standard input
+  std::string output;                      // BVH file to write; "-": standard output
+  std::string timing;                      // timing sheet CSV to write; empty: none; "-": stdout
+  std::string report;                      // --report: HTML report to write; empty: none
+  std::optional<int> omissions;            // --omit / --omissions; unset: server default (4)
+  std::optional<int> holds;                // --hold / --holds; unset: server default (N / 3)
+  std::optional<int> max_hold;             // --max-hold; unset: server default (3)
+  bool keep_length = true;                 // --keep-length / --no-keep-length
+  bool hold_first = false;                 // --hold-first: holds before omissions
+  std::string order;                       // --order omit-then-hold|hold-then-omit; wins over
+                                           // --hold-first when given
   std::vector<std::string> joint_weights;  // --joint-weights: W,... per joint, or NAME=W,...
-  bool root_relative = false;        // --root-relative
-  std::vector<double> camera;        // --camera: 16 numbers, column-major view-projection
-  std::optional<bool> return_motion;  // --return-motion; unset: true (false with --timing-only)
-  bool timing_only = false;          // --timing-only: no motion asked for, only the sheet written
-  std::optional<double> timing_fps;  // --timing-fps: the film grid; unset: server default (24)
+  bool root_relative = false;              // --root-relative
+  std::vector<double> camera;              // --camera: 16 numbers, column-major view-projection
+  std::optional<bool> return_motion;   // --return-motion; unset: true (false with --timing-only)
+  bool timing_only = false;            // --timing-only: no motion asked for, only the sheet written
+  std::optional<double> timing_fps;    // --timing-fps: the film grid; unset: server default (24)
   bool output_at_timing_rate = false;  // --output-rate timing: write the BVH at the grid rate
-  std::string server;                // host:port
-  double deadline_seconds = 60.0;    // --deadline
-  bool json = false;                 // --json: summary as JSON on stdout
-  bool quiet = false;                // --quiet: no human summary
+  std::string server;                  // host:port
+  double deadline_seconds = 60.0;      // --deadline
+  bool json = false;                   // --json: summary as JSON on stdout
+  bool quiet = false;                  // --quiet: no human summary
 };
 
 // The clip in `path` ("-": standard input). A motion3.json or CSV is refused as such; a
@@ -52,7 +52,7 @@ absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path);
 // when a flag does not fit the clip (--joint-weights: a count other than the joints', an
 // unknown joint name).
 absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArgs& args,
-                                                                const SkeletalClip& clip);
+                                                               const SkeletalClip& clip);
 
 // Before reading or calling: the flags make sense together (-o given unless --timing-only,
 // --timing given with --timing-only, at most one of -o, --timing and --json on standard

@@ -9,8 +9,7 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
   cmd->add_option("input", args.input, "BVH file to retime; - reads standard input")
       ->required()
       ->type_name("IN.bvh");
-  cmd->add_option("-o,--output", args.output,
-                  "retimed BVH file to write; - writes standard output")
+  cmd->add_option("-o,--output", args.output, "retimed BVH file to write; - writes standard output")
       ->type_name("OUT.bvh");
   cmd->add_option("--timing", args.timing,
                   "timing sheet CSV to write (output_frame,source_frame,kind,time_s); - writes "
@@ -22,7 +21,7 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
                   "before/after HTML report to write, one self-contained file (docs/report.md)")
       ->type_name("OUT.html");
   AddWholeNumber(cmd, "--omit,--omissions", &args.omissions, 0, INT32_MAX,
-                 "Nio, inbetween omissions (nakanuki): frames removed where the motion is "
+                 "Nio, inbetween omissions (nakanashi): frames removed where the motion is "
                  "fastest (default min(4, frames - 3))");
   AddWholeNumber(cmd, "--hold,--holds", &args.holds, 0, INT32_MAX,
                  "Nhf, hold steps (koma-dori): frames that repeat their predecessor where the "
@@ -63,6 +62,7 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
          "source (default: the BVH's rate and length) or timing (one frame per grid frame)")
       ->type_name("source|timing")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  AddPresetFlag(cmd);
   AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "60");
   return cmd;
 }

@@ -61,9 +61,7 @@ double OutputFrameTime(const SkeletalArgs& args, const SkeletalClip& clip,
   return clip.frame_time;
 }
 
-std::string OutputName(const std::string& path) {
-  return path == "-" ? "standard output" : path;
-}
+std::string OutputName(const std::string& path) { return path == "-" ? "standard output" : path; }
 
 std::string InputName(const std::string& path) { return path == "-" ? "standard input" : path; }
 
@@ -74,14 +72,13 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
   const std::vector<int> deleted(response.deleted_frames().begin(),
                                  response.deleted_frames().end());
   const std::vector<int> hidden(response.hidden_frames().begin(), response.hidden_frames().end());
-  const std::string written =
-      response.has_motion() && !args.output.empty() && !args.timing_only
-          ? OutputName(args.output)
-          : "(timing only)";
-  std::string text = absl::StrFormat(
-      "%s: %d frames, %zu joints, %.4g fps -> %s (%d frames)\n", InputName(args.input),
-      clip.frame_count, clip.skeleton.joints.size(), 1.0 / clip.frame_time, written,
-      response.source_frames_size());
+  const std::string written = response.has_motion() && !args.output.empty() && !args.timing_only
+                                  ? OutputName(args.output)
+                                  : "(timing only)";
+  std::string text =
+      absl::StrFormat("%s: %d frames, %zu joints, %.4g fps -> %s (%d frames)\n",
+                      InputName(args.input), clip.frame_count, clip.skeleton.joints.size(),
+                      1.0 / clip.frame_time, written, response.source_frames_size());
   absl::StrAppendFormat(&text, "  omitted    %3d inbetweens; source frames gone: %s\n",
                         response.omissions_applied(), Ranges(deleted));
   absl::StrAppendFormat(
@@ -95,11 +92,10 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
                         response.holds_applied(), Ranges(OutputFramesOfKind(response, v1::HELD)));
   absl::StrAppendFormat(&text, "                 source frames hidden by holds: %s\n",
                         Ranges(hidden));
-  absl::StrAppendFormat(&text,
-                        "  longest hold %d frames; requested omissions %d, holds %d, max_hold %d%s\n",
-                        LongestRun(response), response.omissions_requested(),
-                        response.holds_requested(), response.max_hold(),
-                        response.timing_fps() > 0 ? " (grid frames)" : "");
+  absl::StrAppendFormat(
+      &text, "  longest hold %d frames; requested omissions %d, holds %d, max_hold %d%s\n",
+      LongestRun(response), response.omissions_requested(), response.holds_requested(),
+      response.max_hold(), response.timing_fps() > 0 ? " (grid frames)" : "");
   if (response.timing_fps() > 0 && response.source_frames_size() > 0) {
     // What the grid did, in the units a viewer sees.
     std::vector<int> runs = RunLengths(response);
@@ -113,7 +109,8 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
         runs.front() * out_ms, runs.back() * out_ms, runs[runs.size() / 2] * out_ms,
         1000.0 * clip.frame_time);
   }
-  if (!args.timing.empty()) absl::StrAppend(&text, "  timing sheet: ", OutputName(args.timing), "\n");
+  if (!args.timing.empty())
+    absl::StrAppend(&text, "  timing sheet: ", OutputName(args.timing), "\n");
   return text;
 }
 
@@ -141,10 +138,10 @@ nlohmann::json SkeletalSummaryJson(const SkeletalArgs& args, const SkeletalClip&
   j["holds_applied"] = response.holds_applied();
   j["max_hold"] = response.max_hold();
   j["longest_hold"] = LongestRun(response);
-  j["deleted_frames"] = std::vector<int>(response.deleted_frames().begin(),
-                                         response.deleted_frames().end());
-  j["hidden_frames"] = std::vector<int>(response.hidden_frames().begin(),
-                                        response.hidden_frames().end());
+  j["deleted_frames"] =
+      std::vector<int>(response.deleted_frames().begin(), response.deleted_frames().end());
+  j["hidden_frames"] =
+      std::vector<int>(response.hidden_frames().begin(), response.hidden_frames().end());
   j["duplicate_output_frames"] = OutputFramesOfKind(response, v1::DUPLICATE);
   j["held_output_frames"] = OutputFramesOfKind(response, v1::HELD);
   return j;

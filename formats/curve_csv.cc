@@ -20,30 +20,14 @@ namespace {
 
 constexpr std::string_view kFrameHeader = "frame";
 
-// The lines of `text` without their "\n" or "\r\n"; a final line break does not start another
-// line. "" -> no lines.
-std::vector<std::string_view> SplitLines(std::string_view text) {
-  std::vector<std::string_view> lines;
-  while (!text.empty()) {
-    const size_t end = text.find('\n');
-    std::string_view line = text.substr(0, end);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    lines.push_back(line);
-    if (end == std::string_view::npos) break;
-    text.remove_prefix(end + 1);
-  }
-  return lines;
-}
+constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
 
-std::vector<std::string_view> SplitFields(std::string_view line) {
-  std::vector<std::string_view> fields;
-  while (true) {
-    const size_t comma = line.find(',');
-    fields.push_back(line.substr(0, comma));
-    if (comma == std::string_view::npos) return fields;
-    line.remove_prefix(comma + 1);
-  }
-}
+// One CSV record: its fields (unquoted) and the line it starts on (1-based).
+struct Record {
+  size_t line = 0;
+  std::vector<std::string> fields;
+  bool blank = false;  // an empty line: one empty, unquoted field
+};
 
 absl::Status LineError(size_t line, const std::string& message) {
   return absl::InvalidArgumentError(absl::StrCat("line ", line, ": ", message));
@@ -58,32 +42,107 @@ absl::Status FieldError(size_t line, size_t column, const std::string& message,
                  : absl::StrCat(where, " (", QuoteForError(id), "): ", message));
 }
 
-bool HasQuoteOrControl(std::string_view id) {
-  for (const char c : id) {
-    if (c == '"' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return true;
+// RFC 4180 records of `text` split at `separator`: a field is plain text without quotes, or
+// a quoted field "..." in which "" is a quote and separators and line breaks are text. A
+// record ends at LF or CRLF outside quotes; a final line break does not start another record.
+absl::StatusOr<std::vector<Record>> SplitRecords(std::string_view text, char separator) {
+  std::vector<Record> records;
+  size_t line = 1;
+  size_t i = 0;
+  while (i < text.size()) {
+    Record record;
+    record.line = line;
+    size_t column = 1;
+    while (true) {  // one field per pass
+      std::string field;
+      if (i < text.size() && text[i] == '"') {
+        const size_t opened_line = line;
+        ++i;
+        while (true) {
+          if (i >= text.size()) {
+            return FieldError(opened_line, column,
+                              "a quoted field is not closed (a \" is missing)");
+          }
+          const char c = text[i++];
+          if (c == '"') {
+            if (i < text.size() && text[i] == '"') {
+              field += '"';
+              ++i;
+              continue;
+            }
+            break;
+          }
+          if (c == '\n') ++line;
+          field += c;
+        }
+        const bool at_end = i >= text.size() || text[i] == separator || text[i] == '\n' ||
+                            (text[i] == '\r' && i + 1 < text.size() && text[i + 1] == '\n');
+        if (!at_end) {
+          return FieldError(line, column,
+                            "text after the closing quote of a quoted field (write a quote inside "
+                            "as \"\")");
+        }
+      } else {
+        const size_t begin = i;
+        while (i < text.size() && text[i] != separator && text[i] != '\n') ++i;
+        std::string_view plain = text.substr(begin, i - begin);
+        if (i < text.size() && text[i] == '\n' && !plain.empty() && plain.back() == '\r') {
+          plain.remove_suffix(1);
+        }
+        if (plain.find('"') != std::string_view::npos) {
+          return FieldError(line, column,
+                            "a quote inside an unquoted field (quote the whole field and double "
+                            "the quote: \"a\"\"b\")");
+        }
+        field = std::string(plain);
+        if (record.fields.empty() && field.empty() && (i >= text.size() || text[i] == '\n')) {
+          record.blank = true;
+        }
+      }
+      record.fields.push_back(std::move(field));
+      if (i < text.size() && text[i] == separator) {
+        ++i;
+        ++column;
+        continue;
+      }
+      if (i < text.size() && text[i] == '\r') ++i;  // the CR of a CRLF after a quoted field
+      if (i < text.size() && text[i] == '\n') {
+        ++i;
+        ++line;
+      }
+      break;
+    }
+    records.push_back(std::move(record));
   }
-  return false;
+  return records;
 }
 
-absl::StatusOr<std::vector<std::string>> ParseHeader(std::string_view line) {
-  const std::vector<std::string_view> fields = SplitFields(line);
-  if (fields[0] != kFrameHeader) {
-    return FieldError(1, 1, absl::StrCat("expected \"frame\", got ", QuoteForError(fields[0])));
+// The header's separator: ';' when the first field ("frame", quoted or not) is followed by
+// one (spreadsheets in locales whose decimal mark is a comma), else ','.
+char DetectSeparator(std::string_view text) {
+  for (std::string_view header : {"frame;", "\"frame\";"}) {
+    if (text.substr(0, header.size()) == header) return ';';
   }
-  if (fields.size() < 2) return LineError(1, "expected at least one curve id after \"frame\"");
+  return ',';
+}
+
+absl::StatusOr<std::vector<std::string>> ParseHeader(const Record& header) {
+  const std::vector<std::string>& fields = header.fields;
+  if (fields[0] != kFrameHeader) {
+    return FieldError(header.line, 1,
+                      absl::StrCat("expected \"frame\", got ", QuoteForError(fields[0])));
+  }
+  if (fields.size() < 2) {
+    return LineError(header.line, "expected at least one curve id after \"frame\"");
+  }
   std::vector<std::string> ids;
   std::unordered_map<std::string_view, size_t> column_of_id;
   for (size_t column = 2; column <= fields.size(); ++column) {
-    const std::string_view id = fields[column - 1];
-    if (id.empty()) return FieldError(1, column, "empty curve id");
-    if (HasQuoteOrControl(id)) {
-      return FieldError(
-          1, column,
-          absl::StrCat("curve id ", QuoteForError(id), " contains a quote or a control character"));
-    }
+    const std::string& id = fields[column - 1];
+    if (id.empty()) return FieldError(header.line, column, "empty curve id");
     const auto [it, inserted] = column_of_id.emplace(id, column);
     if (!inserted) {
-      return FieldError(1, column,
+      return FieldError(header.line, column,
                         absl::StrCat("duplicate curve id ", QuoteForError(id), " (also column ",
                                      it->second, ")"));
     }
@@ -92,9 +151,11 @@ absl::StatusOr<std::vector<std::string>> ParseHeader(std::string_view line) {
   return ids;
 }
 
-// Row `row` (frame `row`, on line `line`) into the samples of `set`'s curves.
-absl::Status ParseRow(std::string_view text, size_t line, int row, CurveSet& set) {
-  const std::vector<std::string_view> fields = SplitFields(text);
+// Row `row` (frame `row`) into the samples of `set`'s curves. With `decimal_comma` (a ';'
+// file), a value's ',' is its decimal mark.
+absl::Status ParseRow(const Record& record, int row, bool decimal_comma, CurveSet& set) {
+  const std::vector<std::string>& fields = record.fields;
+  const size_t line = record.line;
   const size_t expected = set.curves.size() + 1;
   if (fields.size() != expected) {
     return LineError(
@@ -112,13 +173,36 @@ absl::Status ParseRow(std::string_view text, size_t line, int row, CurveSet& set
                       absl::StrCat("expected frame ", row, ", got ", QuoteForError(frame)));
   }
   for (size_t c = 0; c < set.curves.size(); ++c) {
-    absl::StatusOr<double> number = ParseDouble(fields[c + 1]);
+    std::string text = fields[c + 1];
+    if (decimal_comma && text.find('.') == std::string::npos) {
+      const size_t comma = text.find(',');
+      if (comma != std::string::npos && text.find(',', comma + 1) == std::string::npos) {
+        text[comma] = '.';
+      }
+    }
+    absl::StatusOr<double> number = ParseDouble(text);
     if (!number.ok()) {
       return FieldError(line, c + 2, std::string(number.status().message()), set.curves[c].id);
     }
     set.curves[c].samples.push_back(*number);
   }
   return absl::OkStatus();
+}
+
+// The field as written: quoted (quotes doubled) when it holds a separator (',' or ';'), a
+// quote or a line break, or starts or ends with white space that a reader might trim.
+std::string QuoteField(const std::string& field) {
+  const bool needs_quotes = field.find_first_of(",;\"\r\n") != std::string::npos ||
+                            (!field.empty() && (field.front() == ' ' || field.front() == '\t' ||
+                                                field.back() == ' ' || field.back() == '\t'));
+  if (!needs_quotes) return field;
+  std::string out = "\"";
+  for (const char c : field) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  out += '"';
+  return out;
 }
 
 }  // namespace
@@ -128,17 +212,21 @@ absl::StatusOr<CurveSet> ParseCurveCsv(std::string_view text, double fps) {
     return absl::InvalidArgumentError(
         absl::StrCat("fps: expected a number > 0, got ", FormatDouble(fps)));
   }
-  const std::vector<std::string_view> lines = SplitLines(text);
-  if (lines.empty()) return LineError(1, "missing header \"frame,<id>,...\"");
-  if (lines[0].empty()) return LineError(1, "empty line (expected the header)");
-  KOMA_ASSIGN_OR_RETURN(const std::vector<std::string> ids, ParseHeader(lines[0]));
-  if (lines.size() < 2) return LineError(2, "expected a row for frame 0 after the header");
-  if (lines.size() - 1 > static_cast<size_t>(INT_MAX)) {
-    return absl::OutOfRangeError(absl::StrCat(lines.size() - 1, " rows"));
+  if (text.substr(0, kUtf8Bom.size()) == kUtf8Bom) text.remove_prefix(kUtf8Bom.size());
+  const char separator = DetectSeparator(text);
+  KOMA_ASSIGN_OR_RETURN(const std::vector<Record> records, SplitRecords(text, separator));
+  if (records.empty()) return LineError(1, "missing header \"frame,<id>,...\"");
+  if (records[0].blank) return LineError(1, "empty line (expected the header)");
+  KOMA_ASSIGN_OR_RETURN(const std::vector<std::string> ids, ParseHeader(records[0]));
+  if (records.size() < 2) {
+    return LineError(records[0].line + 1, "expected a row for frame 0 after the header");
+  }
+  if (records.size() - 1 > static_cast<size_t>(INT_MAX)) {
+    return absl::OutOfRangeError(absl::StrCat(records.size() - 1, " rows"));
   }
   CurveSet set;
   set.fps = fps;
-  set.frame_count = static_cast<int>(lines.size() - 1);
+  set.frame_count = static_cast<int>(records.size() - 1);
   for (const std::string& id : ids) {
     Curve curve;
     curve.id = id;
@@ -146,9 +234,9 @@ absl::StatusOr<CurveSet> ParseCurveCsv(std::string_view text, double fps) {
     set.curves.push_back(std::move(curve));
   }
   for (int row = 0; row < set.frame_count; ++row) {
-    const size_t line = static_cast<size_t>(row) + 2;  // 1-based, after the header
-    if (lines[line - 1].empty()) return LineError(line, "empty line");
-    KOMA_RETURN_IF_ERROR(ParseRow(lines[line - 1], line, row, set));
+    const Record& record = records[static_cast<size_t>(row) + 1];
+    if (record.blank) return LineError(record.line, "empty line");
+    KOMA_RETURN_IF_ERROR(ParseRow(record, row, separator == ';', set));
   }
   return set;
 }
@@ -157,7 +245,7 @@ std::string WriteCurveCsv(const std::vector<std::string>& ids,
                           const std::vector<std::vector<double>>& values_per_curve) {
   assert(ids.size() == values_per_curve.size());
   std::string out(kFrameHeader);
-  for (const std::string& id : ids) absl::StrAppend(&out, ",", id);
+  for (const std::string& id : ids) absl::StrAppend(&out, ",", QuoteField(id));
   out += '\n';
   const size_t frames = values_per_curve.empty() ? 0 : values_per_curve[0].size();
   for (size_t frame = 0; frame < frames; ++frame) {

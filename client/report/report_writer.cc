@@ -1,12 +1,10 @@
 #include "client/report/report_writer.h"
 
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
 #include <string>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_replace.h"
+#include "client/files.h"
 #include "client/report/templates.h"
 #include "koma/version.h"
 
@@ -30,7 +28,8 @@ nlohmann::json Header(std::string_view rpc, std::string_view input_name,
                       const nlohmann::json& options, const nlohmann::json& counts) {
   nlohmann::json header;
   header["rpc"] = rpc;
-  header["input"] = input_name;
+  // "-" is how the CLI names standard input.
+  header["input"] = input_name == "-" ? std::string_view("standard input") : input_name;
   header["options"] = options;
   header["counts"] = counts;
   header["version"] = kVersion;
@@ -53,19 +52,10 @@ std::string RenderReport(const ReportWriter& writer) {
 }
 
 absl::Status WriteReport(const std::string& path, const ReportWriter& writer) {
-  const std::string page = RenderReport(writer);
-  const std::string temporary = path + ".tmp";
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (file == nullptr) {
-    return absl::PermissionDeniedError(
-        absl::StrCat("--report ", path, ": cannot write: ", std::strerror(errno)));
-  }
-  const bool written = std::fwrite(page.data(), 1, page.size(), file) == page.size();
-  const bool closed = std::fclose(file) == 0;
-  if (!written || !closed || std::rename(temporary.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    std::remove(temporary.c_str());
-    return absl::InternalError(absl::StrCat("--report ", path, ": cannot write: ", reason));
+  // The CLI's own writer: "-" is standard output, links are followed, a device or pipe is
+  // written straight, a file through "<path>.tmp" and a rename.
+  if (absl::Status s = WriteFile(path, RenderReport(writer)); !s.ok()) {
+    return absl::Status(s.code(), absl::StrCat("--report: ", s.message()));
   }
   return absl::OkStatus();
 }

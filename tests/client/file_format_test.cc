@@ -37,8 +37,9 @@ TEST(FileFormatTest, NamesTheWrongFormat) {
                        Eq("standard input is a motion3.json file, not BVH: `koma skeletal` reads "
                           "BVH motion capture; retime curves with `koma curves` or `koma "
                           "lipblink`")));
-  EXPECT_THAT(CheckInputFormat("x.csv", "frame,a\n0,1\n", "skeletal"),
-              StatusIs(absl::StatusCode::kInvalidArgument, ::testing::StartsWith("x.csv is a CSV file")));
+  EXPECT_THAT(
+      CheckInputFormat("x.csv", "frame,a\n0,1\n", "skeletal"),
+      StatusIs(absl::StatusCode::kInvalidArgument, ::testing::StartsWith("x.csv is a CSV file")));
   EXPECT_THAT(CheckInputFormat("x.bvh", "HIERARCHY", "skeletal"), IsOk());
   EXPECT_THAT(CheckInputFormat("x.json", "{}", "lipblink"), IsOk());
   EXPECT_THAT(CheckInputFormat("x", "garbage", "curves"), IsOk());  // the parser names it

@@ -3,11 +3,10 @@
 #include "client/files.h"
 
 #include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -134,14 +133,17 @@ TEST_F(FilesTest, WritesIntoANamedPipe) {
 }
 
 TEST_F(FilesTest, ErrorsNameThePath) {
-  EXPECT_THAT(WriteFile(Path("missing/x.bvh"), "x"),
-              koma::testing::StatusIs(absl::StatusCode::kNotFound,
-                                      ::testing::StartsWith("cannot write " + Path("missing/x.bvh"))));
-  EXPECT_THAT(CheckWritable({Path("missing/x.bvh")}),
-              koma::testing::StatusIs(absl::StatusCode::kNotFound,
-                                      ::testing::StartsWith("cannot write " + Path("missing/x.bvh"))));
-  EXPECT_THAT(CheckWritable({dir_}), koma::testing::StatusIs(absl::StatusCode::kFailedPrecondition,
-                                                             ::testing::HasSubstr("Is a directory")));
+  EXPECT_THAT(
+      WriteFile(Path("missing/x.bvh"), "x"),
+      koma::testing::StatusIs(absl::StatusCode::kNotFound,
+                              ::testing::StartsWith("cannot write " + Path("missing/x.bvh"))));
+  EXPECT_THAT(
+      CheckWritable({Path("missing/x.bvh")}),
+      koma::testing::StatusIs(absl::StatusCode::kNotFound,
+                              ::testing::StartsWith("cannot write " + Path("missing/x.bvh"))));
+  EXPECT_THAT(CheckWritable({dir_}),
+              koma::testing::StatusIs(absl::StatusCode::kFailedPrecondition,
+                                      ::testing::HasSubstr("Is a directory")));
   EXPECT_THAT(ReadFile(Path("none.bvh")),
               koma::testing::StatusIs(absl::StatusCode::kNotFound,
                                       ::testing::Eq("cannot read " + Path("none.bvh") +

@@ -34,9 +34,9 @@ TEST(FlagValuesTest, WholeNumbers) {
   EXPECT_THAT(ParseWholeNumber("--omit", "99999999999999999999999", 0, 10),
               StatusIs(kInvalid, Eq("--omit: 99999999999999999999999 is too large: a whole "
                                     "number from 0 to 10")));
-  EXPECT_THAT(ParseWholeNumber("--on", "2147483648", 1, 2147483647),
-              StatusIs(kInvalid,
-                       Eq("--on: 2147483648 is too large: the largest allowed is 2147483647")));
+  EXPECT_THAT(
+      ParseWholeNumber("--on", "2147483648", 1, 2147483647),
+      StatusIs(kInvalid, Eq("--on: 2147483648 is too large: the largest allowed is 2147483647")));
 }
 
 TEST(FlagValuesTest, SeedsAreNeverWrapped) {

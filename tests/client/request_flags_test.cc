@@ -5,10 +5,9 @@
 // the value given. A field added to the proto without a flag (and not listed in kExcluded)
 // fails WalksEveryField.
 #include <gmock/gmock.h>
-#include <gtest/gtest.h>
-
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/text_format.h>
+#include <gtest/gtest.h>
 
 #include <map>
 #include <set>
@@ -80,8 +79,7 @@ const std::map<std::string, FieldCase>& Cases() {
       {"RetimeSkeletalRequest.joint_weights", {{"Hips=0.5"}, Ones(21, "0.5")}},
       {"RetimeSkeletalRequest.root_relative", {{}, "true"}},
       {"RetimeSkeletalRequest.camera",
-       {{"1,0,0,0,0,2,0,0,0,0,1,0,0,0,-5,1"},
-        "1, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1"}},
+       {{"1,0,0,0,0,2,0,0,0,0,1,0,0,0,-5,1"}, "1, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1"}},
       {"RetimeSkeletalRequest.return_motion", {{"false"}, "false", {"--timing", "t.csv"}}},
       {"RetimeSkeletalRequest.timing_fps", {{"30"}, "30"}},
       {"RetimeSkeletalRequest.output_rate", {{"timing"}, "TIMING_RATE"}},
@@ -97,8 +95,8 @@ const std::map<std::string, FieldCase>& Cases() {
         "segment: 1 frames_per_drawing: 2 tame: 1.5 tsume: 2"}},
       {"RetimeCurvesRequest.timing_fps", {{"12"}, "12"}},
       // LipBlink
-      {"LipBlinkRequest.mouth.ids", {{"ParamMouthOpenY,ParamMouthForm"},
-                                     "\"ParamMouthOpenY\", \"ParamMouthForm\""}},
+      {"LipBlinkRequest.mouth.ids",
+       {{"ParamMouthOpenY,ParamMouthForm"}, "\"ParamMouthOpenY\", \"ParamMouthForm\""}},
       {"LipBlinkRequest.mouth.mode", {{"follow"}, "MOUTH_FOLLOW"}},
       {"LipBlinkRequest.mouth.frames_per_shape", {{"2"}, "2"}},
       {"LipBlinkRequest.mouth.mid_ratio", {{"0.4"}, "0.4"}},
@@ -166,9 +164,9 @@ std::string FlagName(const FieldPath& path) {
 
 std::string ValueText(const Message& message, const FieldDescriptor* field, int index) {
   if (field->type() == FieldDescriptor::TYPE_MESSAGE) {
-    const Message& sub = index < 0 ? message.GetReflection()->GetMessage(message, field)
-                                   : message.GetReflection()->GetRepeatedMessage(message, field,
-                                                                                 index);
+    const Message& sub = index < 0
+                             ? message.GetReflection()->GetMessage(message, field)
+                             : message.GetReflection()->GetRepeatedMessage(message, field, index);
     return sub.ShortDebugString();
   }
   std::string text;
@@ -289,11 +287,12 @@ TEST(RequestFlagsTest, AliasesSetTheSameFields) {
     std::vector<std::string> long_form;
   };
   const std::vector<Alias> aliases = {
-      {"RetimeSkeletalRequest", {"--omit", "5", "--hold", "7", "--hold-first", "--no-keep-length"},
+      {"RetimeSkeletalRequest",
+       {"--omit", "5", "--hold", "7", "--hold-first", "--no-keep-length"},
        {"--omissions", "5", "--holds", "7", "--order", "hold-then-omit", "--keep-length=false"}},
-      {"RetimeCurvesRequest", {"--on", "2", "--keys", "0,10", "--curve-on", "ParamArmRA=1"},
-       {"--frames-per-drawing", "2", "--key-frames", "0,10", "--curve-overrides",
-        "ParamArmRA=1"}},
+      {"RetimeCurvesRequest",
+       {"--on", "2", "--keys", "0,10", "--curve-on", "ParamArmRA=1"},
+       {"--frames-per-drawing", "2", "--key-frames", "0,10", "--curve-overrides", "ParamArmRA=1"}},
       {"LipBlinkRequest",
        {"--mouth", "ParamMouthOpenY", "--eyes", "ParamEyeLOpen", "--mode", "follow", "--on", "2",
         "--unlinked-eyes", "--auto-blink", "3", "--speech", "1-5"},
@@ -318,19 +317,20 @@ TEST(RequestFlagsTest, AliasesSetTheSameFields) {
 TEST(RequestFlagsTest, JointWeightsByPositionAndErrors) {
   std::vector<std::string> weights(21, "1");
   weights[3] = "0.25";
-  absl::StatusOr<std::unique_ptr<Message>> r =
-      BuildFromCommandLine("RetimeSkeletalRequest",
-                           {"--joint-weights", absl::StrJoin(weights, ","), "-o", "out"});
+  absl::StatusOr<std::unique_ptr<Message>> r = BuildFromCommandLine(
+      "RetimeSkeletalRequest", {"--joint-weights", absl::StrJoin(weights, ","), "-o", "out"});
   ASSERT_THAT(r, koma::testing::IsOk());
   const auto& request = static_cast<const v1::RetimeSkeletalRequest&>(**r);
   ASSERT_EQ(request.joint_weights_size(), 21);
   EXPECT_EQ(request.joint_weights(3), 0.25);
-  EXPECT_THAT(BuildFromCommandLine("RetimeSkeletalRequest", {"--joint-weights", "1,2", "-o", "o"}),
-              koma::testing::StatusIs(absl::StatusCode::kInvalidArgument,
-                                      ::testing::HasSubstr("--joint-weights: 2 weights for 21 joints")));
-  EXPECT_THAT(BuildFromCommandLine("RetimeSkeletalRequest", {"--joint-weights", "Hip=2", "-o", "o"}),
-              koma::testing::StatusIs(absl::StatusCode::kInvalidArgument,
-                                      ::testing::HasSubstr("no joint \"Hip\"; did you mean \"Hips\"?")));
+  EXPECT_THAT(
+      BuildFromCommandLine("RetimeSkeletalRequest", {"--joint-weights", "1,2", "-o", "o"}),
+      koma::testing::StatusIs(absl::StatusCode::kInvalidArgument,
+                              ::testing::HasSubstr("--joint-weights: 2 weights for 21 joints")));
+  EXPECT_THAT(
+      BuildFromCommandLine("RetimeSkeletalRequest", {"--joint-weights", "Hip=2", "-o", "o"}),
+      koma::testing::StatusIs(absl::StatusCode::kInvalidArgument,
+                              ::testing::HasSubstr("no joint \"Hip\"; did you mean \"Hips\"?")));
 }
 
 }  // namespace
