@@ -99,7 +99,8 @@ void CommandOutput::Success(const std::string& text, nlohmann::json summary,
 }
 
 std::string ReportLine(const std::string& report_path) {
-  return report_path.empty() ? std::string() : "  report: " + report_path + "\n";
+  if (report_path.empty()) return std::string();
+  return "  report: " + (report_path == "-" ? std::string("standard output") : report_path) + "\n";
 }
 
 }  // namespace koma::client

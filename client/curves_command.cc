@@ -105,9 +105,9 @@ absl::Status CheckCurvesFlags(const CurvesArgs& args) {
         "-o/--output OUT.motion3.json or OUT.csv is required (or --timing-only with --timing "
         "OUT.csv)");
   }
-  if (IsStdio(args.output) + IsStdio(args.timing) + args.json > 1) {
+  if (IsStdio(args.output) + IsStdio(args.timing) + IsStdio(args.report) + args.json > 1) {
     return absl::InvalidArgumentError(
-        "only one of -o -, --timing - and --json can use standard output");
+        "only one of -o -, --timing -, --report - and --json can use standard output");
   }
   return absl::OkStatus();
 }
@@ -152,7 +152,8 @@ int RunCurves(const CurvesArgs& args) {
   }
   absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args, input->curves);
   if (!request.ok()) return out.UsageFailure(request.status());
-  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) return out.Failure(s);
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok())
+    return out.Failure(s);
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return out.UsageFailure(stub.status());
@@ -171,7 +172,7 @@ int RunCurves(const CurvesArgs& args) {
   }
   out.Success(CurvesSummaryText(args, input->curves, response) + ReportLine(args.report),
               CurvesSummaryJson(args, input->curves, response),
-              IsStdio(args.output) || IsStdio(args.timing));
+              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
   return kExitOk;
 }
 

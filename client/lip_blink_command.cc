@@ -70,8 +70,9 @@ absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args) {
   if (args.output.empty()) {
     return absl::InvalidArgumentError("-o/--output OUT.motion3.json or OUT.csv is required");
   }
-  if (IsStdio(args.output) && args.json) {
-    return absl::InvalidArgumentError("only one of -o - and --json can use standard output");
+  if (IsStdio(args.output) + IsStdio(args.report) + args.json > 1) {
+    return absl::InvalidArgumentError(
+        "only one of -o -, --report - and --json can use standard output");
   }
   return absl::OkStatus();
 }
@@ -123,7 +124,8 @@ int RunLipBlink(const LipBlinkArgs& args) {
     }
   }
   out.Success(LipBlinkSummaryText(args, input->curves, response) + ReportLine(args.report),
-              LipBlinkSummaryJson(args, input->curves, response), IsStdio(args.output));
+              LipBlinkSummaryJson(args, input->curves, response),
+              IsStdio(args.output) || IsStdio(args.report));
   return kExitOk;
 }
 

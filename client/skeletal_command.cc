@@ -130,10 +130,11 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
   if (args.timing.empty() && !motion_wanted) {
     return absl::InvalidArgumentError("--return-motion false needs --timing OUT.csv");
   }
-  const int on_stdout = IsStdio(args.output) + IsStdio(args.timing) + args.json;
+  const int on_stdout =
+      IsStdio(args.output) + IsStdio(args.timing) + IsStdio(args.report) + args.json;
   if (on_stdout > 1) {
     return absl::InvalidArgumentError(
-        "only one of -o -, --timing - and --json can use standard output");
+        "only one of -o -, --timing -, --report - and --json can use standard output");
   }
   const FileFormat named = FormatFromName(args.output);
   if (named != FileFormat::kUnknown && named != FileFormat::kBvh) {
@@ -192,7 +193,7 @@ int RunSkeletal(const SkeletalArgs& args) {
   }
   out.Success(SkeletalSummaryText(args, *clip, response) + ReportLine(args.report),
               SkeletalSummaryJson(args, *clip, response),
-              IsStdio(args.output) || IsStdio(args.timing));
+              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
   return kExitOk;
 }
 

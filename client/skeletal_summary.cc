@@ -123,6 +123,7 @@ nlohmann::json SkeletalSummaryJson(const SkeletalArgs& args, const SkeletalClip&
     j["outputs"]["motion"] = args.output;
   }
   if (!args.timing.empty()) j["outputs"]["timing"] = args.timing;
+  if (!args.report.empty()) j["outputs"]["report"] = args.report;
   j["input_frames"] = clip.frame_count;
   j["joints"] = clip.skeleton.joints.size();
   j["input_fps"] = 1.0 / clip.frame_time;

@@ -7,6 +7,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_replace.h"
+#include "client/files.h"
 #include "client/report/templates.h"
 #include "koma/version.h"
 
@@ -53,20 +54,10 @@ std::string RenderReport(const ReportWriter& writer) {
 }
 
 absl::Status WriteReport(const std::string& path, const ReportWriter& writer) {
-  const std::string page = RenderReport(writer);
-  const std::string temporary = path + ".tmp";
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (file == nullptr) {
-    return absl::PermissionDeniedError(
-        absl::StrCat("--report ", path, ": cannot write: ", std::strerror(errno)));
-  }
-  const bool written = std::fwrite(page.data(), 1, page.size(), file) == page.size();
-  const bool closed = std::fclose(file) == 0;
-  if (!written || !closed || std::rename(temporary.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    std::remove(temporary.c_str());
-    return absl::InternalError(absl::StrCat("--report ", path, ": cannot write: ", reason));
-  }
+  // client/files.h: whole or not at all, through symbolic links (the link stays), into
+  // devices and pipes, "-" for standard output.
+  absl::Status s = WriteFile(path, RenderReport(writer));
+  if (!s.ok()) return absl::Status(s.code(), absl::StrCat("--report: ", s.message()));
   return absl::OkStatus();
 }
 

@@ -35,8 +35,9 @@ nlohmann::json Header(std::string_view rpc, std::string_view input_name,
 // The HTML page of a writer.
 std::string RenderReport(const ReportWriter& writer);
 
-// Writes RenderReport(writer) to `path` (through "<path>.tmp" and a rename, so a failed run
-// leaves no half page). Errors name the path.
+// Writes RenderReport(writer) to `path` with client/files.h's WriteFile: whole or not at all,
+// through symbolic links (the link stays), into devices and pipes, "-" for standard output.
+// Errors start with "--report: " and name the path.
 absl::Status WriteReport(const std::string& path, const ReportWriter& writer);
 
 }  // namespace koma::client::report

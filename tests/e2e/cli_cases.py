@@ -117,9 +117,13 @@ MISUSE = [
     (["skeletal", BVH, "--timing-only"], 2,
      "koma skeletal: --timing-only needs --timing OUT.csv (the sheet it writes)"),
     (["skeletal", BVH, "-o", "-", "--timing", "-"], 2,
-     "koma skeletal: only one of -o -, --timing - and --json can use standard output"),
+     "koma skeletal: only one of -o -, --timing -, --report - and --json can use standard output"),
     (["skeletal", BVH, "-o", "-", "--json"], 2,
-     "koma skeletal: only one of -o -, --timing - and --json can use standard output"),
+     "koma skeletal: only one of -o -, --timing -, --report - and --json can use standard output"),
+    (["lipblink", TALK, "-o", "{W}/o.json", "--report", "-", "--json"], 2,
+     "koma lipblink: only one of -o -, --report - and --json can use standard output"),
+    (["curves", ARM, "-o", "{W}/o.json", "--report", "{W}/missing/r.html"], 1,
+     "koma: cannot write {W}/missing/r.html: No such file or directory"),
     (["skeletal", BVH, "-o", "{W}/o.json"], 2,
      "koma skeletal: -o {W}/o.json: koma skeletal writes BVH (-o OUT.bvh)"),
     (["curves", ARM, "-o", "{W}/o.bvh", "--server", "{T}"], 2,
@@ -386,6 +390,20 @@ os.symlink("real.bvh", w("link.bvh"))
 code, _, _ = run(["skeletal", BVH, "-o", w("link.bvh"), "--server", target, "-q"])
 check(code == 0 and os.path.islink(w("link.bvh")), "the link was replaced")
 check(open(w("real.bvh"), "rb").read() == open(w("file.bvh"), "rb").read(), "link target")
+# The report too: through a link (kept), and to standard output with "-".
+open(w("real.html"), "w").write("old")
+os.symlink("real.html", w("report.html"))
+code, _, err = run(["skeletal", BVH, "-o", w("r.bvh"), "--report", w("report.html"), "--server",
+                    target, "-q"])
+check(code == 0 and os.path.islink(w("report.html")), f"--report through a link: {err}")
+page = open(w("real.html"), "rb").read()
+check(page.startswith(b"<!DOCTYPE html>") or page.lower().startswith(b"<!doctype html>"), page[:40])
+code, out, err = run(["curves", ARM, "-o", w("r.json"), "--report", "-", "--server", target])
+check(code == 0 and out.lower().startswith(b"<!doctype html>") and "report: standard output" in err,
+      f"--report -: {code} {out[:40]!r} {err}")
+r, _ = summary(["lipblink", TALK, "-o", w("r.csv"), "--report", w("r.html")])
+check(r["outputs"] == {"curves": w("r.csv"), "report": w("r.html")}, r["outputs"])
+
 # /dev/stdout (a link to /proc/self/fd/1) is written into, never replaced.
 code, out, _ = run(["skeletal", BVH, "-o", "/dev/stdout", "--server", target, "-q"])
 check(code == 0 and out == open(w("file.bvh"), "rb").read(), "-o /dev/stdout")
