@@ -12,6 +12,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "client/batch/batch_command.h"
 #include "client/cli_options.h"
 #include "client/command_flags.h"
 #include "client/command_output.h"
@@ -277,7 +278,8 @@ int ExpandPreset(const std::string& command, size_t command_index, std::vector<s
 }  // namespace
 
 const std::vector<std::string>& CommandNames() {
-  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health"};
+  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health",
+                                              "batch"};
   return names;
 }
 
@@ -293,6 +295,8 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
   AddCurvesCommand(app, out->curves);
   AddLipBlinkCommand(app, out->lip_blink);
   AddHealthCommand(app, out->health);
+  // `koma batch` runs (and exits the process) from its parse callback: batch/batch_command.h.
+  batch::AddBatch(app);
 
   // $KOMA_CONFIG: as --config, unless the line has one.
   std::vector<std::string> line = args;

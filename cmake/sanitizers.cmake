@@ -29,7 +29,4 @@ endif()
 if(koma_instrument)
   add_compile_options(${koma_instrument})
   add_link_options(${koma_instrument})
-  # Sanitizer builds mark themselves for the few places that must differ: ifunc resolvers
-  # (target_clones) run before the sanitizer runtime is up (core/target_clones.h).
-  add_compile_definitions(KOMA_INSTRUMENTED=1)
 endif()

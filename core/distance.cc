@@ -11,6 +11,7 @@
 #include "core/huge_page_vector.h"
 #include "core/magnitude_scan.h"
 #include "core/status_macros.h"
+#include "core/target_clones.h"
 
 namespace koma {
 namespace {
@@ -146,9 +147,9 @@ constexpr int kBlockFrames = 32;
 // L1, which the table occupies): without that the copy waited on memory and the pass ran at
 // ~110 ms on the 1M-frame clip instead of ~65 ms (~90 ms before the table).
 // Built for plain x86-64 and for AVX2, picked at load time by the CPU.
-__attribute__((target_clones("avx2", "default"))) int AdjacentDistancesInBlocks(
-    const double* points, const double* weights, int frame_count, int joint_count, double* ssd,
-    double* skip, double* skip2) {
+KOMA_TARGET_CLONES("avx2", "default")
+int AdjacentDistancesInBlocks(const double* points, const double* weights, int frame_count,
+                              int joint_count, double* ssd, double* skip, double* skip2) {
   constexpr int kColumns = kBlockFrames + 3;  // frames first - 1 .. first + kBlockFrames + 1
   const size_t coordinates = static_cast<size_t>(joint_count) * 3;
   std::vector<double> table(coordinates * kColumns);
@@ -202,11 +203,9 @@ __attribute__((target_clones("avx2", "default"))) int AdjacentDistancesInBlocks(
 // operator() is one chain of dependent additions, ~36 ns for 31 joints here; four independent
 // chains share that time. Each lane reads its frames straight from `points`, four strided
 // streams, which is only fast while the clip is in the caches (see InputSsdOfSmallClip).
-__attribute__((target_clones("avx2", "default"))) int AdjacentSsdInLanes(const double* points,
-                                                                        const double* weights,
-                                                                        int frame_count,
-                                                                        int joint_count,
-                                                                        double* ssd) {
+KOMA_TARGET_CLONES("avx2", "default")
+int AdjacentSsdInLanes(const double* points, const double* weights, int frame_count,
+                       int joint_count, double* ssd) {
   const size_t coordinates = static_cast<size_t>(joint_count) * 3;
   int k = 1;
   for (; k + 3 < frame_count; k += 4) {

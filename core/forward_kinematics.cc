@@ -8,6 +8,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
+#include "core/target_clones.h"
 #include "core/trig_degrees.h"
 
 namespace koma {
@@ -205,9 +206,9 @@ KOMA_FK_INLINE void UntransposeRows(const double* lanes, size_t length, int fram
 // checked there), four frames at a time. Built for plain x86-64 and for AVX2, picked at load
 // time; the same IEEE operations either way (tests/core/forward_kinematics_test pins the bits
 // against a one-frame-at-a-time reference).
-__attribute__((target_clones("avx2", "default"))) void FillWorldPositions(
-    const std::vector<Joint>& joints, const double* values, int frame_count, int channel_count,
-    double* positions) {
+KOMA_TARGET_CLONES("avx2", "default")
+void FillWorldPositions(const std::vector<Joint>& joints, const double* values, int frame_count,
+                        int channel_count, double* positions) {
   const size_t joint_count = joints.size();
   std::vector<JointPlan> plans(joint_count);
   for (size_t j = 0; j < joint_count; ++j) {

@@ -3,6 +3,8 @@
 #include <cstddef>
 #include <cstring>
 
+#include "core/target_clones.h"
+
 namespace koma {
 namespace {
 
@@ -20,8 +22,8 @@ inline int64_t MagnitudeBits(double value) {
 // time; integer operations only, so every build gives the same answer. kAccumulators
 // independent maxima (four AVX2 registers) keep the compare-and-select chains short: with
 // one, each step waits for the previous one (measured ~4x slower on 12k values).
-__attribute__((target_clones("avx2", "default"))) uint64_t LargestMagnitudeBits(
-    absl::Span<const double> values) {
+KOMA_TARGET_CLONES("avx2", "default")
+uint64_t LargestMagnitudeBits(absl::Span<const double> values) {
   constexpr size_t kAccumulators = 16;
   int64_t largest[kAccumulators] = {};
   const double* data = values.data();

@@ -6,13 +6,13 @@
 #include <cstdio>
 #include <cstdlib>
 
-#define KOMA_FUZZ_CHECK(condition, what)                                                \
-  do {                                                                                  \
-    if (!(condition)) {                                                                 \
-      std::fprintf(stderr, "%s:%d: fuzz check failed: %s (%s)\n", __FILE__, __LINE__, \
-                   #condition, what);                                                   \
-      std::abort();                                                                     \
-    }                                                                                   \
+#define KOMA_FUZZ_CHECK(condition, what)                                                          \
+  do {                                                                                            \
+    if (!(condition)) {                                                                           \
+      std::fprintf(stderr, "%s:%d: fuzz check failed: %s (%s)\n", __FILE__, __LINE__, #condition, \
+                   what);                                                                         \
+      std::abort();                                                                               \
+    }                                                                                             \
   } while (0)
 
 #endif  // KOMA_FUZZ_FUZZ_CHECK_H_

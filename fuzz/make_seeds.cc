@@ -49,7 +49,8 @@ std::vector<fs::path> FilesEndingIn(const std::vector<fs::path>& dirs, const std
   for (const fs::path& dir : dirs) {
     for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
       const std::string name = entry.path().filename().string();
-      if (name.size() >= end.size() && name.compare(name.size() - end.size(), end.size(), end) == 0) {
+      if (name.size() >= end.size() &&
+          name.compare(name.size() - end.size(), end.size(), end) == 0) {
         found.push_back(entry.path());
       }
     }
@@ -104,7 +105,8 @@ int main(int argc, char** argv) {
       std::cerr << "make_seeds: " << path << ": " << clip.status() << "\n";
       return 1;
     }
-    WriteFile(out / "bvh" / (stem + "_4_frames.bvh"), koma::formats::WriteBvh(FirstFrames(*clip, 4)));
+    WriteFile(out / "bvh" / (stem + "_4_frames.bvh"),
+              koma::formats::WriteBvh(FirstFrames(*clip, 4)));
 
     koma::v1::RetimeSkeletalRequest request;
     *request.mutable_motion() = koma::client::ToProto(FirstFrames(*clip, 12));

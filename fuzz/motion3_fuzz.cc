@@ -95,8 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                   "Meta.TotalSegmentCount");
   KOMA_FUZZ_CHECK(MetaInt(meta, "TotalPointCount") == counts->total_point_count,
                   "Meta.TotalPointCount");
-  KOMA_FUZZ_CHECK(MetaInt(meta, "UserDataCount") == counts->user_data_count,
-                  "Meta.UserDataCount");
+  KOMA_FUZZ_CHECK(MetaInt(meta, "UserDataCount") == counts->user_data_count, "Meta.UserDataCount");
   KOMA_FUZZ_CHECK(MetaInt(meta, "TotalUserDataSize") == counts->total_user_data_size,
                   "Meta.TotalUserDataSize");
 

@@ -24,8 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   koma::v1::RetimeSkeletalRequest request;
   const absl::Status parsed = koma::server::ParseSkeletalRequest(bytes, &request);
   koma::v1::RetimeSkeletalRequest reference_request;
-  const bool reference_parsed =
-      reference_request.ParseFromArray(input.message.data(), static_cast<int>(input.message.size()));
+  const bool reference_parsed = reference_request.ParseFromArray(
+      input.message.data(), static_cast<int>(input.message.size()));
   KOMA_FUZZ_CHECK(parsed.ok() == reference_parsed, "the sliced parse agrees with protobuf's");
   if (!parsed.ok()) return 0;
   KOMA_FUZZ_CHECK(request.SerializeAsString() == reference_request.SerializeAsString(),

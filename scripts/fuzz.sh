@@ -11,6 +11,7 @@
 # other targets still run, and the script exits 1. Reproduce with
 #   build-asan/fuzz/TARGET_fuzz FILE
 # Prints one line per target: runs, executions per second, coverage (edges) and corpus size.
+# Targets run $KOMA_FUZZ_JOBS at a time (default: one per core), each for SECONDS.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${KOMA_ASAN_BUILD_DIR:-$root/build-asan}
@@ -29,6 +30,7 @@ rm -rf "$seeds"
 "$build/fuzz/koma_fuzz_seeds" "$root/tests/testdata" "$root/samples" "$seeds" >/dev/null
 findings=${KOMA_FUZZ_ARTIFACTS:-$build/fuzz-findings}
 mkdir -p "$findings"
+rm -f "$build"/fuzz-*.rc
 
 dict_of() {
   case "$1" in
@@ -37,34 +39,48 @@ dict_of() {
   esac
 }
 
-failed=()
-for t in "${targets[@]}"; do
-  corpus=$build/fuzz-corpus/$t
+# fuzz_one TARGET: runs it, prints its line, leaves TARGET.rc (0 = no finding).
+fuzz_one() {
+  local t=$1 corpus=$build/fuzz-corpus/$1 log=$build/fuzz-$1.log rc=0
   mkdir -p "$corpus"
-  inputs=("$corpus" "$seeds/$t")
+  local inputs=("$corpus" "$seeds/$t")
   if [ -d "$root/fuzz/regressions/$t" ]; then inputs+=("$root/fuzz/regressions/$t"); fi
-  log=$build/fuzz-$t.log
   # Leak checking stays on (ASan's default): a leak on one input is a finding too.
-  set +e
   # shellcheck disable=SC2046
   "$build/fuzz/${t}_fuzz" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
     -max_len=65536 -print_final_stats=1 $(dict_of "$t") \
-    -artifact_prefix="$findings/$t-" "${inputs[@]}" >"$log" 2>&1
-  rc=$?
-  set -e
+    -artifact_prefix="$findings/$t-" "${inputs[@]}" >"$log" 2>&1 || rc=$?
+  local runs rate last cov corp
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
-  last=$(grep -E '^#[0-9]+' "$log" | tail -1)
+  last=$(grep -E '^#[0-9]+' "$log" | tail -1 || true)
   cov=$(sed -n 's/.* cov: \([0-9]*\).*/\1/p' <<<"$last")
   corp=$(sed -n 's/.* corp: \([0-9]*\/[0-9a-zA-Z]*\).*/\1/p' <<<"$last")
   if [ "$rc" -eq 0 ]; then
     echo "fuzz $t: ok, ${seconds}s, ${runs:-?} runs, ${rate:-?} exec/s, cov ${cov:-?} edges, corpus ${corp:-?}"
   else
-    echo "fuzz $t: FINDING (exit $rc); reproducer(s):" >&2
-    ls "$findings/$t-"* >&2 2>/dev/null || echo "  (none saved; see $log)" >&2
-    grep -E 'ERROR: |SUMMARY: |fuzz check failed|runtime error' "$log" | head -5 >&2 || true
-    failed+=("$t")
+    {
+      echo "fuzz $t: FINDING (exit $rc); reproducer(s):"
+      ls "$findings/$t-"* 2>/dev/null || echo "  (none saved; see $log)"
+      grep -E 'ERROR: |SUMMARY: |fuzz check failed|runtime error' "$log" | head -5 || true
+    } >&2
   fi
+  echo "$rc" >"$build/fuzz-$t.rc"
+}
+
+# $KOMA_FUZZ_JOBS targets at a time (default: one per core).
+jobs=${KOMA_FUZZ_JOBS:-$(nproc)}
+running=0
+for t in "${targets[@]}"; do
+  if [ "$running" -ge "$jobs" ]; then wait -n || true; running=$((running - 1)); fi
+  fuzz_one "$t" &
+  running=$((running + 1))
+done
+wait
+
+failed=()
+for t in "${targets[@]}"; do
+  [ "$(cat "$build/fuzz-$t.rc" 2>/dev/null || echo 1)" = 0 ] || failed+=("$t")
 done
 
 if [ ${#failed[@]} -gt 0 ]; then

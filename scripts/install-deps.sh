@@ -17,13 +17,15 @@ packages=(
 # Python package's tests; blender: the add-on's headless test, whose bundled Python imports
 # Debian's python3-grpcio; chromium, python3-html5lib, python3-pil, fonts-dejavu-core: the
 # --report tests open the reports in headless chromium, validate them as HTML5 and check their
-# screenshots).
+# screenshots; clang, its sanitizer and libFuzzer runtimes and llvm-symbolizer:
+# scripts/test-sanitizers.sh and scripts/fuzz.sh).
 # `install-deps.sh --build-only` skips them (the Dockerfile's build stage).
 if [ "${1:-}" != "--build-only" ]; then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev python3 python3-grpcio python3-protobuf
              python3-yaml python3-pytest openssl blender
              buildah podman runc debootstrap nginx
-             chromium python3-html5lib python3-pil fonts-dejavu-core)
+             chromium python3-html5lib python3-pil fonts-dejavu-core
+             clang libclang-rt-14-dev llvm)
   # python3-jsonschema: the client tests validate `koma ... --json` against
   # docs/summary.schema.json.
   packages+=(python3-jsonschema)

@@ -23,12 +23,28 @@ int64_t CurvesFootprint(const v1::CurveSet& curves, int64_t request_bytes,
   return kFixedBytes + request_bytes + 2 * values * kDouble + frames * kPerFrameBytes;
 }
 
+// File bytes -> memory, upper bounds of the measured ratios (call_footprint.h).
+constexpr int64_t kBvhParseFactor = 3;
+constexpr int64_t kBvhOverheadFactor = 2;
+constexpr int64_t kCurveFileFactor = 12;
+
 }  // namespace
+
+int64_t FileParseFootprint(int64_t file_bytes, bool bvh) {
+  return kFixedBytes + (bvh ? kBvhParseFactor : kCurveFileFactor) * file_bytes;
+}
+
+int64_t FileOverheadFootprint(int64_t file_bytes, bool bvh) {
+  return kFixedBytes + (bvh ? kBvhOverheadFactor : kCurveFileFactor) * file_bytes;
+}
 
 int64_t ReceivedFootprint(int64_t request_bytes) { return kFixedBytes + 2 * request_bytes; }
 
 int64_t ExpectedFootprint(const v1::RetimeSkeletalRequest& request, int64_t /*request_bytes*/,
                           const RequestLimits& limits) {
+  if (request.input_case() == v1::RetimeSkeletalRequest::kBvhText) {
+    return FileParseFootprint(static_cast<int64_t>(request.bvh_text().size()), /*bvh=*/true);
+  }
   // The received bytes are freed once parsed (ParseRequest in retime_service.cc); the
   // skeleton and options are small beside the values.
   const v1::SkeletalMotion& motion = request.motion();
@@ -45,11 +61,19 @@ int64_t ExpectedFootprint(const v1::RetimeSkeletalRequest& request, int64_t /*re
 
 int64_t ExpectedFootprint(const v1::RetimeCurvesRequest& request, int64_t request_bytes,
                           const RequestLimits& limits) {
+  if (request.input_case() != v1::RetimeCurvesRequest::kCurves &&
+      request.input_case() != v1::RetimeCurvesRequest::INPUT_NOT_SET) {
+    return FileParseFootprint(request_bytes, /*bvh=*/false);
+  }
   return CurvesFootprint(request.curves(), request_bytes, limits);
 }
 
 int64_t ExpectedFootprint(const v1::LipBlinkRequest& request, int64_t request_bytes,
                           const RequestLimits& limits) {
+  if (request.input_case() != v1::LipBlinkRequest::kCurves &&
+      request.input_case() != v1::LipBlinkRequest::INPUT_NOT_SET) {
+    return FileParseFootprint(request_bytes, /*bvh=*/false);
+  }
   return CurvesFootprint(request.curves(), request_bytes, limits);
 }
 

@@ -30,6 +30,18 @@ int64_t ExpectedFootprint(const v1::RetimeCurvesRequest& request, int64_t reques
 int64_t ExpectedFootprint(const v1::LipBlinkRequest& request, int64_t request_bytes,
                           const RequestLimits& limits);
 
+// A request carrying a file (bvh_text, motion3_json, csv_text; server/file_requests.h) is sized
+// by its text until it is parsed: the text and what parsing builds (BVH: the numbers, ~1x the
+// text; motion3.json's JSON document and CSV rows: several times the text). Once parsed, the
+// file handler grows the call's reservation to FileOverheadFootprint plus the decoded
+// request's ExpectedFootprint. The factors are measured peaks (docs/python.md, "Memory"):
+// a 28.6 MB BVH peaked 142 MB above the idle server, an 8.1 MB motion3.json (40 curves x 6,000
+// linear keys) 100 MB, a 2 MB CSV 24 MB.
+int64_t FileParseFootprint(int64_t file_bytes, bool bvh);
+// Beside the decoded request's footprint, until the answer is written: the text, the parsed
+// file (the motion3 document is kept to write the answer back) and the retimed file's text.
+int64_t FileOverheadFootprint(int64_t file_bytes, bool bvh);
+
 }  // namespace koma::server
 
 #endif  // KOMA_SERVER_CALL_FOOTPRINT_H_

@@ -10,6 +10,8 @@
 #include "convert/skeletal_convert.h"
 #include "core/status_macros.h"
 #include "formats/bvh.h"
+#include "server/call_footprint.h"
+#include "server/call_reservation.h"
 #include "server/lip_blink_request.h"
 #include "server/response_slice.h"
 
@@ -67,6 +69,27 @@ void Decode(const Request& request, const CurveFile& file, Request* decoded) {
   decoded->clear_csv_fps();
 }
 
+constexpr char kParsedFile[] =
+    "this file request (the parsed file, the decoded request, work, response)";
+
+// Once the file is parsed its call's size is known: the memory budget's reservation grows
+// from the text's estimate to the decoded request's footprint plus the file's own
+// (server/call_footprint.h); RESOURCE_EXHAUSTED naming the budget when that does not fit.
+template <typename Request>
+absl::Status ReserveDecoded(const Request& decoded, size_t file_bytes, bool bvh,
+                            const RequestLimits& limits) {
+  const auto bytes = static_cast<int64_t>(file_bytes);
+  return GrowCallReservation(
+      FileOverheadFootprint(bytes, bvh) + ExpectedFootprint(decoded, bytes, limits), kParsedFile);
+}
+
+// The size of a RetimeCurves or LipBlink request's file.
+template <typename Request>
+size_t CurveFileBytes(const Request& request) {
+  return request.input_case() == Request::kCsvText ? request.csv_text().size()
+                                                   : request.motion3_json().size();
+}
+
 // `message` (one field set) serialised.
 template <typename Message>
 absl::StatusOr<std::string> Serialised(const Message& message) {
@@ -93,10 +116,15 @@ bool CarriesFile(const v1::LipBlinkRequest& request) {
 
 absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
                                       const RequestLimits& limits,
-                                      v1::RetimeSkeletalResponse* response) {
+                                      v1::RetimeSkeletalResponse* response,
+                                      SkeletalAnswer* described) {
   KOMA_RETURN_IF_ERROR(CheckFileSize(request.bvh_text(), "bvh_text", limits));
   absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(request.bvh_text());
   if (!clip.ok()) return InField(clip.status(), "bvh_text");
+  if (described != nullptr) {
+    described->frames = clip->frame_count;
+    described->joints = static_cast<int>(clip->skeleton.joints.size());
+  }
   {
     v1::RetimeSkeletalRequest decoded;
     decoded.CopyFrom(request);
@@ -104,6 +132,7 @@ absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
     // The frames now live in `decoded` only (the writer needs just the skeleton): a file near
     // --max_file_bytes decodes to tens of MB, held once here, not twice.
     std::vector<double>().swap(clip->values);
+    KOMA_RETURN_IF_ERROR(ReserveDecoded(decoded, request.bvh_text().size(), /*bvh=*/true, limits));
     KOMA_RETURN_IF_ERROR(HandleRetimeSkeletal(decoded, limits, response));
   }  // `decoded` freed before the retimed clip and its text are built
   if (!response->has_motion()) return absl::OkStatus();  // return_motion false
@@ -118,7 +147,7 @@ absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
 absl::Status RetimeSkeletalFileAnswer(const v1::RetimeSkeletalRequest& request,
                                       const RequestLimits& limits, SkeletalAnswer* answer) {
   v1::RetimeSkeletalResponse response;
-  KOMA_RETURN_IF_ERROR(HandleRetimeSkeletalFile(request, limits, &response));
+  KOMA_RETURN_IF_ERROR(HandleRetimeSkeletalFile(request, limits, &response, answer));
   const size_t size = response.ByteSizeLong();
   if (size > static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
     return absl::ResourceExhaustedError(absl::StrCat(
@@ -133,7 +162,7 @@ absl::Status DecodeCurvesFile(const v1::RetimeCurvesRequest& request, const Requ
                               v1::RetimeCurvesRequest* decoded, CurveFile* file) {
   KOMA_ASSIGN_OR_RETURN(*file, ParseCurveFile(request, limits));
   Decode(request, *file, decoded);
-  return absl::OkStatus();
+  return ReserveDecoded(*decoded, CurveFileBytes(request), /*bvh=*/false, limits);
 }
 
 absl::StatusOr<std::string> CurvesFileField(const CurveFile& file,
@@ -157,6 +186,7 @@ absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const Reques
   KOMA_ASSIGN_OR_RETURN(const CurveFile file, ParseCurveFile(request, limits));
   v1::LipBlinkRequest decoded;
   Decode(request, file, &decoded);
+  KOMA_RETURN_IF_ERROR(ReserveDecoded(decoded, CurveFileBytes(request), /*bvh=*/false, limits));
   KOMA_RETURN_IF_ERROR(HandleLipBlink(decoded, limits, response));
   // As `koma lipblink` writes its output: the converted curves replace theirs by id.
   const std::vector<Curve>& curves = file.input.curves.curves;

@@ -38,10 +38,12 @@ bool CarriesFile(const v1::RetimeCurvesRequest& request);
 bool CarriesFile(const v1::LipBlinkRequest& request);
 
 // RetimeSkeletal with bvh_text: the answer's bytes are a RetimeSkeletalResponse with the
-// retimed BVH in bvh_text and no motion (none either when return_motion is false).
+// retimed BVH in bvh_text and no motion (none either when return_motion is false). The file's
+// frame and joint counts go to `described` when given (for the call's log line and metrics).
 absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
                                       const RequestLimits& limits,
-                                      v1::RetimeSkeletalResponse* response);
+                                      v1::RetimeSkeletalResponse* response,
+                                      SkeletalAnswer* described = nullptr);
 absl::Status RetimeSkeletalFileAnswer(const v1::RetimeSkeletalRequest& request,
                                       const RequestLimits& limits, SkeletalAnswer* answer);
 

@@ -99,8 +99,9 @@ void MemoryBudget::ExportMetrics(prometheus::Registry& registry) {
                        .Add({});
   refused_counter_ = &prometheus::BuildCounter()
                           .Name("koma_memory_budget_refused_total")
-                          .Help("Calls answered RESOURCE_EXHAUSTED because the memory budget "
-                                "was full or too small for them.")
+                          .Help(
+                              "Calls answered RESOURCE_EXHAUSTED because the memory budget "
+                              "was full or too small for them.")
                           .Register(registry)
                           .Add({});
 }
@@ -124,9 +125,9 @@ absl::Status MemoryBudget::Refusal(int64_t bytes, const char* what) {
   if (refused_counter_ != nullptr) refused_counter_->Increment();
   const std::string& budget = name_;
   if (bytes > capacity_) {
-    return absl::ResourceExhaustedError(absl::StrCat(
-        budget, ": ", what, " needs ", MiB(bytes), ", more than the whole budget; send a smaller "
-        "request or raise --max_memory_mb"));
+    return absl::ResourceExhaustedError(absl::StrCat(budget, ": ", what, " needs ", MiB(bytes),
+                                                     ", more than the whole budget; send a smaller "
+                                                     "request or raise --max_memory_mb"));
   }
   return absl::ResourceExhaustedError(
       absl::StrCat(budget, ": ", what, " needs ", MiB(bytes), ", ", MiB(in_use()), " of ",

@@ -9,14 +9,14 @@
 #ifndef KOMA_SERVER_MEMORY_BUDGET_H_
 #define KOMA_SERVER_MEMORY_BUDGET_H_
 
+#include <prometheus/counter.h>
+#include <prometheus/gauge.h>
+#include <prometheus/registry.h>
+
 #include <atomic>
 #include <cstdint>
 #include <string>
 #include <utility>
-
-#include <prometheus/counter.h>
-#include <prometheus/gauge.h>
-#include <prometheus/registry.h>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"

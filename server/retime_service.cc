@@ -18,7 +18,9 @@
 #include "server/arena_allocator.h"
 #include "server/call_footprint.h"
 #include "server/curves_request.h"
+#include "server/call_reservation.h"
 #include "server/curves_response.h"
+#include "server/file_requests.h"
 #include "server/lip_blink_request.h"
 #include "server/logging.h"
 #include "server/skeletal_parse.h"
@@ -133,6 +135,21 @@ void DescribeRequest(const v1::LipBlinkRequest& request, RpcRecord& record) {
   record.frames = request.curves().frame_count();
   record.curves = request.curves().curves_size();
 }
+// A request that carried a file (server/file_requests.h) is described once it is parsed:
+// from its answer.
+void DescribeAnswer(const SkeletalAnswer& answer, RpcRecord& record) {
+  record.frames = answer.frames;
+  record.joints = answer.joints;
+}
+void DescribeAnswer(const CurvesAnswer& answer, RpcRecord& record) {
+  record.frames = answer.set.frame_count;
+  record.curves = static_cast<int>(answer.set.curves.size());
+}
+void DescribeAnswer(const v1::LipBlinkResponse& answer, RpcRecord& record) {
+  // The converted curves (mouth and eyes) have one value per frame of the file.
+  if (answer.curves_size() > 0) record.frames = answer.curves(0).values_size();
+  record.curves = answer.curves_size();
+}
 
 // Parses the received bytes into `request` and frees them (they are not read again; the
 // buffer belongs to the call, and Clear() leaves it empty, which gRPC's cleanup accepts).
@@ -235,11 +252,17 @@ class ArenaBytesCall {
     if (!parsed.ok()) return ToGrpcStatus(parsed);
     DescribeRequest(*request_, record);
     if (reservation_.budgeted()) {
-      const absl::Status fits = reservation_.Resize(
-          ExpectedFootprint(*request_, bytes_in, limits_), "this call (request, work, response)");
+      const absl::Status fits = reservation_.Resize(ExpectedFootprint(*request_, bytes_in, limits_),
+                                                    "this call (request, work, response)");
       if (!fits.ok()) return ToGrpcStatus(fits);
     }
-    absl::Status handled = handler_(*request_, response_.get());
+    absl::Status handled;
+    {
+      // A file request grows its reservation once its file is parsed (server/file_requests.h).
+      const CallReservationScope scope(&reservation_);
+      handled = handler_(*request_, response_.get());
+    }
+    if (handled.ok() && CarriesFile(*request_)) DescribeAnswer(*response_.get(), record);
     FreeRequest();
     if (handled.ok()) handled = CompleteAnswer(*response_.get());
     return ToGrpcStatus(handled);

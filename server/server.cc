@@ -101,12 +101,13 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
       std::make_unique<IdleTrimmer>(config.idle_trim, config.idle_trim_min_request_bytes);
   server->pool_ = std::make_unique<WorkerPool>(threads, static_cast<size_t>(config.max_queued));
   constexpr int64_t kMiB = 1024 * 1024;
-  const int64_t grpc_share = config.max_memory_mb * kMiB / 4;  // see ServerConfig::max_memory_mb
+  // See ServerConfig::max_memory_mb: a quarter for gRPC, half for calls.
+  const int64_t grpc_share = config.max_memory_mb * kMiB / 4;
+  const int64_t calls_share = config.max_memory_mb * kMiB / 2;
   if (config.max_memory_mb > 0) {
     server->budget_ = std::make_unique<MemoryBudget>(
-        config.max_memory_mb * kMiB - grpc_share,
-        absl::StrCat("memory budget (--max_memory_mb=", config.max_memory_mb, ", ",
-                     (config.max_memory_mb * kMiB - grpc_share) / kMiB, " MiB of it for calls)"));
+        calls_share, absl::StrCat("memory budget (--max_memory_mb=", config.max_memory_mb, ", ",
+                                  calls_share / kMiB, " MiB of it for calls)"));
     if (server->metrics_registry_ != nullptr) {
       server->budget_->ExportMetrics(*server->metrics_registry_);
     }

@@ -39,6 +39,8 @@ absl::StatusOr<SkeletalJob> ValidateSkeletalRequest(const v1::RetimeSkeletalRequ
 // What a RetimeSkeletal call answers: the response's wire bytes (server/skeletal_response.h).
 struct SkeletalAnswer {
   grpc::Slice bytes;
+  int frames = 0;  // of a file request's clip, for the call's log line and metrics
+  int joints = 0;
 };
 
 // Validates, runs forward kinematics (channel form) and RetimeFast, and encodes the response

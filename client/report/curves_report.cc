@@ -36,9 +36,7 @@ nlohmann::json AfterPlot(const v1::RetimedCurve& curve, double fps) {
 
 }  // namespace
 
-std::string CurvesReportWriter::Title() const {
-  return absl::StrCat("koma curves: ", input_name_);
-}
+std::string CurvesReportWriter::Title() const { return absl::StrCat("koma curves: ", input_name_); }
 
 nlohmann::json CurvesReportWriter::Data() const {
   const v1::RetimeCurvesRequest& q = request_;
@@ -59,11 +57,11 @@ nlohmann::json CurvesReportWriter::Data() const {
   for (const v1::CurveOverride& o : q.curve_overrides()) {
     overrides.push_back(absl::StrCat(o.curve_id(), "=", o.frames_per_drawing()));
   }
-  options.push_back({"curve overrides", overrides.empty() ? "none" : absl::StrJoin(overrides, ", ")});
-  options.push_back({"segment overrides", q.segment_overrides_size()});
   options.push_back(
-      {"timing_fps", grid ? absl::StrFormat("%.6g (film grid)", r.timing_fps())
-                          : std::string("0 (counted in source frames)")});
+      {"curve overrides", overrides.empty() ? "none" : absl::StrJoin(overrides, ", ")});
+  options.push_back({"segment overrides", q.segment_overrides_size()});
+  options.push_back({"timing_fps", grid ? absl::StrFormat("%.6g (film grid)", r.timing_fps())
+                                        : std::string("0 (counted in source frames)")});
 
   nlohmann::json counts = nlohmann::json::array();
   counts.push_back({"curves", r.curves_size()});
@@ -72,8 +70,8 @@ nlohmann::json CurvesReportWriter::Data() const {
   if (film) counts.push_back({"grid frames", film->GridFrameCount(frames)});
   counts.push_back({"key poses", r.key_frames_size()});
   for (const v1::DrawingTiming& t : r.timings()) {
-    counts.push_back({absl::StrCat("drawings on ", t.frames_per_drawing(), "s"),
-                      t.drawing_start_size()});
+    counts.push_back(
+        {absl::StrCat("drawings on ", t.frames_per_drawing(), "s"), t.drawing_start_size()});
   }
 
   nlohmann::json data;
@@ -89,7 +87,8 @@ nlohmann::json CurvesReportWriter::Data() const {
   }
   data["grid_first_frame"] = grid_first_frame;
   data["key_frames"] = std::vector<int>(r.key_frames().begin(), r.key_frames().end());
-  data["key_grid_frames"] = std::vector<int>(r.key_grid_frames().begin(), r.key_grid_frames().end());
+  data["key_grid_frames"] =
+      std::vector<int>(r.key_grid_frames().begin(), r.key_grid_frames().end());
   nlohmann::json timings = nlohmann::json::array();
   for (const v1::DrawingTiming& t : r.timings()) {
     timings.push_back(
@@ -105,7 +104,8 @@ nlohmann::json CurvesReportWriter::Data() const {
   for (int i = 0; i < r.curves_size(); ++i) {
     const v1::RetimedCurve& c = r.curves(i);
     nlohmann::json histogram = nlohmann::json::array();
-    for (const v1::HoldCount& h : c.hold_histogram()) histogram.push_back({h.length(), h.drawings()});
+    for (const v1::HoldCount& h : c.hold_histogram())
+      histogram.push_back({h.length(), h.drawings()});
     std::vector<double> before;
     for (int k = 0; k < q.curves().curves_size(); ++k) {
       if (q.curves().curves(k).id() == c.id()) before = SampleInputCurve(q.curves(), k);
@@ -123,6 +123,11 @@ nlohmann::json CurvesReportWriter::Data() const {
 absl::Status WriteCurvesReport(const std::string& path, const v1::RetimeCurvesRequest& request,
                                const v1::RetimeCurvesResponse& response,
                                const std::string& input_name) {
+  if (!request.has_curves()) {
+    // The file forms (motion3_json, csv_text) are not parsed here: the CLI sends the curves.
+    return absl::InvalidArgumentError(
+        absl::StrCat("--report ", path, ": the request has no parsed curves to draw"));
+  }
   return WriteReport(path, CurvesReportWriter(request, response, input_name));
 }
 

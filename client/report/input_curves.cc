@@ -7,10 +7,14 @@ namespace {
 
 SegmentType TypeFromProto(int type) {
   switch (type) {
-    case v1::SEGMENT_BEZIER: return SegmentType::kBezier;
-    case v1::SEGMENT_STEPPED: return SegmentType::kStepped;
-    case v1::SEGMENT_INVERSE_STEPPED: return SegmentType::kInverseStepped;
-    default: return SegmentType::kLinear;
+    case v1::SEGMENT_BEZIER:
+      return SegmentType::kBezier;
+    case v1::SEGMENT_STEPPED:
+      return SegmentType::kStepped;
+    case v1::SEGMENT_INVERSE_STEPPED:
+      return SegmentType::kInverseStepped;
+    default:
+      return SegmentType::kLinear;
   }
 }
 

@@ -14,10 +14,14 @@ namespace {
 
 const char* ShapeName(int shape) {
   switch (shape) {
-    case v1::MOUTH_CLOSED: return "closed";
-    case v1::MOUTH_MID: return "mid";
-    case v1::MOUTH_OPEN: return "open";
-    default: return "unspecified";
+    case v1::MOUTH_CLOSED:
+      return "closed";
+    case v1::MOUTH_MID:
+      return "mid";
+    case v1::MOUTH_OPEN:
+      return "open";
+    default:
+      return "unspecified";
   }
 }
 
@@ -45,16 +49,15 @@ nlohmann::json LipBlinkReportWriter::Data() const {
   options.push_back({"speech", q.mouth().speech_size() > 0 ? "given" : "detected"});
   options.push_back({"linked eyes", !q.eyes().has_linked() || q.eyes().linked()});
   options.push_back(
-      {"auto-blink", q.eyes().auto_blink().enabled()
-                         ? absl::StrFormat("every %.6g s",
-                                           q.eyes().auto_blink().has_mean_interval_s()
-                                               ? q.eyes().auto_blink().mean_interval_s()
-                                               : 4.0)
-                         : std::string("off")});
+      {"auto-blink",
+       q.eyes().auto_blink().enabled()
+           ? absl::StrFormat("every %.6g s", q.eyes().auto_blink().has_mean_interval_s()
+                                                 ? q.eyes().auto_blink().mean_interval_s()
+                                                 : 4.0)
+           : std::string("off")});
   options.push_back({"seed", absl::StrCat(r.seed())});
-  options.push_back(
-      {"timing_fps", grid ? absl::StrFormat("%.6g (film grid)", r.timing_fps())
-                          : std::string("0 (counted in source frames)")});
+  options.push_back({"timing_fps", grid ? absl::StrFormat("%.6g (film grid)", r.timing_fps())
+                                        : std::string("0 (counted in source frames)")});
 
   int holds = 0, blinks = 0;
   nlohmann::json mouths = nlohmann::json::array();
@@ -93,11 +96,16 @@ nlohmann::json LipBlinkReportWriter::Data() const {
     for (int k = 0; k < q.curves().curves_size(); ++k) {
       if (q.curves().curves(k).id() == c.id()) before = SampleInputCurve(q.curves(), k);
     }
+    // The face player needs every frame; the plots, what a screen shows.
+    std::vector<double> every_before, every_after;
+    for (double v : before) every_before.push_back(Round6(v));
+    for (double v : c.values()) every_after.push_back(Round6(v));
     curves.push_back(
         {{"id", c.id()},
          {"before", ThinnedPlot(before, 1.0 / fps)},
-         {"after", ThinnedPlot(absl::MakeConstSpan(c.values().data(), c.values_size()),
-                               1.0 / fps)}});
+         {"after", ThinnedPlot(absl::MakeConstSpan(c.values().data(), c.values_size()), 1.0 / fps)},
+         {"frames_before", every_before},
+         {"frames_after", every_after}});
   }
 
   nlohmann::json counts = nlohmann::json::array();
@@ -106,7 +114,7 @@ nlohmann::json LipBlinkReportWriter::Data() const {
   counts.push_back({"mouth curves", r.mouths_size()});
   counts.push_back({"mouth drawings (holds)", holds});
   counts.push_back({"eye curves", r.eyes_size()});
-  counts.push_back({"blinks", blinks});
+  counts.push_back({"blinks (all eye curves)", blinks});
 
   nlohmann::json data;
   data["header"] = Header("LipBlink", input_name_, options, counts);
@@ -124,6 +132,11 @@ nlohmann::json LipBlinkReportWriter::Data() const {
 absl::Status WriteLipBlinkReport(const std::string& path, const v1::LipBlinkRequest& request,
                                  const v1::LipBlinkResponse& response,
                                  const std::string& input_name) {
+  if (!request.has_curves()) {
+    // The file forms (motion3_json, csv_text) are not parsed here: the CLI sends the curves.
+    return absl::InvalidArgumentError(
+        absl::StrCat("--report ", path, ": the request has no parsed curves to draw"));
+  }
   return WriteReport(path, LipBlinkReportWriter(request, response, input_name));
 }
 

@@ -64,8 +64,8 @@ std::string PackQuantised(absl::Span<const double> values, int per_frame, double
     int64_t& last = previous[i % per_frame];
     const int64_t delta = q - last;
     last = q;
-    uint64_t zigzag = delta >= 0 ? static_cast<uint64_t>(delta) * 2
-                                 : static_cast<uint64_t>(-(delta + 1)) * 2 + 1;
+    uint64_t zigzag =
+        delta >= 0 ? static_cast<uint64_t>(delta) * 2 : static_cast<uint64_t>(-(delta + 1)) * 2 + 1;
     while (zigzag >= 0x80) {
       bytes.push_back(static_cast<char>((zigzag & 0x7f) | 0x80));
       zigzag >>= 7;
@@ -83,7 +83,8 @@ std::string Base64(const std::string& bytes) {
   size_t i = 0;
   for (; i + 2 < bytes.size(); i += 3) {
     const uint32_t v = (static_cast<uint8_t>(bytes[i]) << 16) |
-                       (static_cast<uint8_t>(bytes[i + 1]) << 8) | static_cast<uint8_t>(bytes[i + 2]);
+                       (static_cast<uint8_t>(bytes[i + 1]) << 8) |
+                       static_cast<uint8_t>(bytes[i + 2]);
     out.push_back(kAlphabet[v >> 18]);
     out.push_back(kAlphabet[(v >> 12) & 63]);
     out.push_back(kAlphabet[(v >> 6) & 63]);

@@ -1,8 +1,5 @@
 #include "client/report/report_writer.h"
 
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
 #include <string>
 
 #include "absl/strings/str_cat.h"
@@ -31,7 +28,8 @@ nlohmann::json Header(std::string_view rpc, std::string_view input_name,
                       const nlohmann::json& options, const nlohmann::json& counts) {
   nlohmann::json header;
   header["rpc"] = rpc;
-  header["input"] = input_name;
+  // "-" is how the CLI names standard input.
+  header["input"] = input_name == "-" ? std::string_view("standard input") : input_name;
   header["options"] = options;
   header["counts"] = counts;
   header["version"] = kVersion;
@@ -54,10 +52,11 @@ std::string RenderReport(const ReportWriter& writer) {
 }
 
 absl::Status WriteReport(const std::string& path, const ReportWriter& writer) {
-  // client/files.h: whole or not at all, through symbolic links (the link stays), into
-  // devices and pipes, "-" for standard output.
-  absl::Status s = WriteFile(path, RenderReport(writer));
-  if (!s.ok()) return absl::Status(s.code(), absl::StrCat("--report: ", s.message()));
+  // The CLI's own writer: "-" is standard output, links are followed, a device or pipe is
+  // written straight, a file through "<path>.tmp" and a rename.
+  if (absl::Status s = WriteFile(path, RenderReport(writer)); !s.ok()) {
+    return absl::Status(s.code(), absl::StrCat("--report: ", s.message()));
+  }
   return absl::OkStatus();
 }
 

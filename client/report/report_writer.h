@@ -35,9 +35,9 @@ nlohmann::json Header(std::string_view rpc, std::string_view input_name,
 // The HTML page of a writer.
 std::string RenderReport(const ReportWriter& writer);
 
-// Writes RenderReport(writer) to `path` with client/files.h's WriteFile: whole or not at all,
-// through symbolic links (the link stays), into devices and pipes, "-" for standard output.
-// Errors start with "--report: " and name the path.
+// Writes RenderReport(writer) to `path` with the CLI's WriteFile (client/files.h): "-" is
+// standard output, a link is followed, a file is written whole or not at all. Errors name
+// the path.
 absl::Status WriteReport(const std::string& path, const ReportWriter& writer);
 
 }  // namespace koma::client::report

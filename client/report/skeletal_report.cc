@@ -103,9 +103,12 @@ nlohmann::json Pose(const v1::RetimeSkeletalRequest& request) {
 
 char KindLetter(int kind) {
   switch (kind) {
-    case v1::DUPLICATE: return 'D';
-    case v1::HELD: return 'H';
-    default: return 'O';
+    case v1::DUPLICATE:
+      return 'D';
+    case v1::HELD:
+      return 'H';
+    default:
+      return 'O';
   }
 }
 
@@ -152,12 +155,10 @@ nlohmann::json SkeletalReportWriter::Data() const {
   options.push_back({"root_relative", q.root_relative()});
   options.push_back({"camera", q.camera_size() == 16 ? "given" : "none (front and side views)"});
   options.push_back({"joint_weights", q.joint_weights_size() > 0 ? "given" : "all 1"});
-  options.push_back(
-      {"timing_fps", grid ? absl::StrFormat("%.6g (film grid)", r.timing_fps())
-                          : std::string("0 (counted in source frames)")});
+  options.push_back({"timing_fps", grid ? absl::StrFormat("%.6g (film grid)", r.timing_fps())
+                                        : std::string("0 (counted in source frames)")});
   if (grid) {
-    options.push_back(
-        {"output_rate", q.output_rate() == v1::TIMING_RATE ? "timing" : "source"});
+    options.push_back({"output_rate", q.output_rate() == v1::TIMING_RATE ? "timing" : "source"});
   }
   nlohmann::json counts = nlohmann::json::array();
   counts.push_back({"input frames", q.motion().frame_count()});
@@ -203,10 +204,14 @@ nlohmann::json SkeletalReportWriter::Data() const {
   return data;
 }
 
-absl::Status WriteSkeletalReport(const std::string& path,
-                                 const v1::RetimeSkeletalRequest& request,
+absl::Status WriteSkeletalReport(const std::string& path, const v1::RetimeSkeletalRequest& request,
                                  const v1::RetimeSkeletalResponse& response,
                                  const std::string& input_name) {
+  if (!request.has_motion()) {
+    // The file form (bvh_text) is not parsed here: the CLI always sends the parsed clip.
+    return absl::InvalidArgumentError(
+        absl::StrCat("--report ", path, ": the request has no parsed motion to draw"));
+  }
   return WriteReport(path, SkeletalReportWriter(request, response, input_name));
 }
 

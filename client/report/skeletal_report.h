@@ -31,8 +31,7 @@ class SkeletalReportWriter : public ReportWriter {
 };
 
 // `koma skeletal --report PATH`: writes the report of this call to `path`.
-absl::Status WriteSkeletalReport(const std::string& path,
-                                 const v1::RetimeSkeletalRequest& request,
+absl::Status WriteSkeletalReport(const std::string& path, const v1::RetimeSkeletalRequest& request,
                                  const v1::RetimeSkeletalResponse& response,
                                  const std::string& input_name);
 

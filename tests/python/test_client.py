@@ -228,6 +228,43 @@ def test_tls(tmp_path):
         secure.stop()
 
 
+def test_mutual_tls(tmp_path):
+    pki = {n: str(tmp_path / n) for n in ("ca.key", "ca.pem", "server.key", "server.csr",
+                                          "server.pem", "client.key", "client.csr",
+                                          "client.pem", "ext")}
+    _openssl("req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "2", "-subj",
+             "/CN=koma-test-ca", "-keyout", pki["ca.key"], "-out", pki["ca.pem"])
+    (tmp_path / "ext").write_text("subjectAltName=IP:127.0.0.1,DNS:localhost\n")
+    for who in ("server", "client"):
+        _openssl("req", "-newkey", "rsa:2048", "-nodes", "-subj", f"/CN={who}", "-keyout",
+                 pki[f"{who}.key"], "-out", pki[f"{who}.csr"])
+        _openssl("x509", "-req", "-in", pki[f"{who}.csr"], "-CA", pki["ca.pem"], "-CAkey",
+                 pki["ca.key"], "-CAcreateserial", "-days", "2", "-extfile", pki["ext"],
+                 "-out", pki[f"{who}.pem"])
+    secure = Server(str(tmp_path), f"--tls_cert={pki['server.pem']}",
+                    f"--tls_key={pki['server.key']}", f"--tls_client_ca={pki['ca.pem']}")
+    try:
+        tls = (pki["ca.pem"], pki["client.pem"], pki["client.key"])
+        with koma.Client(secure.address, timeout=30, tls=tls) as c:
+            assert c.retime_skeletal(PITCH).counts["frames"] == 130
+        with koma.Client(secure.address, timeout=5, tls=pki["ca.pem"]) as no_cert:
+            with pytest.raises(koma.KomaError) as caught:
+                no_cert.health()
+            assert caught.value.code == grpc.StatusCode.UNAVAILABLE
+        with pytest.raises(ValueError):
+            koma.Client(secure.address, tls=(pki["ca.pem"], pki["client.pem"], None))
+    finally:
+        secure.stop()
+
+
+def test_python_m_koma_health(server):
+    from conftest import run_python_cli
+    done = run_python_cli("health", "--server", server.address)
+    assert done.returncode == 0 and done.stdout.strip() == "SERVING", done.stderr
+    done = run_python_cli("health", "--server", "127.0.0.1:1", "--deadline", "2")
+    assert done.returncode == 1 and done.stderr.startswith("koma: UNAVAILABLE: "), done.stderr
+
+
 def test_import_path_is_the_built_package():
     # The stubs come from this build's proto/: the file fields exist.
     from koma.v1 import retime_pb2

@@ -59,6 +59,20 @@ CURVES_OPTIONS = [
 ]
 
 
+@pytest.mark.parametrize("path,curve", [
+    (source_path("samples", "arm_head.motion3.json"), "ParamAngleX"),
+    (source_path("tests", "testdata", "curves_crlf.csv"), "ParamEyeLOpen"),
+], ids=["motion3", "csv"])
+def test_curve_overrides_equal_the_cli(server, client, tmp_path, path, curve):
+    expected = tmp_path / ("cli" + _suffix(path))
+    run_cli("curves", path, "-o", str(expected), "--server", server.address, "--on", "3",
+            "--curve-on", f"{curve}=2", "--timing-fps", "0")
+    result = client.retime_curves(path, frames_per_drawing=3, timing_fps=0,
+                                  curve_overrides=[{"curve_id": curve, "frames_per_drawing": 2}])
+    assert result.output_bytes == expected.read_bytes()
+    assert len(result.timings) == 2 and result.curves[curve]["timing"] == 1
+
+
 def _suffix(path):
     return ".csv" if path.endswith(".csv") else ".motion3.json"
 

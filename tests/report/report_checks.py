@@ -3,13 +3,17 @@
   report_checks.py validate REPORT...                 HTML5, html5lib's strict parser
   report_checks.py skeletal REPORT TIMING_CSV SUMMARY [SHOT.png]
   report_checks.py curves REPORT DRAWING_CSV SUMMARY [SHOT.png]
-  report_checks.py lipblink REPORT SUMMARY [SHOT.png]
+  report_checks.py lipblink REPORT SUMMARY [SHOT.png [VALUES_CSV]]
   report_checks.py player REPORT TIMING_CSV
+  report_checks.py bones REPORT BVH
+  report_checks.py camera REPORT
   report_checks.py large REPORT TIMING_CSV MAX_SECONDS MAX_BYTES
+  report_checks.py opens REPORT MAX_SECONDS MAX_BYTES
 
 The oracles are the client's other outputs for the same call: the timing and drawing sheets
 (formats/ writers) and the summary it prints, never the report's own data. Exit 1 with
 "FAIL: ..." on the first difference."""
+import collections
 import csv
 import os
 import re
@@ -82,7 +86,7 @@ def check_screenshot(browser, path, figure_selector=None):
     image = Image.open(path).convert("RGB")
     small = image.resize((image.width // 4, image.height // 4))
     pixels = list(small.getdata())
-    background = max(set(pixels), key=pixels.count)
+    background = collections.Counter(pixels).most_common(1)[0][0]
     ink = sum(1 for p in pixels if sum(abs(a - b) for a, b in zip(p, background)) > 60)
     colours = len(set(pixels))
     if colours < 50 or ink < 0.02 * len(pixels):
@@ -245,6 +249,23 @@ def check_curves(report, drawing_csv, summary_path, shot=None):
             for k in shown:
                 expect(f"sheet row {i}: drawing of output frame {k}", int(rows[k]["drawing"]), drawing)
         expect("drawings numbered in the sheet", numbered, int(timings[0][1]))
+        # The player: the counter names each frame's drawing as the drawing sheet CSV does, and
+        # the sheet's current row is the one that lists the frame.
+        b.evaluate("(() => { const s = document.getElementById('scrubber'); s.value = 0; s.dispatchEvent(new Event('input')); })()")
+        for t in range(min(frames, 60)):
+            if t > 0:
+                b.evaluate("document.getElementById('step-forward').click()")
+            counter = b.evaluate("document.getElementById('counter').textContent")
+            m = re.search(r"drawing (\d+) on", counter)
+            expect(f"frame {t}: drawing in the counter", int(m.group(1)) - 1, int(rows[t]["drawing"]))
+            row = int(b.evaluate("document.querySelector('#sheet tr.current').dataset.row"))
+            if grid:
+                span = sheet[row][3][0]
+                shown = [] if span == "–" else ranges(span.replace("–", "-"))
+            else:
+                shown = [row]
+            if t not in shown:
+                fail(f"frame {t}: the sheet's current row {row} lists frames {shown}")
         print(f"ok: {report}: {len(plots)} curves, {len(sheet)} sheet rows, {numbered} drawings, {len(keys)} key poses")
         if shot:
             check_screenshot(b, shot)
@@ -252,7 +273,45 @@ def check_curves(report, drawing_csv, summary_path, shot=None):
             fail(f"script errors: {b.errors}")
 
 
-def check_lipblink(report, summary_path, shot=None):
+def check_face(browser, values_csv, mouths, eyes):
+    """Steps the face player through every frame: the retimed mouth and eyes show the values
+    the client wrote to its CSV output, and open wider exactly when those values are larger."""
+    rows = read_csv(values_csv)
+    mouth = mouths[0][0] if mouths else None
+    eye_ids = [e[0] for e in eyes][:2]
+    b = browser
+    b.evaluate("(() => { const s = document.getElementById('scrubber'); s.value = 0; s.dispatchEvent(new Event('input')); })()")
+    shown = []
+    cursor_js = "[...document.querySelectorAll('svg.curve-plot line.cursor')].map((l) => +l.getAttribute('x1'))"
+    cursors_at_start = b.evaluate(cursor_js)
+    for t, row in enumerate(rows):
+        if t > 0:
+            b.evaluate("document.getElementById('step-forward').click()")
+        got = b.evaluate("[...document.querySelectorAll('#face-after svg.face .mouth'), ...document.querySelectorAll('#face-after svg.face .eye')].map((e) => [e.getAttribute('class'), +e.dataset.value, +e.getAttribute('ry')])")
+        mouth_value, mouth_ry = got[0][1], got[0][2]
+        if mouth is not None:
+            want = float(row[mouth])
+            if abs(mouth_value - want) > 1e-5 * max(1.0, abs(want)):
+                fail(f"face frame {t}: mouth value {mouth_value}, the CSV says {want}")
+            shown.append((want, mouth_ry))
+        for i, (cls, value, _) in enumerate(got[1:] if eye_ids else []):
+            eye = eye_ids[min(i, len(eye_ids) - 1)]
+            want = float(row[eye])
+            if abs(value - want) > 1e-5 * max(1.0, abs(want)):
+                fail(f"face frame {t}: eye {i} ({eye}) value {value}, the CSV says {want}")
+    # The plots' time cursors follow the player: all at one x, further right at the end.
+    cursors_at_end = b.evaluate(cursor_js)
+    expect("a cursor per plot", len(cursors_at_end), len(mouths) + len(eyes))
+    if len(set(cursors_at_end)) != 1 or not cursors_at_end[0] > cursors_at_start[0]:
+        fail(f"face: plot cursors at {cursors_at_start} at the start and {cursors_at_end} at the end")
+    for (v1, r1) in shown:
+        for (v2, r2) in shown:
+            if v1 < v2 and r1 > r2:
+                fail(f"face: mouth value {v1} drawn wider ({r1}) than {v2} ({r2})")
+    print(f"ok: face player: {len(rows)} frames, mouth and eyes as in the CSV output")
+
+
+def check_lipblink(report, summary_path, shot=None, values_csv=None):
     import cdp
     summary = open(summary_path).read()
     mouths = re.findall(r"  mouth (\S+): speech at (?:grid )?frames (.*?); (\d+) holds: (.*)", summary)
@@ -274,6 +333,8 @@ def check_lipblink(report, summary_path, shot=None):
             expect(f"{eye}: blink count", len(got), int(count))
         plots = b.evaluate("document.querySelectorAll('svg.curve-plot').length")
         expect("curve plots", plots, len(mouths) + len(eyes))
+        if values_csv:
+            check_face(b, values_csv, mouths, eyes)
         print(f"ok: {report}: {len(mouths)} mouth and {len(eyes)} eye curves, shapes, speech and blinks as summarised")
         if shot:
             check_screenshot(b, shot)
@@ -313,6 +374,13 @@ def check_player(report, timing_csv):
                 changed += 1
         if frames_before[1] == frames_before[0]:
             fail("the input figure did not move from frame 0 to 1")
+        # The onion skin is the input's pose at the same time, and goes with its checkbox.
+        ghost = "[...document.querySelectorAll('#after path.ghost')].map((p) => p.getAttribute('d')).join('|')"
+        expect("onion skin = the input's pose", b.evaluate(ghost), frames_before[-1])
+        b.evaluate("document.getElementById('onion').click()")
+        expect("onion skin off", b.evaluate(ghost).strip("|"), "")
+        b.evaluate("document.getElementById('onion').click()")
+        expect("onion skin on again", b.evaluate(ghost), frames_before[-1])
         # Stepping back, and the scrubber.
         b.evaluate("document.getElementById('step-back').click()")
         expect("counter after a step back", b.evaluate("+document.body.dataset.frame"), len(frames_after) - 2)
@@ -329,10 +397,111 @@ def check_player(report, timing_csv):
             fail(f"play did not advance the player within 5 s (frame {stopped})")
         time.sleep(0.3)
         expect("frame after pause", b.evaluate("+document.body.dataset.frame"), stopped)
+        # The keyboard: arrows step once per press, from the page and from the focused scrubber.
+        def press(key, code):
+            for kind in ("keyDown", "keyUp"):
+                b.call("Input.dispatchKeyEvent", type=kind, key=key, code=key, windowsVirtualKeyCode=code)
+        b.evaluate("(() => { const s = document.getElementById('scrubber'); s.value = 10; s.dispatchEvent(new Event('input')); s.blur(); })()")
+        press("ArrowRight", 39)
+        press("ArrowRight", 39)
+        press("ArrowLeft", 37)
+        expect("frame after right, right, left", b.evaluate("+document.body.dataset.frame"), 11)
+        b.evaluate("document.getElementById('scrubber').focus()")
+        press("ArrowRight", 39)
+        expect("frame after right on the focused scrubber", b.evaluate("+document.body.dataset.frame"), 12)
         if b.errors:
             fail(f"script errors: {b.errors}")
         print(f"ok: {report}: stepped {len(frames_after) - 1} frames ({changed} new drawings, {held} held poses), "
               f"stepped back, scrubbed, played to frame {stopped} and paused")
+
+
+def bvh_bone_lengths(path):
+    """Per joint (BVH declaration order): the length of its OFFSET, the bone from its parent.
+    End Sites are not joints. Only valid where non-root joints have no position channels."""
+    lengths = []
+    in_end_site = False
+    for line in open(path):
+        words = line.split()
+        if not words:
+            continue
+        if words[0] == "MOTION":
+            break
+        if words[0] == "End":
+            in_end_site = True
+        elif words[0] == "}" and in_end_site:
+            in_end_site = False
+        elif words[0] == "OFFSET" and not in_end_site:
+            x, y, z = (float(w) for w in words[1:4])
+            lengths.append((x * x + y * y + z * z) ** 0.5)
+    return lengths
+
+
+def check_bones(report, bvh):
+    """The figures are the clip's skeleton: every bone, rebuilt in 3D from the front (x, y) and
+    side (z, y) views the page draws, is as long as its BVH OFFSET in every frame stepped
+    through, within the positions' rounding. Checks forward kinematics, the packing, the
+    page's unpacking and drawing together."""
+    import cdp
+    want = bvh_bone_lengths(bvh)[1:]  # the root has no bone
+    segments = ("[...document.querySelectorAll('#%s path.figure')].map((p) => "
+                "p.getAttribute('d').split('M').filter((s) => s).map((s) => s.split(/[ L]/).map(Number)))")
+    worst = 0.0
+    with cdp.Browser() as b:
+        b.open("file://" + os.path.abspath(report))
+        step = b.evaluate("KOMA.pose.step")
+        frames = b.evaluate("+document.getElementById('scrubber').max") + 1
+        for t in range(0, frames, max(1, frames // 25)):
+            b.evaluate(f"(() => {{ const s = document.getElementById('scrubber'); s.value = {t}; s.dispatchEvent(new Event('input')); }})()")
+            for side in ("before", "after"):
+                front, profile = b.evaluate(segments % side)
+                expect(f"frame {t} {side}: bones", len(front), len(want))
+                for i, ((x1, y1, x2, y2), (z1, _, z2, _), length) in enumerate(zip(front, profile, want)):
+                    got = ((x2 - x1) ** 2 + (y2 - y1) ** 2 + (z2 - z1) ** 2) ** 0.5
+                    worst = max(worst, abs(got - length))
+                    # Each end rounded by half a step per axis: at most sqrt(3) steps apart.
+                    if abs(got - length) > 1.8 * step:
+                        fail(f"frame {t} {side}: bone {i + 1} is {got:.4f} long, its OFFSET {length:.4f} (step {step})")
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+    print(f"ok: {report}: {len(want)} bones as long as their OFFSETs in every frame checked "
+          f"(worst {worst:.4f}, step {step:.4f})")
+
+
+def check_camera(report):
+    """write_camera_report's call: one 'camera' view per side, each bone drawn where the
+    camera puts it (recomputed here), the retimed figure on twos."""
+    import cdp
+    import math
+
+    def project(x, y, z):
+        w = 1 + 0.01 * z
+        return 0.1 * x / w, 0.2 * y / w
+
+    def pose(f):
+        return [project(0.5 * f, 0, 0), project(0.5 * f + math.sin(f), 10, math.cos(f))]
+
+    with cdp.Browser() as b:
+        b.open("file://" + os.path.abspath(report))
+        views = b.evaluate("[...document.querySelectorAll('path.figure')].map((p) => p.dataset.view)")
+        expect("views", views, ["camera", "camera"])
+        step = b.evaluate("KOMA.pose.step")
+        worst = 0.0
+        for t in range(48):
+            if t > 0:
+                b.evaluate("document.getElementById('step-forward').click()")
+            for side, frame in (("before", t), ("after", t - t % 2)):
+                d = b.evaluate(f"document.querySelector('#{side} path.figure').getAttribute('d')")
+                got = [float(v) for v in re.split(r"[ML ]+", d) if v]
+                want = [c for point in pose(frame) for c in point]
+                for g, w in zip(got, want):
+                    worst = max(worst, abs(g - w))
+                    if abs(g - w) > step / 2 + 1e-5:
+                        fail(f"frame {t} {side}: drew {got}, the camera puts the bone at {want} (step {step})")
+                expect(f"frame {t} {side}: coordinates", len(got), 4)
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+    print(f"ok: {report}: one camera view per side, 48 frames projected within half a step "
+          f"(worst {worst:.2e}, step {step:.2e}), the retimed figure on twos")
 
 
 def check_large(report, timing_csv, max_seconds, max_bytes):
@@ -359,6 +528,25 @@ def check_large(report, timing_csv, max_seconds, max_bytes):
           f"(limits {max_bytes / 1e6:.0f} MB, {max_seconds} s); SSD plot {points} points; X-sheet {pages}")
 
 
+def check_opens(report, max_seconds, max_bytes):
+    """Any report: under max_bytes, ready within max_seconds, every plot line thinned."""
+    import cdp
+    size = os.path.getsize(report)
+    if size > max_bytes:
+        fail(f"{report}: {size} bytes, over {max_bytes}")
+    with cdp.Browser(timeout_s=60) as b:
+        seconds = b.open("file://" + os.path.abspath(report), ready_timeout_s=max_seconds)
+        points = b.evaluate("Math.max(0, ...[...document.querySelectorAll('path.before, path.after')].map((p) => (p.getAttribute('d').match(/[MLH]/g) || []).length))")
+        # A thinned plot has at most 2000 points; a stepped one two commands per point.
+        if points > 2 * 2000 + 2:
+            fail(f"{report}: a plot line has {points} points")
+        rows = b.evaluate("document.getElementById('sheet-page') ? document.getElementById('sheet-page').textContent : 'no sheet'")
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+    print(f"ok: {report}: {size / 1e6:.1f} MB, ready in {seconds:.2f} s (limits {max_bytes / 1e6:.0f} MB, "
+          f"{max_seconds} s); longest plot line {points} points; sheet {rows}")
+
+
 def main(argv):
     if len(argv) < 2:
         fail(__doc__)
@@ -373,6 +561,12 @@ def main(argv):
         check_lipblink(*args)
     elif command == "player":
         check_player(*args)
+    elif command == "camera":
+        check_camera(*args)
+    elif command == "bones":
+        check_bones(*args)
+    elif command == "opens":
+        check_opens(args[0], float(args[1]), int(args[2]))
     elif command == "large":
         check_large(args[0], args[1], float(args[2]), int(args[3]))
     else:

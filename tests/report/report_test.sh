@@ -1,17 +1,20 @@
 #!/usr/bin/env bash
 # The reports of `koma ... --report` (docs/report.md) on the bundled samples, end to end: the
 # real koma_server on a loopback port, the real koma client, Debian's chromium headless.
-#   report_test.sh MODE KOMA_SERVER KOMA SAMPLES_DIR PYTHON
+#   report_test.sh MODE KOMA_SERVER KOMA SAMPLES_DIR PYTHON WRITE_CAMERA_REPORT
 # MODE:
 #   files    same call -> same report bytes; HTML5 (html5lib strict); self-contained; an
 #            unwritable --report fails before the call
 #   browser  each sample's report in chromium: figures and counts against the timing and
 #            drawing sheets and the printed summary, a screenshot that is not blank
-#   player   stepping, scrubbing and playing the pitch's player
-#   large    a 100,000-frame clip: report under 20 MB, ready in chromium in under 5 s
+#   player   stepping, scrubbing and playing the pitch's player; every bone as long as its
+#            BVH OFFSET in the figures drawn
+#   variants the browser checks on other options of each command
+#   camera   a call with a camera (write_camera_report): one projected view, positions right
+#   large    100,000-frame inputs to each RPC: report under 20 MB, ready in chromium in under 5 s
 # KOMA_REPORT_SHOTS=DIR keeps the screenshots (else they go with the scratch directory).
 set -euo pipefail
-mode=$1 server_bin=$2 koma=$3 samples=$4 python=$5
+mode=$1 server_bin=$2 koma=$3 samples=$4 python=$5 camera_tool=$6
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=../e2e/lib.sh
 source "$here/../e2e/lib.sh"
@@ -19,7 +22,8 @@ checks=("$python" "$here/report_checks.py")
 shots=${KOMA_REPORT_SHOTS:-$work}
 mkdir -p "$shots"
 
-start_server "$server_bin"
+# Every mode but camera calls the real server.
+[ "$mode" = camera ] || start_server "$server_bin"
 
 # run NAME: the four sample calls, each with its report, sheets and printed summary in $work.
 run_samples() {
@@ -31,7 +35,7 @@ run_samples() {
   "$koma" curves "$samples/arm_head.motion3.json" -o "$work/arm.motion3.json" --timing "$work/arm.csv" \
     --on 3 --tame 1.5 --tsume 1.5 --report "$work/arm$tag.html" --server "$target" >"$work/arm.txt" \
     || fail "koma curves"
-  "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/talk.motion3.json" \
+  "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/talk_values.csv" \
     --report "$work/talk$tag.html" --server "$target" >"$work/talk.txt" || fail "koma lipblink"
 }
 
@@ -54,17 +58,72 @@ case "$mode" in
     grep -qF "$work/no/such/dir/r.html" "$work/err.txt" || fail "unwritable --report: $(cat "$work/err.txt")"
     [ ! -e "$work/x.bvh" ] || fail "unwritable --report: the BVH was written anyway"
     echo "ok: unwritable --report refused before the call: $(cat "$work/err.txt")"
+    # --report - writes the page to standard output (the summary goes to stderr), the same bytes.
+    "$koma" skeletal "$samples/pitch.bvh" -o "$work/y.bvh" --report - --server "$target" \
+      >"$work/stdout.html" 2>"$work/stderr.txt" || fail "--report -: $(cat "$work/stderr.txt")"
+    cmp "$work/stdout.html" "$work/pitch.html" || fail "--report - differs from the file report"
+    grep -qF "report: -" "$work/stderr.txt" || fail "--report -: summary not on stderr"
+    code=0
+    "$koma" skeletal "$samples/pitch.bvh" -o - --report - --server "$target" >/dev/null \
+      2>"$work/err.txt" || code=$?
+    [ "$code" = 2 ] || fail "-o - --report -: exit $code, want 2"
+    grep -qF -- "--report -" "$work/err.txt" || fail "-o - --report -: $(cat "$work/err.txt")"
+    echo "ok: --report - writes standard output; with -o - too it is refused: $(cat "$work/err.txt")"
     ;;
   browser)
     run_samples ""
     "${checks[@]}" skeletal "$work/pitch.html" "$work/pitch.csv" "$work/pitch.txt" "$shots/pitch.png" || fail "pitch"
     "${checks[@]}" skeletal "$work/mocap.html" "$work/mocap.csv" "$work/mocap.txt" "$shots/mocap.png" || fail "mocap"
     "${checks[@]}" curves "$work/arm.html" "$work/arm.csv" "$work/arm.txt" "$shots/arm.png" || fail "arm"
-    "${checks[@]}" lipblink "$work/talk.html" "$work/talk.txt" "$shots/talk.png" || fail "talk"
+    "${checks[@]}" lipblink "$work/talk.html" "$work/talk.txt" "$shots/talk.png" \
+      "$work/talk_values.csv" || fail "talk"
     ;;
   player)
     run_samples ""
     "${checks[@]}" player "$work/pitch.html" "$work/pitch.csv" || fail "player"
+    "${checks[@]}" bones "$work/pitch.html" "$samples/pitch.bvh" || fail "pitch bones"
+    "${checks[@]}" bones "$work/mocap.html" "$samples/mocap_120fps.bvh" || fail "mocap bones"
+    ;;
+  variants)
+    # Other calls: the TIMING_RATE output, no film grid, no duplicates, holds first, curves
+    # on twos with a per-curve override, lipblink's follow mode with auto-blinks.
+    "$koma" skeletal "$samples/mocap_120fps.bvh" -o "$work/v1.bvh" --timing "$work/v1.csv" \
+      --output-rate timing --report "$work/v1.html" --server "$target" >"$work/v1.txt" || fail "v1"
+    "${checks[@]}" skeletal "$work/v1.html" "$work/v1.csv" "$work/v1.txt" || fail "--output-rate timing"
+    "$koma" skeletal "$samples/mocap_120fps.bvh" -o "$work/v2.bvh" --timing "$work/v2.csv" \
+      --timing-fps 0 --report "$work/v2.html" --server "$target" >"$work/v2.txt" || fail "v2"
+    "${checks[@]}" skeletal "$work/v2.html" "$work/v2.csv" "$work/v2.txt" || fail "--timing-fps 0"
+    "$koma" skeletal "$samples/pitch.bvh" -o "$work/v3.bvh" --timing "$work/v3.csv" \
+      --no-keep-length --hold-first --report "$work/v3.html" --server "$target" >"$work/v3.txt" || fail "v3"
+    "${checks[@]}" skeletal "$work/v3.html" "$work/v3.csv" "$work/v3.txt" || fail "--no-keep-length --hold-first"
+    "${checks[@]}" player "$work/v3.html" "$work/v3.csv" || fail "--no-keep-length player"
+    "$koma" curves "$samples/arm_head.motion3.json" -o "$work/v4.csv" --timing "$work/v4_sheet.csv" \
+      --timing-fps 0 --on 2 --curve-on ParamArmLA=3 --report "$work/v4.html" --server "$target" \
+      >"$work/v4.txt" || fail "v4"
+    "${checks[@]}" curves "$work/v4.html" "$work/v4_sheet.csv" "$work/v4.txt" || fail "curves on twos"
+    "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/v5.csv" --timing-fps 0 \
+      --auto-blink 1 --mode follow --report "$work/v5.html" --server "$target" >"$work/v5.txt" || fail "v5"
+    "${checks[@]}" lipblink "$work/v5.html" "$work/v5.txt" "" "$work/v5.csv" || fail "lipblink follow, auto-blink"
+    # Through a camera (one projected view per side), and with no motion in the answer.
+    "$koma" skeletal "$samples/pitch.bvh" -o "$work/v6.bvh" --timing "$work/v6.csv" \
+      --camera 0.01,0,0,0,0,0.01,0,0,0,0,0.01,0,0,0,0,1 --report "$work/v6.html" --server "$target" \
+      >"$work/v6.txt" || fail "v6"
+    "${checks[@]}" skeletal "$work/v6.html" "$work/v6.csv" "$work/v6.txt" || fail "--camera"
+    "$koma" skeletal "$samples/mocap_120fps.bvh" --timing-only --timing "$work/v7.csv" \
+      --report "$work/v7.html" --server "$target" >"$work/v7.txt" || fail "v7"
+    "${checks[@]}" skeletal "$work/v7.html" "$work/v7.csv" "$work/v7.txt" || fail "--timing-only"
+    # LipBlink with only a mouth, and with only eyes (200 frames of make_long_curves' talk).
+    "$python" "$here/make_long_curves.py" 200 "$work/talk200.csv" "$work/curves200.csv"
+    cut -d, -f1,2 "$work/talk200.csv" >"$work/mouth_only.csv"
+    cut -d, -f1,3,4 "$work/talk200.csv" >"$work/eyes_only.csv"
+    for part in mouth_only eyes_only; do
+      "$koma" lipblink "$work/$part.csv" -o "$work/${part}_out.csv" --report "$work/$part.html" \
+        --server "$target" >"$work/$part.txt" || fail "koma lipblink $part"
+      "${checks[@]}" lipblink "$work/$part.html" "$work/$part.txt" "" "$work/${part}_out.csv" \
+        || fail "lipblink $part"
+    done
+    "${checks[@]}" validate "$work"/v[1-7].html "$work/mouth_only.html" "$work/eyes_only.html" \
+      || fail "variants: HTML5"
     ;;
   large)
     "$python" "$here/make_long_bvh.py" "$samples/pitch.bvh" "$work/long.bvh" 100000
@@ -72,9 +131,23 @@ case "$mode" in
       --report "$work/long.html" --server "$target" --deadline 100 >"$work/long.txt" || fail "koma skeletal long"
     "${checks[@]}" validate "$work/long.html" || fail "long: HTML5"
     "${checks[@]}" large "$work/long.html" "$work/long.csv" 5 20000000 || fail "long"
+    # The same for 100,000 frames of curves (30 fps, 55 minutes) through the other two RPCs.
+    "$python" "$here/make_long_curves.py" 100000 "$work/long_talk.csv" "$work/long_curves.csv"
+    "$koma" lipblink "$work/long_talk.csv" -o "$work/long_talk_out.csv" --report "$work/long_talk.html" \
+      --server "$target" --deadline 100 >"$work/long_talk.txt" || fail "koma lipblink long"
+    "${checks[@]}" opens "$work/long_talk.html" 5 20000000 || fail "long lipblink"
+    "$koma" curves "$work/long_curves.csv" -o "$work/long_curves_out.csv" --keys 0,50000,99999 \
+      --report "$work/long_curves.html" --server "$target" --deadline 100 >"$work/long_curves.txt" \
+      || fail "koma curves long"
+    "${checks[@]}" opens "$work/long_curves.html" 5 20000000 || fail "long curves"
+    ;;
+  camera)
+    "$camera_tool" "$work/camera.html" || fail "write_camera_report"
+    "${checks[@]}" validate "$work/camera.html" || fail "camera: HTML5"
+    "${checks[@]}" camera "$work/camera.html" || fail "camera"
     ;;
   *)
     fail "unknown mode $mode"
     ;;
 esac
-stop_server
+[ -z "$server_pid" ] || stop_server

@@ -3,6 +3,7 @@
 // page, and the shared encoders (plot thinning, packed positions, base64) are exact.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -32,8 +33,7 @@ nlohmann::json PageData(const std::string& page) {
 
 // Naive reading of PackQuantised: base64, varints, zigzag, running sums per value of a frame.
 std::vector<double> Unpack(const std::string& base64, int per_frame, double step) {
-  const std::string alphabet =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string bytes;
   uint32_t bits = 0;
   int count = 0;
@@ -58,7 +58,8 @@ std::vector<double> Unpack(const std::string& base64, int per_frame, double step
       v |= static_cast<uint64_t>(b & 0x7f) << shift;
       shift += 7;
     } while (b & 0x80);
-    const int64_t delta = (v & 1) ? -static_cast<int64_t>(v >> 1) - 1 : static_cast<int64_t>(v >> 1);
+    const int64_t delta =
+        (v & 1) ? -static_cast<int64_t>(v >> 1) - 1 : static_cast<int64_t>(v >> 1);
     int64_t& sum = sums[values.size() % per_frame];
     sum += delta;
     values.push_back(static_cast<double>(sum) * step);
@@ -89,8 +90,8 @@ v1::RetimeSkeletalRequest PositionsRequest(int frames) {
 v1::RetimeSkeletalResponse SkeletalResponse() {
   v1::RetimeSkeletalResponse r;
   for (int s : {0, 0, 2, 2, 2, 5}) r.add_source_frames(s);
-  for (v1::FrameKind k : {v1::ORIGINAL, v1::DUPLICATE, v1::ORIGINAL, v1::HELD, v1::HELD,
-                          v1::ORIGINAL}) {
+  for (v1::FrameKind k :
+       {v1::ORIGINAL, v1::DUPLICATE, v1::ORIGINAL, v1::HELD, v1::HELD, v1::ORIGINAL}) {
     r.add_kinds(k);
   }
   r.add_deleted_frames(1);
@@ -127,8 +128,8 @@ TEST(SkeletalReport, CarriesTheResponse) {
 
 TEST(SkeletalReport, PlayerPositionsAreTheInputsWithinHalfAStep) {
   const v1::RetimeSkeletalRequest request = PositionsRequest(50);
-  const nlohmann::json data = PageData(
-      RenderReport(SkeletalReportWriter(request, SkeletalResponse(), "clip.bvh")));
+  const nlohmann::json data =
+      PageData(RenderReport(SkeletalReportWriter(request, SkeletalResponse(), "clip.bvh")));
   const nlohmann::json& pose = data["pose"];
   ASSERT_EQ(pose["dims"], 3);
   const double step = pose["step"].get<double>();
@@ -219,18 +220,24 @@ TEST(Report, SameCallSameBytes) {
 
 TEST(Report, FileNamesCannotBreakOutOfThePage) {
   const std::string name = "</script><script>alert(1)</script>&<b>.bvh";
-  const std::string page = RenderReport(
-      SkeletalReportWriter(PositionsRequest(4), SkeletalResponse(), name));
+  const std::string page =
+      RenderReport(SkeletalReportWriter(PositionsRequest(4), SkeletalResponse(), name));
   EXPECT_THAT(page, Not(HasSubstr("<script>alert(1)")));
   EXPECT_THAT(page, HasSubstr("<title>koma skeletal: &lt;/script&gt;&lt;script&gt;"));
   EXPECT_EQ(PageData(page)["header"]["input"], name);
   // Every template marker was filled.
-  for (const char* marker : {"{{TITLE}}", "{{KIND}}", "{{STYLE}}", "{{DATA}}",
-                             "{{COMMON_SCRIPT}}", "{{KIND_SCRIPT}}"}) {
+  for (const char* marker :
+       {"{{TITLE}}", "{{KIND}}", "{{STYLE}}", "{{DATA}}", "{{COMMON_SCRIPT}}", "{{KIND_SCRIPT}}"}) {
     EXPECT_THAT(page, Not(HasSubstr(marker)));
   }
   EXPECT_THAT(page, HasSubstr("<body data-kind=\"skeletal\""));
   EXPECT_THAT(page, HasSubstr("function skeletalReport"));
+}
+
+TEST(Report, StandardInputIsNamed) {
+  const nlohmann::json data =
+      PageData(RenderReport(SkeletalReportWriter(PositionsRequest(4), SkeletalResponse(), "-")));
+  EXPECT_EQ(data["header"]["input"], "standard input");
 }
 
 TEST(CurvesReport, CarriesTheResponse) {
@@ -320,6 +327,46 @@ TEST(LipBlinkReport, CarriesTheResponse) {
   EXPECT_THAT(data["curves"][0]["before"]["y"].get<std::vector<double>>(),
               ElementsAre(0, 0.5, 1, 0));
   EXPECT_THAT(data["curves"][0]["after"]["y"].get<std::vector<double>>(), ElementsAre(0, 1, 1, 0));
+  // The face player's every frame.
+  EXPECT_THAT(data["curves"][0]["frames_before"].get<std::vector<double>>(),
+              ElementsAre(0, 0.5, 1, 0));
+  EXPECT_THAT(data["curves"][0]["frames_after"].get<std::vector<double>>(),
+              ElementsAre(0, 1, 1, 0));
+}
+
+TEST(Report, RequestsWithoutParsedDataAreRefusedNamingThePath) {
+  const std::string path = ::testing::TempDir() + "/never_written.html";
+  v1::RetimeSkeletalRequest skeletal;
+  skeletal.set_bvh_text("HIERARCHY ...");
+  absl::Status s = WriteSkeletalReport(path, skeletal, SkeletalResponse(), "a.bvh");
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()), HasSubstr(path));
+  EXPECT_EQ(
+      WriteCurvesReport(path, v1::RetimeCurvesRequest(), v1::RetimeCurvesResponse(), "a").code(),
+      absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(WriteLipBlinkReport(path, v1::LipBlinkRequest(), v1::LipBlinkResponse(), "a").code(),
+            absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(std::fopen(path.c_str(), "r"), nullptr);
+}
+
+TEST(Report, WritesTheFileWhole) {
+  const std::string path = ::testing::TempDir() + "/report_writer_test.html";
+  const v1::RetimeSkeletalRequest request = PositionsRequest(8);
+  ASSERT_TRUE(WriteSkeletalReport(path, request, SkeletalResponse(), "a.bvh").ok());
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  ASSERT_NE(file, nullptr);
+  std::string text;
+  char buffer[4096];
+  size_t n;
+  while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) text.append(buffer, n);
+  std::fclose(file);
+  std::remove(path.c_str());
+  EXPECT_EQ(text, RenderReport(SkeletalReportWriter(request, SkeletalResponse(), "a.bvh")));
+  // A folder that does not exist: an error naming the path, no file.
+  const absl::Status missing =
+      WriteSkeletalReport("/nonexistent-dir/r.html", request, SkeletalResponse(), "a.bvh");
+  EXPECT_FALSE(missing.ok());
+  EXPECT_THAT(std::string(missing.message()), HasSubstr("/nonexistent-dir/r.html"));
 }
 
 TEST(ThinnedPlot, KeepsEveryPeakWithinTheLimit) {

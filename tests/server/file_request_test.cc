@@ -4,6 +4,7 @@
 // same convert/ and formats/ functions it calls). Every sample and real mocap file, several
 // option sets; limits on files; the raw service's bytes against the message path.
 #include <gtest/gtest.h>
+#include <prometheus/registry.h>
 
 #include <cmath>
 #include <fstream>
@@ -418,6 +419,113 @@ TEST(FileRequestTest, CsvFpsIsCheckedAndUsed) {
   request.set_csv_fps(24);
   ASSERT_TRUE(Call(server, request, &response).ok());
   EXPECT_EQ(response.timing_fps(), 0);
+}
+
+// With a memory budget a file request is sized by its text until parsed, then by what it
+// decodes to: a file whose decoded call does not fit is refused naming the budget, even when
+// its text is small (a motion3.json of a few keys over a long Duration).
+TEST(FileRequestTest, FileRequestsAreSizedByTheMemoryBudgetOnceParsed) {
+  server::ServerConfig config = InProcessServer::Config(2, 20'000'000);
+  config.max_memory_mb = 16;  // 12 MiB of it for calls
+  InProcessServer server(config);
+  ASSERT_NE(server.server().memory_budget(), nullptr);
+  const std::string budget = "memory budget (--max_memory_mb=16";
+  const std::string parsed = "this file request (the parsed file, the decoded request";
+
+  // bvh_test3's 100 frames repeated to 2,000: 3 MB of text (9 MB to parse), 8.8 MB decoded
+  // (values, world positions, returned motion) + 6 MB of text and written file.
+  const std::string test3 = ReadTestFile(KOMA_TESTDATA_DIR "/bvh_test3.bvh");
+  const size_t motion = test3.find("MOTION");
+  const size_t frame_time = test3.find("Frame Time:", motion);
+  const size_t first_frame = test3.find('\n', frame_time) + 1;
+  std::istringstream frames_in(test3.substr(first_frame));
+  std::vector<std::string> frames;
+  for (std::string line; std::getline(frames_in, line);) {
+    if (!line.empty() && line != "\r") frames.push_back(line);
+  }
+  ASSERT_EQ(frames.size(), 100u);
+  std::string big = test3.substr(0, motion) + "MOTION\nFrames: 2000\n" +
+                    test3.substr(frame_time, first_frame - frame_time);
+  for (int f = 0; f < 2000; ++f) big += frames[f % 100] + "\n";
+  ASSERT_GT(big.size(), 2'500'000u);
+  v1::RetimeSkeletalRequest skeletal;
+  skeletal.set_bvh_text(big);
+  v1::RetimeSkeletalResponse skeletal_response;
+  grpc::Status status = Call(server, skeletal, &skeletal_response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+  EXPECT_NE(status.error_message().find(budget), std::string::npos) << status.error_message();
+  EXPECT_NE(status.error_message().find(parsed), std::string::npos) << status.error_message();
+  // Small files fit.
+  skeletal.set_bvh_text(ReadTestFile(KOMA_SAMPLES_DIR "/pitch.bvh"));
+  status = Call(server, skeletal, &skeletal_response);
+  EXPECT_TRUE(status.ok()) << status.error_message();
+
+  // 20 curves of two keys over 2,000 s at 30 fps: under 2 KB of text, 60,001 frames x 20
+  // curves per-frame values (~23 MB) once decoded.
+  std::string curves_json =
+      R"({"Version": 3, "Meta": {"Duration": 2000, "Fps": 30, "Loop": false}, "Curves": [)";
+  for (int c = 0; c < 20; ++c) {
+    curves_json += (c ? ", " : "") + std::string(R"({"Target": "Parameter", "Id": "P)") +
+                   std::to_string(c) + R"(", "Segments": [0, 0, 0, 2000, 1]})";
+  }
+  curves_json += "]}";
+  ASSERT_LT(curves_json.size(), 2048u);
+  v1::RetimeCurvesRequest curves;
+  curves.set_motion3_json(curves_json);
+  v1::RetimeCurvesResponse curves_response;
+  status = Call(server, curves, &curves_response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+  EXPECT_NE(status.error_message().find(parsed), std::string::npos) << status.error_message();
+  v1::LipBlinkRequest lip;
+  lip.set_motion3_json(curves_json);
+  v1::LipBlinkResponse lip_response;
+  status = Call(server, lip, &lip_response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+  EXPECT_NE(status.error_message().find(parsed), std::string::npos) << status.error_message();
+  // The same curves over 20 s fit.
+  const size_t duration = curves_json.find("2000");
+  curves_json.replace(duration, 4, "20");
+  curves.set_motion3_json(curves_json);
+  status = Call(server, curves, &curves_response);
+  EXPECT_TRUE(status.ok()) << status.error_message();
+  EXPECT_EQ(server.server().memory_budget()->in_use(), 0);
+}
+
+// A file request counts its file's frames in koma_frames_processed_total (the decoded request
+// carries them in frame_count; a file request only once it is parsed).
+double FramesProcessed(const prometheus::Registry& registry, const std::string& method) {
+  for (const prometheus::MetricFamily& family : registry.Collect()) {
+    if (family.name != "koma_frames_processed_total") continue;
+    for (const prometheus::ClientMetric& metric : family.metric) {
+      for (const prometheus::ClientMetric::Label& label : metric.label) {
+        if (label.name == "grpc_method" && label.value == method) return metric.counter.value;
+      }
+    }
+  }
+  return -1;
+}
+
+TEST(FileRequestTest, FileRequestsCountTheirFramesInTheMetrics) {
+  auto registry = std::make_shared<prometheus::Registry>();
+  server::ServerConfig config;
+  config.metrics_registry = registry;
+  InProcessServer server(config);
+  v1::RetimeSkeletalRequest skeletal;
+  skeletal.set_bvh_text(ReadTestFile(KOMA_SAMPLES_DIR "/pitch.bvh"));
+  skeletal.set_output_rate(v1::TIMING_RATE);  // fewer output frames: the input's count
+  v1::RetimeSkeletalResponse skeletal_response;
+  ASSERT_TRUE(Call(server, skeletal, &skeletal_response).ok());
+  EXPECT_EQ(FramesProcessed(*registry, "RetimeSkeletal"), 130);
+  v1::RetimeCurvesRequest curves;
+  curves.set_motion3_json(ReadTestFile(KOMA_SAMPLES_DIR "/arm_head.motion3.json"));
+  v1::RetimeCurvesResponse curves_response;
+  ASSERT_TRUE(Call(server, curves, &curves_response).ok());
+  EXPECT_EQ(FramesProcessed(*registry, "RetimeCurves"), 91);
+  v1::LipBlinkRequest lip;
+  lip.set_motion3_json(ReadTestFile(KOMA_SAMPLES_DIR "/talk_blink.motion3.json"));
+  v1::LipBlinkResponse lip_response;
+  ASSERT_TRUE(Call(server, lip, &lip_response).ok());
+  EXPECT_EQ(FramesProcessed(*registry, "LipBlink"), 121);
 }
 
 }  // namespace

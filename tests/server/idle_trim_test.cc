@@ -43,7 +43,9 @@ TEST(IdleTrimmerTest, NeverWhileACallIsInFlight) {
   std::this_thread::sleep_for(milliseconds(150));  // fifteen periods
   EXPECT_EQ(trimmer.trims(), 0);
   trimmer.CallFinished();
-  EXPECT_TRUE(Eventually([&] { return trimmer.trims() == 1; }));
+  // At least one: with no byte threshold it trims every quiet period, and a slow run (TSan)
+  // can poll past the moment the count is exactly 1.
+  EXPECT_TRUE(Eventually([&] { return trimmer.trims() >= 1; }));
 }
 
 TEST(IdleTrimmerTest, NotAfterSmallCalls) {

@@ -118,8 +118,7 @@ double Value(const prometheus::Registry& registry, const std::string& name) {
   for (const prometheus::MetricFamily& family : registry.Collect()) {
     if (family.name != name) continue;
     const prometheus::ClientMetric& metric = family.metric.at(0);
-    return family.type == prometheus::MetricType::Gauge ? metric.gauge.value
-                                                        : metric.counter.value;
+    return family.type == prometheus::MetricType::Gauge ? metric.gauge.value : metric.counter.value;
   }
   ADD_FAILURE() << name << " not registered";
   return -1;
@@ -208,14 +207,14 @@ TEST(CallFootprintTest, ClaimedCountsAreCappedByMaxValues) {
   EXPECT_EQ(ExpectedFootprint(request, 10, limits), 64 * 1024 + 10 + 2 * 1000 * 8 + 1000 * 64);
 }
 
-// Through a real server: 12 MiB of calls' budget (16 MiB, a quarter to gRPC).
+// Through a real server: 16 MiB of calls' budget (32 MiB: a quarter to gRPC, half to calls).
 TEST(MemoryBudgetServerTest, ACallThatDoesNotFitIsRefusedNamingTheBudget) {
   ServerConfig config = testing::InProcessServer::Config(2, 20'000'000);
-  config.max_memory_mb = 16;
+  config.max_memory_mb = 32;
   config.metrics_registry = std::make_shared<prometheus::Registry>();
   testing::InProcessServer server(config);
   ASSERT_NE(server.server().memory_budget(), nullptr);
-  EXPECT_EQ(server.server().memory_budget()->capacity(), 12 * kMiB);
+  EXPECT_EQ(server.server().memory_budget()->capacity(), 16 * kMiB);
 
   // 20,000 frames x 12 channels: values, positions and motion are 5.3 MiB, within it.
   {
@@ -226,14 +225,15 @@ TEST(MemoryBudgetServerTest, ACallThatDoesNotFitIsRefusedNamingTheBudget) {
         server.stub().RetimeSkeletal(&context, testing::MakeSkeletalRequest(20'000), &response);
     EXPECT_TRUE(status.ok()) << status.error_message();
   }
-  // 60,000 frames: ~16 MiB expected, over the 12 MiB.
+  // 90,000 frames: ~28 MiB expected, over the 16 MiB.
   grpc::ClientContext context;
   testing::SetTestDeadline(context);
   v1::RetimeSkeletalResponse response;
   const grpc::Status status =
-      server.stub().RetimeSkeletal(&context, testing::MakeSkeletalRequest(60'000), &response);
+      server.stub().RetimeSkeletal(&context, testing::MakeSkeletalRequest(90'000), &response);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
-  EXPECT_THAT(status.error_message(), HasSubstr("memory budget (--max_memory_mb=16, 12 MiB of it for calls)"));
+  EXPECT_THAT(status.error_message(),
+              HasSubstr("memory budget (--max_memory_mb=32, 16 MiB of it for calls)"));
   EXPECT_THAT(status.error_message(), HasSubstr("more than the whole budget"));
   EXPECT_EQ(server.server().memory_budget()->in_use(), 0);
   EXPECT_EQ(Value(*config.metrics_registry, "koma_memory_budget_refused_total"), 1);

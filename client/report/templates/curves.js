@@ -6,6 +6,7 @@
   const keyTimes = grid ? D.key_grid_frames.map((g) => g / D.timing_fps) : D.key_frames.map((k) => k / D.fps);
 
   const curvesSection = section('Curves before and after');
+  const cursors = [];  // a time cursor on every plot, following the player below the plots
   curvesSection.append(legend([['var(--before)', 'before (input, smooth)'], ['var(--after)', 'after (drawings, stepped)'],
                                ['var(--key)', `key poses (${D.key_frames.length})`]]));
   for (const c of D.curves) {
@@ -32,6 +33,9 @@
       }
     }
     plot.svg.append(dots);
+    const cursor = svgEl('line', {class: 'cursor', y1: plot.top, y2: plot.bottom});
+    plot.svg.append(cursor);
+    cursors.push({plot, line: cursor});
     curvesSection.append(el('h3', {}, `${c.id} — on ${timing.n}s, ${starts.length} drawings`), plot.svg);
   }
 
@@ -92,5 +96,31 @@
   const rowFps = grid ? D.timing_fps : D.fps;
   const sheet = makeSheet(rows, columns, cell, (r) => ({second: r > 0 && Math.abs(r / rowFps - Math.round(r / rowFps)) < 1e-9}));
   sheetSection.append(sheet.element);
+  // ---- the player: scrub the curves' frames; the cursors and the sheet follow ------------------
+  // Output frame t shows, per timing, drawing drawing_of_frame[t]; with a grid it lies in the
+  // grid frame whose source frames (grid_first_frame) include it.
+  const rowOfFrame = (t) => {
+    if (!grid) return t;
+    let lo = 0, hi = rows - 1;
+    while (lo < hi) {
+      const mid = (lo + hi + 1) >> 1;
+      if (D.grid_first_frame[mid] <= t) lo = mid; else hi = mid - 1;
+    }
+    return lo;
+  };
+  const describe = (t) => {
+    let text = `frame ${t} / ${D.frames - 1} · ${seconds(t / D.fps)}`;
+    if (grid) text += ` · grid frame ${rowOfFrame(t)}`;
+    return text + ' · ' + D.timings.map((timing) => `drawing ${timing.drawing_of_frame[t] + 1} on ${timing.n}s`).join(', ');
+  };
+  const player = makePlayer(D.frames, D.fps, (t) => {
+    for (const c of cursors) {
+      c.line.setAttribute('x1', c.plot.x(t / D.fps));
+      c.line.setAttribute('x2', c.plot.x(t / D.fps));
+    }
+    sheet.highlight(rowOfFrame(t));
+  }, describe);
+  curvesSection.insertBefore(player.controls, curvesSection.children[2]);
+  player.show(0);
   reportReady();
 })(KOMA);

@@ -63,8 +63,10 @@ function plotFrame(opts) {
     svg.append(svgEl('line', {class: 'axis', x1: x(t), x2: x(t), y1: bottom, y2: bottom + 4}));
     svg.append(svgEl('text', {x: x(t), y: height - 6, 'text-anchor': 'middle'}, t.toFixed(t < 10 && xMax < 20 ? 1 : 0) + ' s'));
   }
-  svg.append(svgEl('text', {x: left - 4, y: top + 9, 'text-anchor': 'end'}, fmt(yMax)));
-  svg.append(svgEl('text', {x: left - 4, y: bottom, 'text-anchor': 'end'}, fmt(yMin)));
+  if (opts.yLabels !== false) {
+    svg.append(svgEl('text', {x: left - 4, y: top + 9, 'text-anchor': 'end'}, fmt(yMax)));
+    svg.append(svgEl('text', {x: left - 4, y: bottom, 'text-anchor': 'end'}, fmt(yMin)));
+  }
   return {svg, x, y, top, bottom, left, right};
 }
 
@@ -156,6 +158,8 @@ function makePlayer(frames, fps, onFrame, describe) {
   next.addEventListener('click', () => { setPlaying(false); show(frame + 1); });
   scrub.addEventListener('input', () => { setPlaying(false); show(+scrub.value); });
   document.addEventListener('keydown', (e) => {
+    // A focused control already handles its own keys (the scrubber its arrows, a button Space).
+    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLButtonElement) return;
     if (e.key === 'ArrowRight') next.click();
     else if (e.key === 'ArrowLeft') back.click();
     else if (e.key === ' ') { e.preventDefault(); play.click(); }
@@ -202,10 +206,16 @@ function makeSheet(rows, columns, cell, rowInfo, pageSize) {
     if (p !== page) render(p);
     for (const tr of body.querySelectorAll('tr.current')) tr.classList.remove('current');
     const row = body.querySelector(`tr[data-row="${r}"]`);
-    if (row) row.classList.add('current');
+    if (row) {
+      row.classList.add('current');
+      // Keep the row in view inside the sheet's own scroll box (never scroll the page).
+      if (row.offsetTop < wrap.scrollTop + 24 || row.offsetTop > wrap.scrollTop + wrap.clientHeight - 24) {
+        wrap.scrollTop = row.offsetTop - wrap.clientHeight / 2;
+      }
+    }
   };
-  render(0);
   const wrap = el('div', {class: 'sheet-wrap'}, table);
+  render(0);
   return {element: el('div', {}, el('div', {class: 'sheet-pages'}, prev, nextPage, label), wrap), highlight, pages};
 }
 

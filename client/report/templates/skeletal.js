@@ -21,30 +21,68 @@
       : [{name: 'front', h: 0, v: 1}, {name: 'side', h: 2, v: 1}];
   const dims = pose ? pose.dims : 3;
   for (const view of views) {
-    let hLo = Infinity, hHi = -Infinity, vLo = Infinity, vHi = -Infinity;
+    // The whole clip's extent, and the body's around its root (joint 0).
+    let hLo = Infinity, hHi = -Infinity, vLo = Infinity, vHi = -Infinity, rLo = Infinity, rHi = -Infinity;
     for (let i = 0; i < positions.length; i += dims) {
       const h = positions[i + view.h], v = positions[i + view.v];
       if (h < hLo) hLo = h; if (h > hHi) hHi = h;
       if (v < vLo) vLo = v; if (v > vHi) vHi = v;
+      const root = i - (i / dims % joints) * dims;
+      const rel = h - positions[root + view.h];
+      if (rel < rLo) rLo = rel; if (rel > rHi) rHi = rel;
     }
-    const pad = 0.05 * Math.max(hHi - hLo, vHi - vLo, 1e-9);
-    view.box = [hLo - pad, vLo - pad, hHi - hLo + 2 * pad, vHi - vLo + 2 * pad];
+    const body = Math.max(rHi - rLo, vHi - vLo, 1e-9);
+    const pad = 0.05 * body;
+    // A figure that travels far (a walk) is followed: the view keeps the body's width and
+    // moves with the root, and ticks on the ground show the travel.
+    view.follow = hHi - hLo > 2.5 * Math.max(rHi - rLo, 0.3 * body);
+    view.rel = [rLo - pad, rHi - rLo + 2 * pad];
+    view.box = view.follow ? [hLo - pad, vLo - pad, rHi - rLo + 2 * pad, vHi - vLo + 2 * pad]
+                           : [hLo - pad, vLo - pad, hHi - hLo + 2 * pad, vHi - vLo + 2 * pad];
+    view.ground = vLo;
+    view.span = [hLo - pad, hHi + pad];
+    view.tick = niceTicks(body, 4)[1] || body;
   }
   const viewSize = views.length === 1 ? 520 : 260;
-  // One <path> per view and side: "M parent L joint" for every bone.
+  // One <path> per view and side: "M parent L joint" for every bone; a ground line (y of the
+  // lowest joint over the clip) under it.
   const makeFigure = (cls) => views.map((view) => {
     const [x, y, w, h] = view.box;
     const scale = Math.min(viewSize / w, 360 / h);
     const path = svgEl('path', {class: cls + ' figure', 'data-view': view.name, 'vector-effect': 'non-scaling-stroke'});
+    const ground = svgEl('g', {class: 'floor'});
+    ground.append(svgEl('line', {class: 'floor', x1: view.span[0], x2: view.span[1], y1: view.ground, y2: view.ground, 'vector-effect': 'non-scaling-stroke'}));
+    if (view.follow) {
+      const first = Math.ceil(view.span[0] / view.tick);
+      for (let k = first; k * view.tick <= view.span[1] && k - first < 5000; ++k) {
+        ground.append(svgEl('line', {class: 'floor', x1: k * view.tick, x2: k * view.tick, y1: view.ground, y2: view.ground - 0.03 * h, 'vector-effect': 'non-scaling-stroke'}));
+      }
+    }
     // SVG y grows downward: flip the vertical axis.
-    const g = svgEl('g', {transform: `scale(1,-1) translate(0,${-(2 * y + h)})`}, path);
+    // The onion skin: the input's pose at the same time, faint, under the retimed figure.
+    const ghost = svgEl('path', {class: 'ghost', 'vector-effect': 'non-scaling-stroke'});
+    const g = svgEl('g', {transform: `scale(1,-1) translate(0,${-(2 * y + h)})`}, ground, ghost, path);
     const svg = svgEl('svg', {width: Math.round(w * scale), height: Math.round(h * scale), viewBox: `${x} ${y} ${w} ${h}`,
-                              'aria-label': view.name + ' view'}, g);
-    return {svg, path, view};
+                              'aria-label': view.name + ' view', 'data-follow': view.follow ? 1 : 0}, g);
+    return {svg, path, ghost, view};
   });
+  const bonesOf = (frame, view) => {
+    const base = frame * joints * dims, parts = [];
+    for (let j = 0; j < joints; ++j) {
+      const p = D.joints.parents[j];
+      if (p < 0) continue;
+      const a = base + p * dims, b = base + j * dims;
+      parts.push('M' + positions[a + view.h].toPrecision(6) + ' ' + positions[a + view.v].toPrecision(6) +
+                 'L' + positions[b + view.h].toPrecision(6) + ' ' + positions[b + view.v].toPrecision(6));
+    }
+    return parts.join('');
+  };
+  const drawGhost = (figure, frame) => {
+    for (const {ghost, view} of figure) ghost.setAttribute('d', frame === null ? '' : bonesOf(frame, view));
+  };
   const drawPose = (figure, sourceFrame) => {
     const base = sourceFrame * joints * dims;
-    for (const {path, view} of figure) {
+    for (const {svg, path, view} of figure) {
       const parts = [];
       for (let j = 0; j < joints; ++j) {
         const p = D.joints.parents[j];
@@ -55,17 +93,24 @@
       }
       path.setAttribute('d', parts.join(''));
       path.setAttribute('data-source-frame', sourceFrame);
+      if (view.follow) {
+        const [, y, w, h] = view.box;
+        svg.setAttribute('viewBox', `${(positions[base + view.h] + view.rel[0]).toPrecision(6)} ${y} ${w} ${h}`);
+      }
     }
   };
+  const VIEW_NAME = {front: 'front (x, y)', side: 'side (z, y)', camera: 'through the camera'};
+  const viewWithName = (f) => el('div', {}, f.svg, el('div', {class: 'legend'}, VIEW_NAME[f.view.name]));
   const before = makeFigure('bone-before'), after = makeFigure('bone-after');
+  const onion = el('input', {type: 'checkbox', id: 'onion', checked: ''});
   const beforeCaption = el('figcaption', {}, 'Before (input, ' + D.fps_in + ' fps)');
   const afterCaption = el('figcaption', {}, 'After (koma, ' + D.fps_out + ' fps)');
   const beforeLabel = el('div', {class: 'muted', id: 'before-label'});
   const afterLabel = el('div', {class: 'muted', id: 'after-label'});
   playerSection.append(el('div', {class: 'player'},
-    el('figure', {id: 'before'}, beforeCaption, el('div', {class: 'views'}, ...before.map((f) => f.svg)), beforeLabel),
-    el('figure', {id: 'after'}, afterCaption, el('div', {class: 'views'}, ...after.map((f) => f.svg)), afterLabel)));
-  if (views.length > 1) playerSection.append(el('p', {class: 'legend'}, 'Each side: front view (x, y) and side view (z, y), orthographic.'));
+    el('figure', {id: 'before'}, beforeCaption, el('div', {class: 'views'}, ...before.map(viewWithName)), beforeLabel),
+    el('figure', {id: 'after'}, afterCaption, el('div', {class: 'views'}, ...after.map(viewWithName)), afterLabel)));
+  if (views.length > 1) playerSection.append(el('p', {class: 'legend'}, 'Orthographic views, y up as in BVH.'));
 
   // Input frame shown at output frame t's time (the rates differ with --output-rate timing).
   const inputFrameAt = (t) => Math.min(D.frames_in - 1, Math.floor(t * D.frame_time_out / D.frame_time_in + 1e-6));
@@ -78,15 +123,30 @@
   const cursors = [];
   const onFrame = (t) => {
     const input = inputFrameAt(t), source = D.source_frames[t];
-    if (positions) { drawPose(before, input); drawPose(after, source); }
+    if (positions) {
+      drawPose(before, input);
+      drawPose(after, source);
+      drawGhost(after, onion.checked ? input : null);
+    }
     beforeLabel.textContent = `source frame ${input}`;
-    afterLabel.textContent = `source frame ${source} · ${KIND_NAME[D.kinds[t]]}`;
+    afterLabel.textContent = `drawing ${drawingOfFrame[t]} · source frame ${source} · ${KIND_NAME[D.kinds[t]]}`;
     const time = t * D.frame_time_out;
     for (const c of cursors) c.line.setAttribute('x1', c.plot.x(time)), c.line.setAttribute('x2', c.plot.x(time));
     if (sheet) sheet.highlight(grid ? D.grid_frames[t] : t);
   };
+  // Drawing numbers over the output frames: a new one wherever the source frame changes.
+  const drawingOfFrame = new Int32Array(framesOut);
+  for (let t = 0, d = 0; t < framesOut; ++t) {
+    if (t === 0 || D.source_frames[t] !== D.source_frames[t - 1]) ++d;
+    drawingOfFrame[t] = d;
+  }
   const player = makePlayer(framesOut, D.fps_out, onFrame, describe);
   playerSection.append(player.controls);
+  if (positions) {
+    onion.addEventListener('change', () => player.show(player.frame()));
+    playerSection.append(el('label', {class: 'legend'}, onion,
+      ' onion skin: the input at the same time, faint blue, behind the retimed figure (holds lag behind it, omissions jump ahead)'));
+  }
 
   // ---- SSD with omitted and hidden frames; the output's kinds -----------------------------
   const duration = Math.max(D.frames_in * D.frame_time_in, framesOut * D.frame_time_out);
@@ -119,7 +179,7 @@
   let heldCount = 0, dupCount = 0;
   for (const k of D.kinds) { if (k === 'H') ++heldCount; else if (k === 'D') ++dupCount; }
   ssdSection.append(legend([['#c9c6bd', 'ORIGINAL'], ['var(--dup)', `DUPLICATE (${dupCount})`], ['var(--held)', `HELD (${heldCount})`]]));
-  const band = plotFrame({xMax: duration, yMin: 0, yMax: 1, height: 64});
+  const band = plotFrame({xMax: duration, yMin: 0, yMax: 1, height: 64, yLabels: false});
   band.svg.id = 'kinds-band';
   let start = 0;
   for (let t = 1; t <= framesOut; ++t) {

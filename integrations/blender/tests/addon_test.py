@@ -3,7 +3,8 @@
     blender -b --factory-startup --python-exit-code 1 --python addon_test.py -- \
         KOMA_SERVER ADDON_PARENT_DIR KOMA_PYTHON_DIR
 
-Builds an armature with a keyed action (an arm swinging slow-fast-slow while the root
+Enables the add-on through addon_utils with its "koma package folder" preference set (koma
+itself is not on Blender's path), builds an armature with a keyed action (an arm swinging slow-fast-slow while the root
 travels), runs the add-on's operator, and checks the new action "<name>.anime": every output
 frame keyed, CONSTANT interpolation, each key the source pose the timing map names; the map
 is the one koma answers for the same bone positions sampled here independently. Once at
@@ -20,11 +21,11 @@ import time
 
 import bpy
 
+import addon_utils
+
 server_bin, addon_parent, package_dir = sys.argv[sys.argv.index("--") + 1:][:3]
+# The add-on is found on sys.path; `koma` is not: the add-on finds it through its preference.
 sys.path.insert(0, addon_parent)
-sys.path.insert(0, package_dir)
-import koma  # noqa: E402
-import koma_retime  # noqa: E402
 
 
 def start_server(workdir):
@@ -81,6 +82,7 @@ def make_armature(name, frames, fps):
 
 def expected_source_frames(obj, address, **options):
     """The timing map koma gives for the bones' world heads, sampled here on its own."""
+    import koma  # on sys.path once the add-on has imported it from its package folder
     scene = bpy.context.scene
     names = [b.name for b in obj.pose.bones]
     parents = [names.index(b.parent.name) if b.parent else -1 for b in obj.pose.bones]
@@ -128,27 +130,32 @@ def run_operator(settings_values):
 
 
 def main():
-    koma_retime.register()
+    # Enabled as a user would (bl_info, register, preferences), pointed at the built package.
+    assert addon_utils.enable("koma_retime", default_set=True) is not None
+    bpy.context.preferences.addons["koma_retime"].preferences.package_folder = package_dir
     workdir = tempfile.mkdtemp(prefix="koma-blender-")
     process, address = start_server(workdir)
     try:
         # 48 frames at 24 fps, counted in frames (timing rate 0): omissions and holds.
         obj = make_armature("swing", 48, 24)
         source = obj.animation_data.action
-        expected = expected_source_frames(obj, address, omissions=3, max_hold=3, timing_fps=0,
-                                          return_motion=False)
-        assert expected.counts["omissions_applied"] == 3 and expected.deleted_frames, \
-            expected.counts
-        assert expected.counts["holds_applied"] > 0
         result = run_operator({"server": address, "omissions": 3, "holds": -1, "max_hold": 3,
                                "timing_fps": 0.0})
         assert result == {"FINISHED"}, result
+        obj.animation_data.action = source  # sample the source again, independently
+        expected = expected_source_frames(obj, address, omissions=3, max_hold=3, timing_fps=0,
+                                          return_motion=False)
+        obj.animation_data.action = bpy.data.actions[source.name + ".anime"]
+        assert expected.counts["omissions_applied"] == 3 and expected.deleted_frames, \
+            expected.counts
+        assert expected.counts["holds_applied"] > 0
         check_anime_action(obj, source, expected)
         print(f"24 fps: {expected.counts}")
 
         # A 120 fps action on the 24 fps film grid (the panel's default rate).
         obj120 = make_armature("swing120", 120, 120)
         source120 = obj120.animation_data.action
+        bpy.context.view_layer.objects.active = obj120
         expected120 = expected_source_frames(obj120, address, max_hold=3, timing_fps=24.0,
                                              return_motion=False)
         assert expected120.timing_fps == 24

@@ -1,0 +1,44 @@
+// `koma batch` inputs: files, folders (searched recursively by extension) and @lists, each
+// mapped to its output path under the output folder.
+#ifndef KOMA_CLIENT_BATCH_BATCH_INPUTS_H_
+#define KOMA_CLIENT_BATCH_BATCH_INPUTS_H_
+
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+
+namespace koma::client::batch {
+
+// One clip of the batch.
+struct BatchItem {
+  std::string input;     // as found: a path the process can open
+  std::string relative;  // its output's path below the output folder ("a/b.bvh")
+  std::string output;    // out_dir / relative
+  std::string timing;    // the timing sheet beside the output; empty when none is asked for
+};
+
+// File name endings the RPC reads, lower case: {".bvh"}, or {".motion3.json", ".csv"}.
+std::vector<std::string> ExtensionsOf(const std::string& rpc);
+
+// "a/b.bvh" -> "a/b.timing.csv"; "a/b.motion3.json" -> "a/b.timing.csv" (the first of
+// `extensions` that ends the name is replaced; otherwise ".timing.csv" is appended).
+std::string TimingPathFor(const std::string& output, const std::vector<std::string>& extensions);
+
+// The clips named by `arguments`, in order, each input once:
+// - a file: taken whatever its name; its output is out_dir/<file name>;
+// - a folder: every file below it whose name ends in one of `extensions` (any case), in
+//   path order; each keeps its path below the folder (out_dir itself is never searched);
+// - "@LIST": a text file naming one file or folder per line (treated as above; blank lines
+//   and lines starting with '#' skipped; relative paths from the current folder).
+// `with_timing`: fill BatchItem::timing. INVALID_ARGUMENT naming the argument (or the list
+// file and line) for a path that does not exist, a list that cannot be read, and two inputs
+// whose outputs (or timing sheets) would be the same file.
+absl::StatusOr<std::vector<BatchItem>> DiscoverInputs(const std::vector<std::string>& arguments,
+                                                      const std::vector<std::string>& extensions,
+                                                      const std::string& out_dir,
+                                                      bool with_timing);
+
+}  // namespace koma::client::batch
+
+#endif  // KOMA_CLIENT_BATCH_BATCH_INPUTS_H_

@@ -1,0 +1,48 @@
+// What a batch leaves in its output folder so the next run can skip finished clips: the
+// options fingerprint each output was made with, in OUTDIR/.koma-batch.json.
+#ifndef KOMA_CLIENT_BATCH_BATCH_STATE_H_
+#define KOMA_CLIENT_BATCH_BATCH_STATE_H_
+
+#include <map>
+#include <string>
+
+#include "absl/status/status.h"
+#include "client/batch/batch_inputs.h"
+
+namespace koma::client::batch {
+
+// Output path below the output folder -> the input it was made from (absolute) and the
+// fingerprint of the options used.
+class Manifest {
+ public:
+  static constexpr const char* kFileName = ".koma-batch.json";
+
+  // OUTDIR/.koma-batch.json; empty when absent or unreadable (everything is then redone).
+  static Manifest Load(const std::string& out_dir);
+
+  // True when item.output (and item.timing, if asked for) exists, is not older than
+  // item.input, and was made from that input with `fingerprint`.
+  bool UpToDate(const BatchItem& item, const std::string& fingerprint) const;
+
+  void Set(const BatchItem& item, const std::string& fingerprint) {
+    entries_[item.relative] = Entry{AbsoluteInput(item), fingerprint};
+  }
+  void Erase(const std::string& relative) { entries_.erase(relative); }
+
+  // Atomically (temporary file and rename).
+  absl::Status Save() const;
+
+ private:
+  struct Entry {
+    std::string input;
+    std::string options;
+  };
+  static std::string AbsoluteInput(const BatchItem& item);
+
+  std::string path_;
+  std::map<std::string, Entry> entries_;
+};
+
+}  // namespace koma::client::batch
+
+#endif  // KOMA_CLIENT_BATCH_BATCH_STATE_H_
