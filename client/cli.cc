@@ -278,8 +278,7 @@ int ExpandPreset(const std::string& command, size_t command_index, std::vector<s
 }  // namespace
 
 const std::vector<std::string>& CommandNames() {
-  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health",
-                                              "batch"};
+  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health", "batch"};
   return names;
 }
 

@@ -55,6 +55,7 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
   CurveInput input;
   static_cast<convert::CurveInput&>(input) = *std::move(parsed);
   input.format = format;
+  input.text = *std::move(text);
   return input;
 }
 

@@ -425,6 +425,23 @@ code, _, err = run(["curves", w("excel_out.csv"), "-o", w("excel_again.csv"), "-
                     "0", "--server", target, "-q"])
 check(code == 0, f"koma reads back its own CSV: {err}")
 
+# --send-file: the server parses the file (bvh_text, motion3_json, csv_text + csv_fps); the
+# outputs are the same bytes as when the CLI sends the decoded data.
+for cmd, src, out_name, extra in [
+        ("skeletal", BVH, "sf.bvh", ["--timing", w("sf_sheet.csv")]),
+        ("skeletal", BVH, "sfg.bvh", ["--output-rate", "timing", "--timing-fps", "12"]),
+        ("curves", ARM, "sf.motion3.json", ["--timing", w("sf_sheet.csv")]),
+        ("curves", w("arm.csv"), "sf.csv", ["--fps", "24"]),
+        ("lipblink", TALK, "sf_talk.motion3.json", ["--seed", "3"]),
+        ("lipblink", w("l.csv"), "sf_talk.csv", ["--fps", "25"])]:
+    outputs = {}
+    for mode in ([], ["--send-file"]):
+        code, _, err = run([cmd, src, "-o", w(out_name)] + extra + mode + ["--server", target, "-q"])
+        check(code == 0, f"{cmd} {src} {mode}: {err}")
+        outputs[bool(mode)] = [open(w(out_name), "rb").read()] + (
+            [open(w("sf_sheet.csv"), "rb").read()] if w("sf_sheet.csv") in extra else [])
+    check(outputs[False] == outputs[True], f"{cmd} {src} {extra}: --send-file gives other bytes")
+
 # ---------------------------------------------------------------------------------------------
 # 5. Every request flag, through the real server.
 camera = "1,0,0,0,0,1,0,0,0,0,1,0,0,0,-500,1"
