@@ -99,8 +99,7 @@ void CommandOutput::Success(const std::string& text, nlohmann::json summary,
 }
 
 std::string ReportLine(const std::string& report_path) {
-  if (report_path.empty()) return std::string();
-  return "  report: " + (report_path == "-" ? std::string("standard output") : report_path) + "\n";
+  return report_path.empty() ? std::string() : "  report: " + report_path + "\n";
 }
 
 }  // namespace koma::client

@@ -399,7 +399,7 @@ check(code == 0 and os.path.islink(w("report.html")), f"--report through a link:
 page = open(w("real.html"), "rb").read()
 check(page.startswith(b"<!DOCTYPE html>") or page.lower().startswith(b"<!doctype html>"), page[:40])
 code, out, err = run(["curves", ARM, "-o", w("r.json"), "--report", "-", "--server", target])
-check(code == 0 and out.lower().startswith(b"<!doctype html>") and "report: standard output" in err,
+check(code == 0 and out.lower().startswith(b"<!doctype html>") and "report: -" in err,
       f"--report -: {code} {out[:40]!r} {err}")
 r, _ = summary(["lipblink", TALK, "-o", w("r.csv"), "--report", w("r.html")])
 check(r["outputs"] == {"curves": w("r.csv"), "report": w("r.html")}, r["outputs"])
