@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <vector>
-#include <cstdio>
-#include <cstdlib>
 
 #include "absl/status/status.h"
 #include "absl/strings/match.h"
@@ -21,8 +21,7 @@ constexpr int kMaxMessageBytes = 256 * 1024 * 1024;
 
 // Set once by ConfigureTls before any channel is made.
 std::shared_ptr<grpc::ChannelCredentials>& Credentials() {
-  static std::shared_ptr<grpc::ChannelCredentials> credentials =
-      grpc::InsecureChannelCredentials();
+  static std::shared_ptr<grpc::ChannelCredentials> credentials = grpc::InsecureChannelCredentials();
   return credentials;
 }
 
@@ -141,8 +140,7 @@ int ReportRpcError(const grpc::Status& status) {
   // absl's canonical code names are gRPC's ("INVALID_ARGUMENT", ...).
   const std::string code =
       absl::StatusCodeToString(static_cast<absl::StatusCode>(status.error_code()));
-  std::fprintf(stderr, "koma: %s: %s\n", code.c_str(),
-               status.error_message().c_str());
+  std::fprintf(stderr, "koma: %s: %s\n", code.c_str(), status.error_message().c_str());
   return 1;
 }
 

@@ -137,7 +137,15 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
         continue;
       }
       if (std::find(global.begin(), global.end(), name) != global.end()) continue;
-      for (const CLI::App* sub : app.get_subcommands({})) {
+      // The command named later on the line if it has the option, else the first that has.
+      std::vector<const CLI::App*> subs = app.get_subcommands({});
+      for (size_t k = i + 1; k < args.size(); ++k) {
+        const auto named = std::find(CommandNames().begin(), CommandNames().end(), args[k]);
+        if (named == CommandNames().end()) continue;
+        subs.insert(subs.begin(), app.get_subcommand(*named));
+        break;
+      }
+      for (const CLI::App* sub : subs) {
         const std::vector<std::string> names = LongNames(sub);
         if (std::find(names.begin(), names.end(), name) != names.end()) {
           return UsageError("koma",

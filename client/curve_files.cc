@@ -49,13 +49,13 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
   const bool csv = format == CurveFormat::kCsv;
   absl::StatusOr<convert::CurveInput> parsed = convert::ParseCurveText(*text, csv, csv_fps);
   if (!parsed.ok()) {
-    return absl::InvalidArgumentError(absl::StrCat(DisplayName(path),
-                                                   csv ? " (CSV): " : " (motion3.json): ",
-                                                   parsed.status().message()));
+    return absl::InvalidArgumentError(absl::StrCat(
+        DisplayName(path), csv ? " (CSV): " : " (motion3.json): ", parsed.status().message()));
   }
   CurveInput input;
   static_cast<convert::CurveInput&>(input) = *std::move(parsed);
   input.format = format;
+  input.text = *std::move(text);
   return input;
 }
 

@@ -32,6 +32,7 @@ bool CanWriteOutput(const std::string& input, const std::string& output);
 // The parsed file (convert/curve_text.h) and the format it was read as.
 struct CurveInput : convert::CurveInput {
   CurveFormat format = CurveFormat::kMotion3;  // what was read: kMotion3 or kCsv
+  std::string text;                            // the file as read (for --send-file)
 };
 
 // A motion3.json, or a CSV (`frame,<id>,...`) at `csv_fps` frames per second. The format:

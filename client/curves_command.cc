@@ -1,5 +1,6 @@
 #include "client/curves_command.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,20 @@ absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesRequest(const CurvesArgs& arg
   return request;
 }
 
+absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesFileRequest(const CurvesArgs& args,
+                                                               const CurveInput& input) {
+  absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args, input.curves);
+  if (!request.ok() || !args.send_file) return request;
+  request->clear_curves();
+  if (input.format == CurveFormat::kCsv) {
+    request->set_csv_text(input.text);
+    request->set_csv_fps(args.csv_fps);
+  } else {
+    request->set_motion3_json(input.text);
+  }
+  return request;
+}
+
 absl::Status CheckCurvesFlags(const CurvesArgs& args) {
   if (args.timing_only && args.timing.empty()) {
     return absl::InvalidArgumentError("--timing-only needs --timing OUT.csv (the sheet it writes)");
@@ -152,14 +167,23 @@ int RunCurves(const CurvesArgs& args) {
   }
   absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args, input->curves);
   if (!request.ok()) return out.UsageFailure(request.status());
-  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) return out.Failure(s);
+  // --send-file: the wire carries the file; the report still reads the decoded request.
+  std::optional<v1::RetimeCurvesRequest> file_request;
+  if (args.send_file) {
+    absl::StatusOr<v1::RetimeCurvesRequest> with_file = BuildCurvesFileRequest(args, *input);
+    if (!with_file.ok()) return out.UsageFailure(with_file.status());
+    file_request = *std::move(with_file);
+  }
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok())
+    return out.Failure(s);
 
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return out.UsageFailure(stub.status());
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeCurvesResponse response;
-  const grpc::Status status = (*stub)->RetimeCurves(&context, *request, &response);
+  const grpc::Status status =
+      (*stub)->RetimeCurves(&context, file_request ? *file_request : *request, &response);
   if (!status.ok()) return out.RpcFailure(status);
 
   if (absl::Status s = WriteCurvesOutputs(args, *input, response); !s.ok()) return out.Failure(s);

@@ -41,7 +41,8 @@ struct CurvesArgs {
   double csv_fps = 30.0;                               // --fps, frames per second of a CSV input
   std::optional<double> timing_fps;  // --timing-fps: the film grid; unset: server's 24
   std::string format;                // --format motion3|csv: of the output "-"
-  bool timing_only = false;          // --timing-only: write only the drawing sheet
+  bool send_file = false;    // --send-file: the file's text (motion3_json or csv_text + csv_fps)
+  bool timing_only = false;  // --timing-only: write only the drawing sheet
   std::string server;
   double deadline_seconds = 60.0;
   bool json = false;   // --json
@@ -52,6 +53,11 @@ struct CurvesArgs {
 // flag for a malformed --curve-on.
 absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesRequest(const CurvesArgs& args,
                                                            const CurveSet& curves);
+
+// BuildCurvesRequest(args, input.curves); with --send-file the request carries input.text in
+// motion3_json or csv_text (with csv_fps = --fps) instead of curves, for the server to parse.
+absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesFileRequest(const CurvesArgs& args,
+                                                               const CurveInput& input);
 
 // Flags that cannot work together (usage errors): -o missing without --timing-only,
 // --timing-only without --timing, two outputs on standard output.

@@ -66,6 +66,19 @@ v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSe
   return request;
 }
 
+v1::LipBlinkRequest BuildLipBlinkFileRequest(const LipBlinkArgs& args, const CurveInput& input) {
+  v1::LipBlinkRequest request = BuildLipBlinkRequest(args, input.curves);
+  if (!args.send_file) return request;
+  request.clear_curves();
+  if (input.format == CurveFormat::kCsv) {
+    request.set_csv_text(input.text);
+    request.set_csv_fps(args.csv_fps);
+  } else {
+    request.set_motion3_json(input.text);
+  }
+  return request;
+}
+
 absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args) {
   if (args.output.empty()) {
     return absl::InvalidArgumentError("-o/--output OUT.motion3.json or OUT.csv is required");
@@ -112,7 +125,11 @@ int RunLipBlink(const LipBlinkArgs& args) {
   SetDeadline(&context, args.deadline_seconds);
   v1::LipBlinkResponse response;
   const v1::LipBlinkRequest request = BuildLipBlinkRequest(args, input->curves);
-  const grpc::Status status = (*stub)->LipBlink(&context, request, &response);
+  // --send-file: the wire carries the file; the report still reads the decoded request.
+  const grpc::Status status =
+      args.send_file
+          ? (*stub)->LipBlink(&context, BuildLipBlinkFileRequest(args, *input), &response)
+          : (*stub)->LipBlink(&context, request, &response);
   if (!status.ok()) return out.RpcFailure(status);
   if (absl::Status s = WriteLipBlinkOutputs(args, *input, response); !s.ok()) {
     return out.Failure(s);

@@ -50,7 +50,8 @@ struct LipBlinkArgs {
   std::optional<uint64_t> seed;               // --seed; unset: the server's default
   double csv_fps = 30.0;                      // --fps of a CSV input
   std::optional<double> timing_fps;           // --timing-fps: the film grid; unset: server's 24
-  std::string format;                         // --format motion3|csv: of "-" input/output
+  bool send_file = false;  // --send-file: the file's text (motion3_json or csv_text + csv_fps)
+  std::string format;      // --format motion3|csv: of "-" input/output
   std::string server;
   double deadline_seconds = 60.0;
   bool json = false;   // --json
@@ -58,6 +59,10 @@ struct LipBlinkArgs {
 };
 
 v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSet& curves);
+
+// BuildLipBlinkRequest(args, input.curves); with --send-file the request carries input.text
+// in motion3_json or csv_text (with csv_fps = --fps) instead of curves.
+v1::LipBlinkRequest BuildLipBlinkFileRequest(const LipBlinkArgs& args, const CurveInput& input);
 
 // Usage errors: -o missing, two outputs on standard output.
 absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args);

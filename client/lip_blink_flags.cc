@@ -74,6 +74,10 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   AddChoice(cmd, "--format", &args.format, {"motion3", "csv"},
             "format of the output -o - (default: the input's; an input's format is read from its "
             "contents)");
+  cmd->add_flag("--send-file", args.send_file,
+                "send the input file as is (motion3_json or csv_text, csv_fps = --fps) for the "
+                "server to parse, instead of the "
+                "decoded data; the outputs are the same bytes");
   AddPresetFlag(cmd);
   AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "60");
   return cmd;

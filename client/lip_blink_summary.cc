@@ -95,6 +95,7 @@ nlohmann::json LipBlinkSummaryJson(const LipBlinkArgs& args, const CurveSet& cur
   nlohmann::json j;
   j["input"] = args.input;
   j["outputs"] = {{"curves", args.output}};
+  if (!args.report.empty()) j["outputs"]["report"] = args.report;
   j["frames"] = curves.frame_count;
   j["fps"] = curves.fps;
   j["seed"] = response.seed();

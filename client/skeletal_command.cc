@@ -1,6 +1,7 @@
 #include "client/skeletal_command.h"
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -73,7 +74,7 @@ absl::StatusOr<std::vector<double>> JointWeights(const std::vector<std::string>&
 
 }  // namespace
 
-absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path) {
+absl::StatusOr<SkeletalInput> ReadSkeletalFile(const std::string& path) {
   absl::StatusOr<std::string> text = ReadFile(path);
   if (!text.ok()) return text.status();
   if (absl::Status s = CheckInputFormat(path, *text, "skeletal"); !s.ok()) return s;
@@ -82,7 +83,13 @@ absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path) {
     return absl::InvalidArgumentError(
         absl::StrCat(InputName(path), " (BVH): ", clip.status().message()));
   }
-  return clip;
+  return SkeletalInput{*std::move(clip), *std::move(text)};
+}
+
+absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path) {
+  absl::StatusOr<SkeletalInput> input = ReadSkeletalFile(path);
+  if (!input.ok()) return input.status();
+  return std::move(input->clip);
 }
 
 absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArgs& args,
@@ -110,6 +117,15 @@ absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArg
   }
   if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
   if (args.output_at_timing_rate) request.set_output_rate(v1::TIMING_RATE);
+  return request;
+}
+
+absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalFileRequest(const SkeletalArgs& args,
+                                                                   const SkeletalInput& input) {
+  absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, input.clip);
+  if (!request.ok() || !args.send_file) return request;
+  request->clear_motion();
+  request->set_bvh_text(input.text);
   return request;
 }
 
@@ -146,7 +162,10 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
 
 absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& clip,
                                   const v1::RetimeSkeletalResponse& response) {
-  if (!args.output.empty() && !args.timing_only && response.has_motion()) {
+  if (!args.output.empty() && !args.timing_only && !response.bvh_text().empty()) {
+    // The server wrote the file (--send-file): byte for byte what the writer below gives.
+    if (absl::Status s = WriteFile(args.output, response.bvh_text()); !s.ok()) return s;
+  } else if (!args.output.empty() && !args.timing_only && response.has_motion()) {
     absl::StatusOr<SkeletalClip> retimed = ClipFromResponse(response, clip.skeleton);
     if (!retimed.ok()) return retimed.status();
     if (absl::Status s = WriteFile(args.output, formats::WriteBvh(*retimed)); !s.ok()) return s;
@@ -173,16 +192,25 @@ int RunSkeletal(const SkeletalArgs& args) {
   if (absl::Status s = CheckSkeletalFlags(args); !s.ok()) return out.UsageFailure(s);
   if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok())
     return out.Failure(s);
-  absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(args.input);
-  if (!clip.ok()) return out.Failure(clip.status());
+  absl::StatusOr<SkeletalInput> input = ReadSkeletalFile(args.input);
+  if (!input.ok()) return out.Failure(input.status());
+  const SkeletalClip* clip = &input->clip;
   absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, *clip);
   if (!request.ok()) return out.UsageFailure(request.status());
+  // --send-file: the wire carries the file; the report still reads the decoded request.
+  std::optional<v1::RetimeSkeletalRequest> file_request;
+  if (args.send_file) {
+    file_request = *request;
+    file_request->clear_motion();
+    file_request->set_bvh_text(input->text);
+  }
   absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
   if (!stub.ok()) return out.UsageFailure(stub.status());
   grpc::ClientContext context;
   SetDeadline(&context, args.deadline_seconds);
   v1::RetimeSkeletalResponse response;
-  const grpc::Status status = (*stub)->RetimeSkeletal(&context, *request, &response);
+  const grpc::Status status =
+      (*stub)->RetimeSkeletal(&context, file_request ? *file_request : *request, &response);
   if (!status.ok()) return out.RpcFailure(status);
   if (absl::Status s = WriteSkeletalOutputs(args, *clip, response); !s.ok()) return out.Failure(s);
   if (!args.report.empty()) {

@@ -34,9 +34,10 @@ struct SkeletalArgs {
   std::vector<std::string> joint_weights;  // --joint-weights: W,... per joint, or NAME=W,...
   bool root_relative = false;              // --root-relative
   std::vector<double> camera;              // --camera: 16 numbers, column-major view-projection
-  std::optional<bool> return_motion;   // --return-motion; unset: true (false with --timing-only)
-  bool timing_only = false;            // --timing-only: no motion asked for, only the sheet written
-  std::optional<double> timing_fps;    // --timing-fps: the film grid; unset: server default (24)
+  std::optional<bool> return_motion;  // --return-motion; unset: true (false with --timing-only)
+  bool send_file = false;             // --send-file: the BVH text in bvh_text, parsed by the server
+  bool timing_only = false;           // --timing-only: no motion asked for, only the sheet written
+  std::optional<double> timing_fps;   // --timing-fps: the film grid; unset: server default (24)
   bool output_at_timing_rate = false;  // --output-rate timing: write the BVH at the grid rate
   std::string server;                  // host:port
   double deadline_seconds = 60.0;      // --deadline
@@ -47,6 +48,18 @@ struct SkeletalArgs {
 // The clip in `path` ("-": standard input). A motion3.json or CSV is refused as such; a
 // malformed BVH names the file and line.
 absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path);
+
+// The same, with the file's text (what --send-file sends).
+struct SkeletalInput {
+  SkeletalClip clip;
+  std::string text;
+};
+absl::StatusOr<SkeletalInput> ReadSkeletalFile(const std::string& path);
+
+// BuildSkeletalRequest(args, input.clip); with --send-file the request carries input.text in
+// bvh_text instead of motion (the server parses it and answers the retimed file in bvh_text).
+absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalFileRequest(const SkeletalArgs& args,
+                                                                   const SkeletalInput& input);
 
 // The request for `clip` with every flag of `args` applied. INVALID_ARGUMENT naming the flag
 // when a flag does not fit the clip (--joint-weights: a count other than the joints', an
@@ -60,8 +73,9 @@ absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArg
 // written is CheckWritable's (client/files.h).
 absl::Status CheckSkeletalFlags(const SkeletalArgs& args);
 
-// Writes -o (unless --timing-only or the response has no motion) and --timing (when given)
-// from `response` to the request built from `clip`.
+// Writes -o (unless --timing-only or the response has no motion; the server's bvh_text as is
+// when it answered one) and --timing (when given) from `response` to the request built from
+// `clip`.
 absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& clip,
                                   const v1::RetimeSkeletalResponse& response);
 

@@ -62,6 +62,9 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
          "source (default: the BVH's rate and length) or timing (one frame per grid frame)")
       ->type_name("source|timing")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  cmd->add_flag("--send-file", args.send_file,
+                "send the input file as is (bvh_text) for the server to parse, instead of the "
+                "decoded data; the outputs are the same bytes");
   AddPresetFlag(cmd);
   AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "60");
   return cmd;

@@ -72,7 +72,8 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
   const std::vector<int> deleted(response.deleted_frames().begin(),
                                  response.deleted_frames().end());
   const std::vector<int> hidden(response.hidden_frames().begin(), response.hidden_frames().end());
-  const std::string written = response.has_motion() && !args.output.empty() && !args.timing_only
+  const bool has_motion = response.has_motion() || !response.bvh_text().empty();
+  const std::string written = has_motion && !args.output.empty() && !args.timing_only
                                   ? OutputName(args.output)
                                   : "(timing only)";
   std::string text =
@@ -119,10 +120,12 @@ nlohmann::json SkeletalSummaryJson(const SkeletalArgs& args, const SkeletalClip&
   nlohmann::json j;
   j["input"] = args.input;
   j["outputs"] = nlohmann::json::object();
-  if (response.has_motion() && !args.timing_only && !args.output.empty()) {
+  if ((response.has_motion() || !response.bvh_text().empty()) && !args.timing_only &&
+      !args.output.empty()) {
     j["outputs"]["motion"] = args.output;
   }
   if (!args.timing.empty()) j["outputs"]["timing"] = args.timing;
+  if (!args.report.empty()) j["outputs"]["report"] = args.report;
   j["input_frames"] = clip.frame_count;
   j["joints"] = clip.skeleton.joints.size();
   j["input_fps"] = 1.0 / clip.frame_time;

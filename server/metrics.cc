@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "koma/version.h"
 #include "server/status_mapping.h"
 
 namespace koma::server {
@@ -77,6 +78,13 @@ RpcMetrics::RpcMetrics(prometheus::Registry& registry) {
                              .Name("koma_response_bytes_total")
                              .Help("Serialized response bytes sent by the calls that ended OK.")
                              .Register(registry);
+  // koma_build_info{version="0.1.0"} 1: which build answers (the CMake project version).
+  prometheus::BuildGauge()
+      .Name("koma_build_info")
+      .Help("Always 1; the label version is koma's version (koma_server --version).")
+      .Register(registry)
+      .Add({{"version", kVersion}})
+      .Set(1);
   prometheus::Gauge& in_flight = prometheus::BuildGauge()
                                      .Name("koma_requests_in_flight")
                                      .Help(

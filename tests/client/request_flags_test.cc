@@ -3,14 +3,17 @@
 // messages walked into, repeated messages taken whole) runs the real command line parser with
 // that field's kebab-case flag and checks the request the command builds has the field set to
 // the value given. A field added to the proto without a flag (and not listed in kExcluded)
-// fails WalksEveryField.
+// fails WalksEveryField. The file-carrying fields are set by --send-file (the input file
+// itself) and their csv_fps by --fps.
 #include <gmock/gmock.h>
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/text_format.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -38,27 +41,36 @@ const std::map<std::string, std::string> kExcluded = {
     {"RetimeSkeletalRequest.motion", "the whole clip: the input file"},
     {"RetimeCurvesRequest.curves", "the whole curve set: the input file"},
     {"LipBlinkRequest.curves", "the whole curve set: the input file"},
-    // Files over the wire (the oneof beside the decoded motion): the CLI reads and checks the
-    // file itself and sends the decoded message; --fps is a CSV input's rate there.
-    {"RetimeSkeletalRequest.bvh_text", "the input file as text: the CLI sends it decoded"},
-    {"RetimeCurvesRequest.motion3_json", "the input file as text: the CLI sends it decoded"},
-    {"RetimeCurvesRequest.csv_text", "the input file as text: the CLI sends it decoded"},
-    {"RetimeCurvesRequest.csv_fps", "a csv_text's rate: the CLI's --fps decodes the CSV itself"},
-    {"LipBlinkRequest.motion3_json", "the input file as text: the CLI sends it decoded"},
-    {"LipBlinkRequest.csv_text", "the input file as text: the CLI sends it decoded"},
-    {"LipBlinkRequest.csv_fps", "a csv_text's rate: the CLI's --fps decodes the CSV itself"},
 };
+
+// The files over the wire (the oneof beside the decoded data) are set by --send-file, which
+// sends the input file itself, and csv_fps by --fps with it: not a flag per field.
+const std::set<std::string> kSendFileFields = {
+    "RetimeSkeletalRequest.bvh_text", "RetimeCurvesRequest.motion3_json",
+    "RetimeCurvesRequest.csv_text",   "RetimeCurvesRequest.csv_fps",
+    "LipBlinkRequest.motion3_json",   "LipBlinkRequest.csv_text",
+    "LipBlinkRequest.csv_fps"};
+const std::string kCsv = std::string(KOMA_TESTDATA_DIR) + "/curves_crlf.csv";
+constexpr char kInputFile[] = "<the input file>";
 
 // Singular message fields whose fields are settings, each with its own flag.
 const std::set<std::string> kSettingsMessages = {"LipBlinkRequest.mouth", "LipBlinkRequest.eyes",
                                                  "EyeSettings.auto_blink"};
 
 struct FieldCase {
-  FieldCase(std::vector<std::string> v, std::string e, std::vector<std::string> x = {})
-      : values(std::move(v)), expected(std::move(e)), extra(std::move(x)) {}
+  FieldCase(std::vector<std::string> v, std::string e, std::vector<std::string> x = {},
+            std::string f = "", std::string i = "")
+      : values(std::move(v)),
+        expected(std::move(e)),
+        extra(std::move(x)),
+        flag(std::move(f)),
+        input(std::move(i)) {}
   std::vector<std::string> values;  // after the flag (none for a plain switch; "=V": --flag=V)
-  std::string expected;             // the field's text in the built request
+  std::string expected;             // the field's text in the built request (kInputFile: the
+                                    // bytes of the input file)
   std::vector<std::string> extra;   // other flags the value needs
+  std::string flag;                 // only for kSendFileFields: --send-file
+  std::string input;                // another input file than the command's sample
 };
 
 std::string Ones(int n, const std::string& first) {
@@ -116,6 +128,14 @@ const std::map<std::string, FieldCase>& Cases() {
       {"LipBlinkRequest.eyes.auto_blink.keep", {{"5-10"}, "begin: 5 end: 10"}},
       {"LipBlinkRequest.seed", {{"18446744073709551615"}, "18446744073709551615"}},
       {"LipBlinkRequest.timing_fps", {{"0"}, "0"}},
+      // Files over the wire, through --send-file.
+      {"RetimeSkeletalRequest.bvh_text", {{}, kInputFile, {}, "--send-file"}},
+      {"RetimeCurvesRequest.motion3_json", {{}, kInputFile, {}, "--send-file"}},
+      {"RetimeCurvesRequest.csv_text", {{}, kInputFile, {}, "--send-file", kCsv}},
+      {"RetimeCurvesRequest.csv_fps", {{}, "24", {"--fps", "24"}, "--send-file", kCsv}},
+      {"LipBlinkRequest.motion3_json", {{}, kInputFile, {}, "--send-file"}},
+      {"LipBlinkRequest.csv_text", {{}, kInputFile, {}, "--send-file", kCsv}},
+      {"LipBlinkRequest.csv_fps", {{}, "12.5", {"--fps", "12.5"}, "--send-file", kCsv}},
   };
   return *cases;
 }
@@ -194,13 +214,16 @@ std::string FieldText(const Message& request, const FieldPath& path) {
   return ValueText(*message, field, -1);
 }
 
-// The request `koma COMMAND INPUT -o OUT <flags>` builds, through the real parser.
-absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(
-    const std::string& request_name, const std::vector<std::string>& flags) {
+// The request `koma COMMAND INPUT -o OUT <flags>` sends, through the real parser and the
+// commands' own builders (input: the command's sample unless given).
+absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(const std::string& request_name,
+                                                              const std::vector<std::string>& flags,
+                                                              const std::string& input = "") {
   std::vector<std::string> argv{"koma"};
   if (request_name == "RetimeSkeletalRequest") argv.insert(argv.end(), {"skeletal", kBvh});
   if (request_name == "RetimeCurvesRequest") argv.insert(argv.end(), {"curves", kArmHead});
   if (request_name == "LipBlinkRequest") argv.insert(argv.end(), {"lipblink", kTalk});
+  if (!input.empty()) argv.back() = input;
   argv.insert(argv.end(), flags.begin(), flags.end());
   KomaCommandLine line;
   if (const int code = ParseCommandLine(argv, &line); code != -1) {
@@ -208,23 +231,35 @@ absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(
                                       absl::StrJoin(argv, " "));
   }
   if (line.command == "skeletal") {
-    absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(line.skeletal.input);
-    if (!clip.ok()) return clip.status();
-    absl::StatusOr<v1::RetimeSkeletalRequest> r = BuildSkeletalRequest(line.skeletal, *clip);
+    absl::StatusOr<SkeletalInput> file = ReadSkeletalFile(line.skeletal.input);
+    if (!file.ok()) return file.status();
+    absl::StatusOr<v1::RetimeSkeletalRequest> r = BuildSkeletalFileRequest(line.skeletal, *file);
     if (!r.ok()) return r.status();
     return std::unique_ptr<Message>(new v1::RetimeSkeletalRequest(*r));
   }
   if (line.command == "curves") {
-    absl::StatusOr<CurveInput> input = ReadCurveInput(line.curves.input, line.curves.csv_fps);
-    if (!input.ok()) return input.status();
-    absl::StatusOr<v1::RetimeCurvesRequest> r = BuildCurvesRequest(line.curves, input->curves);
+    absl::StatusOr<CurveInput> file = ReadCurveInput(line.curves.input, line.curves.csv_fps);
+    if (!file.ok()) return file.status();
+    absl::StatusOr<v1::RetimeCurvesRequest> r = BuildCurvesFileRequest(line.curves, *file);
     if (!r.ok()) return r.status();
     return std::unique_ptr<Message>(new v1::RetimeCurvesRequest(*r));
   }
-  absl::StatusOr<CurveInput> input = ReadCurveInput(line.lip_blink.input, line.lip_blink.csv_fps);
-  if (!input.ok()) return input.status();
+  absl::StatusOr<CurveInput> file = ReadCurveInput(line.lip_blink.input, line.lip_blink.csv_fps);
+  if (!file.ok()) return file.status();
   return std::unique_ptr<Message>(
-      new v1::LipBlinkRequest(BuildLipBlinkRequest(line.lip_blink, input->curves)));
+      new v1::LipBlinkRequest(BuildLipBlinkFileRequest(line.lip_blink, *file)));
+}
+
+std::string FileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A bytes field's value, as is.
+std::string RawBytes(const Message& message, const FieldDescriptor* field) {
+  return message.GetReflection()->GetString(message, field);
 }
 
 TEST(RequestFlagsTest, WalksEveryField) {
@@ -239,8 +274,8 @@ TEST(RequestFlagsTest, WalksEveryField) {
   for (const auto& [key, unused] : Cases()) {
     EXPECT_TRUE(walked.count(key)) << key << ": a case for a field the proto does not have";
   }
-  // 11 + 7 + 20 fields today; the count catches a settings message walked wrongly.
-  EXPECT_EQ(paths.size(), 38u);
+  // 12 + 10 + 23 fields today; the count catches a settings message walked wrongly.
+  EXPECT_EQ(paths.size(), 45u);
 }
 
 TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {
@@ -251,7 +286,9 @@ TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {
     const FieldCase& c = it->second;
     const std::string request_name = path.fields.front()->containing_type()->name();
     std::vector<std::string> flags;
-    const std::string flag = FlagName(path);
+    const std::string flag = c.flag.empty() ? FlagName(path) : c.flag;
+    EXPECT_EQ(!c.flag.empty(), kSendFileFields.count(path.key) > 0)
+        << "only the file fields are set by another flag than their kebab-case name";
     if (!c.values.empty() && c.values[0][0] == '=') {
       flags.push_back(flag + c.values[0]);
     } else {
@@ -260,11 +297,22 @@ TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {
     }
     flags.insert(flags.end(), c.extra.begin(), c.extra.end());
     flags.insert(flags.end(), {"-o", "out"});
-    absl::StatusOr<std::unique_ptr<Message>> with = BuildFromCommandLine(request_name, flags);
+    absl::StatusOr<std::unique_ptr<Message>> with =
+        BuildFromCommandLine(request_name, flags, c.input);
     ASSERT_THAT(with, koma::testing::IsOk()) << absl::StrJoin(flags, " ");
     absl::StatusOr<std::unique_ptr<Message>> without =
-        BuildFromCommandLine(request_name, {"-o", "out"});
+        BuildFromCommandLine(request_name, {"-o", "out"}, c.input);
     ASSERT_THAT(without, koma::testing::IsOk());
+    if (c.expected == kInputFile) {
+      const std::string file = c.input.empty() ? (request_name == "RetimeSkeletalRequest" ? kBvh
+                                                  : request_name == "RetimeCurvesRequest" ? kArmHead
+                                                                                          : kTalk)
+                                               : c.input;
+      ASSERT_FALSE(FileBytes(file).empty());
+      EXPECT_EQ(RawBytes(**with, path.fields.back()), FileBytes(file));
+      EXPECT_EQ(FieldText(**without, path), "<unset>");
+      continue;
+    }
     EXPECT_EQ(FieldText(**with, path), c.expected) << absl::StrJoin(flags, " ");
     EXPECT_NE(FieldText(**without, path), c.expected)
         << "the case's value is the default, so it proves nothing";

@@ -120,6 +120,10 @@ MISUSE = [
      "koma skeletal: only one of -o -, --timing -, --report - and --json can use standard output"),
     (["skeletal", BVH, "-o", "-", "--json"], 2,
      "koma skeletal: only one of -o -, --timing -, --report - and --json can use standard output"),
+    (["lipblink", TALK, "-o", "{W}/o.json", "--report", "-", "--json"], 2,
+     "koma lipblink: only one of -o -, --report - and --json can use standard output"),
+    (["curves", ARM, "-o", "{W}/o.json", "--report", "{W}/missing/r.html"], 1,
+     "koma: cannot write {W}/missing/r.html: No such file or directory"),
     (["skeletal", BVH, "-o", "{W}/o.json"], 2,
      "koma skeletal: -o {W}/o.json: koma skeletal writes BVH (-o OUT.bvh)"),
     (["curves", ARM, "-o", "{W}/o.bvh", "--server", "{T}"], 2,
@@ -386,6 +390,20 @@ os.symlink("real.bvh", w("link.bvh"))
 code, _, _ = run(["skeletal", BVH, "-o", w("link.bvh"), "--server", target, "-q"])
 check(code == 0 and os.path.islink(w("link.bvh")), "the link was replaced")
 check(open(w("real.bvh"), "rb").read() == open(w("file.bvh"), "rb").read(), "link target")
+# The report too: through a link (kept), and to standard output with "-".
+open(w("real.html"), "w").write("old")
+os.symlink("real.html", w("report.html"))
+code, _, err = run(["skeletal", BVH, "-o", w("r.bvh"), "--report", w("report.html"), "--server",
+                    target, "-q"])
+check(code == 0 and os.path.islink(w("report.html")), f"--report through a link: {err}")
+page = open(w("real.html"), "rb").read()
+check(page.startswith(b"<!DOCTYPE html>") or page.lower().startswith(b"<!doctype html>"), page[:40])
+code, out, err = run(["curves", ARM, "-o", w("r.json"), "--report", "-", "--server", target])
+check(code == 0 and out.lower().startswith(b"<!doctype html>") and "report: -" in err,
+      f"--report -: {code} {out[:40]!r} {err}")
+r, _ = summary(["lipblink", TALK, "-o", w("r.csv"), "--report", w("r.html")])
+check(r["outputs"] == {"curves": w("r.csv"), "report": w("r.html")}, r["outputs"])
+
 # /dev/stdout (a link to /proc/self/fd/1) is written into, never replaced.
 code, out, _ = run(["skeletal", BVH, "-o", "/dev/stdout", "--server", target, "-q"])
 check(code == 0 and out == open(w("file.bvh"), "rb").read(), "-o /dev/stdout")
@@ -406,6 +424,23 @@ check(len(table) == 41 and float(table[1][1]) == 0.5, table[1])
 code, _, err = run(["curves", w("excel_out.csv"), "-o", w("excel_again.csv"), "--timing-fps",
                     "0", "--server", target, "-q"])
 check(code == 0, f"koma reads back its own CSV: {err}")
+
+# --send-file: the server parses the file (bvh_text, motion3_json, csv_text + csv_fps); the
+# outputs are the same bytes as when the CLI sends the decoded data.
+for cmd, src, out_name, extra in [
+        ("skeletal", BVH, "sf.bvh", ["--timing", w("sf_sheet.csv")]),
+        ("skeletal", BVH, "sfg.bvh", ["--output-rate", "timing", "--timing-fps", "12"]),
+        ("curves", ARM, "sf.motion3.json", ["--timing", w("sf_sheet.csv")]),
+        ("curves", w("arm.csv"), "sf.csv", ["--fps", "24"]),
+        ("lipblink", TALK, "sf_talk.motion3.json", ["--seed", "3"]),
+        ("lipblink", w("l.csv"), "sf_talk.csv", ["--fps", "25"])]:
+    outputs = {}
+    for mode in ([], ["--send-file"]):
+        code, _, err = run([cmd, src, "-o", w(out_name)] + extra + mode + ["--server", target, "-q"])
+        check(code == 0, f"{cmd} {src} {mode}: {err}")
+        outputs[bool(mode)] = [open(w(out_name), "rb").read()] + (
+            [open(w("sf_sheet.csv"), "rb").read()] if w("sf_sheet.csv") in extra else [])
+    check(outputs[False] == outputs[True], f"{cmd} {src} {extra}: --send-file gives other bytes")
 
 # ---------------------------------------------------------------------------------------------
 # 5. Every request flag, through the real server.

@@ -85,8 +85,10 @@ with urllib.request.urlopen(sys.argv[1], timeout=10) as r:
 PY
 stop_server
 
+server_version=$("$server_bin" --version | sed -n 's/^koma_server //p')
+[ -n "$server_version" ] || fail "koma_server --version printed no version"
 "$python" - "$work/metrics.txt" "$work/server.log" "$pitch_frames" "$curves_frames" \
-  "$lip_frames" <<'PY' || fail "the scraped metrics are wrong (above)"
+  "$lip_frames" "$server_version" <<'PY' || fail "the scraped metrics are wrong (above)"
 import collections, json, math, re, sys
 
 text = open(sys.argv[1]).read()
@@ -169,11 +171,14 @@ for method, by_code in expected.items():
     assert value("koma_response_bytes_total", grpc_method=method) == sum(
         r["bytes_out"] for r in mine if r["code"] == "OK") > 0
 assert value("koma_requests_in_flight") == 0
+# The build: one koma_build_info series, its version that of koma_server --version.
+assert value("koma_build_info", version=sys.argv[6]) == 1, sys.argv[6]
 for name, kind in [("grpc_server_started_total", "counter"),
                    ("grpc_server_handled_total", "counter"),
                    ("grpc_server_handling_seconds", "histogram"),
                    ("koma_frames_processed_total", "counter"), ("koma_request_bytes_total", "counter"),
-                   ("koma_response_bytes_total", "counter"), ("koma_requests_in_flight", "gauge")]:
+                   ("koma_response_bytes_total", "counter"), ("koma_requests_in_flight", "gauge"),
+                   ("koma_build_info", "gauge")]:
     assert types.get(name) == kind, (name, types.get(name))
 print(f"metrics: {len(samples)} samples, {len(types)} families, all checks passed")
 PY
