@@ -35,12 +35,12 @@ void BM_ParseBvh(benchmark::State& state) {
 }
 BENCHMARK(BM_ParseBvh);
 
-void BM_MakeRequest(benchmark::State& state) {
+void BM_BuildRequest(benchmark::State& state) {
   const SkeletalClip clip = *formats::ParseBvh(PitchText());
   const client::SkeletalArgs args;
   for (auto _ : state) benchmark::DoNotOptimize(client::BuildSkeletalRequest(args, clip));
 }
-BENCHMARK(BM_MakeRequest);
+BENCHMARK(BM_BuildRequest);
 
 void BM_WriteBvh(benchmark::State& state) {
   const SkeletalClip clip = *formats::ParseBvh(PitchText());
@@ -48,7 +48,7 @@ void BM_WriteBvh(benchmark::State& state) {
 }
 BENCHMARK(BM_WriteBvh);
 
-// Read, parse, request; then the answer (here: the request's motion, same size) back to a
+// Read and parse (as the batch does, ReadSkeletalInput), request; then the answer (here: the request's motion, same size) back to a
 // clip, formatted and written through a temporary file and a rename, as WriteFile does.
 void BM_ClientWorkPerClip(benchmark::State& state) {
   const client::SkeletalArgs args;
@@ -56,7 +56,7 @@ void BM_ClientWorkPerClip(benchmark::State& state) {
                            ("koma_batch_client_benchmark_" + std::to_string(getpid()) + ".bvh"))
                               .string();
   for (auto _ : state) {
-    const SkeletalClip clip = *formats::ParseBvh(*client::ReadFile(KOMA_PITCH_BVH));
+    const SkeletalClip clip = *client::ReadSkeletalInput(KOMA_PITCH_BVH);
     v1::RetimeSkeletalResponse response;
     *response.mutable_motion() = client::BuildSkeletalRequest(args, clip)->motion();
     const SkeletalClip answer = *client::ClipFromResponse(response, clip.skeleton);

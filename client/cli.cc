@@ -12,7 +12,6 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
-#include "client/batch/batch_command.h"
 #include "client/cli_options.h"
 #include "client/command_flags.h"
 #include "client/command_output.h"
@@ -278,6 +277,8 @@ int ExpandPreset(const std::string& command, size_t command_index, std::vector<s
 }  // namespace
 
 const std::vector<std::string>& CommandNames() {
+  // batch runs before this parser sees the line (client/main.cc, batch/batch_command.h); it
+  // is listed so the messages about commands name it.
   static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health", "batch"};
   return names;
 }
@@ -294,8 +295,11 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
   AddCurvesCommand(app, out->curves);
   AddLipBlinkCommand(app, out->lip_blink);
   AddHealthCommand(app, out->health);
-  // `koma batch` runs (and exits the process) from its parse callback: batch/batch_command.h.
-  batch::AddBatch(app);
+  // Listed for --help only: main() hands `koma batch ...` to batch::RunIfBatch before this
+  // parser sees the line (client/batch/batch_command.h).
+  app.add_subcommand("batch",
+                     "Retime many clips: files, folders or @lists, across servers, with "
+                     "progress, retries and skipping of finished work (koma batch --help)");
 
   // $KOMA_CONFIG: as --config, unless the line has one.
   std::vector<std::string> line = args;
@@ -324,9 +328,8 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
     const std::string who = command.empty() ? "koma" : "koma " + command;
     return UsageError(who, ParseErrorText(e), who + " --help");
   }
-  for (const std::string& name : CommandNames()) {
-    if (app.got_subcommand(name)) out->command = name;
-  }
+  for (const CLI::App* sub : app.get_subcommands())
+    out->command = sub->get_name();  // the one parsed
   return -1;
 }
 

@@ -82,14 +82,6 @@ absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& 
 // The whole command. Exit code: 0 ok, 1 failure, 2 usage error (messages on stderr).
 int RunSkeletal(const SkeletalArgs& args);
 
-// The request RunSkeletal sends for `clip` (`koma batch` sends the same).
-v1::RetimeSkeletalRequest MakeSkeletalRequest(const SkeletalArgs& args, const SkeletalClip& clip);
-
-// Writes args.output (and args.timing when set) from the answer to `clip`, as RunSkeletal
-// does; errors name the file.
-absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& clip,
-                                  const v1::RetimeSkeletalResponse& response);
-
 }  // namespace koma::client
 
 #endif  // KOMA_CLIENT_SKELETAL_COMMAND_H_

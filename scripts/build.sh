@@ -21,6 +21,15 @@ if [ -n "${KOMA_BUILD_LOG:-}" ]; then
 else
   build_steps
 fi
-if [ -f "$build/python/koma/v1/retime_pb2.py" ]; then
-  echo "Python package: export PYTHONPATH=$build/python   (docs/python.md)"
+# Debian's python3 finds the `koma` package of this build with no further step: a koma.pth in
+# its user site-packages names $build/python (the last build of any clone wins; docs/python.md).
+# KOMA_NO_PTH=1 leaves the user site alone (then use PYTHONPATH=$build/python).
+if [ -f "$build/python/koma/v1/retime_pb2.py" ] && [ -z "${KOMA_NO_PTH:-}" ] &&
+   [ -x /usr/bin/python3 ]; then
+  site=$(/usr/bin/python3 -m site --user-site)
+  if mkdir -p "$site" 2>/dev/null && echo "$build/python" > "$site/koma.pth"; then
+    echo "Python package: /usr/bin/python3 imports koma from $build/python ($site/koma.pth)"
+  else
+    echo "Python package: export PYTHONPATH=$build/python   (docs/python.md)"
+  fi
 fi

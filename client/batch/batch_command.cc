@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -18,6 +20,7 @@
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "client/batch/batch_inputs.h"
@@ -26,6 +29,7 @@
 #include "client/batch/batch_runner.h"
 #include "client/batch/batch_state.h"
 #include "client/channel.h"
+#include "client/command_flags.h"
 #include "client/files.h"
 
 namespace koma::client::batch {
@@ -36,98 +40,94 @@ constexpr int kUsageError = 2;
 constexpr int kInterrupted = 130;  // 128 + SIGINT, as shells report it
 constexpr double kManifestSaveEveryS = 5.0;  // a killed client loses at most this much
 
-// Everything `koma batch` parses; lives as long as the process (CLI11 holds pointers).
-struct BatchCommandArgs {
-  std::string rpc;
-  std::vector<std::string> inputs;
-  std::string out_dir;
-  std::string servers;
-  int jobs = 0;
-  int io_threads = 4;  // file I/O blocks: more threads than cores (measured: docs/benchmarks.md)
-  int retries = 7;
-  double deadline_seconds = 60.0;
-  bool force = false;
-  bool quiet = false;
-  bool verbose = false;
-  bool timing = false;
-  std::string summary;
-  double progress_every_s = 10.0;
-  // Options of the RPCs, mapped onto the single-file commands' argument structs.
-  SkeletalArgs skeletal;
-  CurvesArgs curves;
-  LipBlinkArgs lip_blink;
-  std::optional<int> on;             // curves: frames per drawing; lipblink: per mouth shape
-  std::optional<double> csv_fps;     // curves, lipblink
-  std::optional<double> timing_fps;  // all three
-  // Each RPC option with the RPCs it belongs to, to refuse the others' options.
-  std::vector<std::pair<CLI::Option*, std::set<std::string>>> owned;
-};
+// Options of the single-file commands that name one file or choose how one summary is
+// printed: a batch has its own (-o OUTDIR, --timing as a switch, --summary).
+constexpr const char* kPerFileOptions[] = {"input",    "-o",           "--timing", "--timing-only",
+                                           "--format", "--return-motion", "--report"};
 
-void Own(BatchCommandArgs& args, CLI::Option* option, std::set<std::string> rpcs) {
-  args.owned.emplace_back(option, std::move(rpcs));
+// The batch's own options on the RPC's subcommand (the RPC's --server, --deadline, --quiet and
+// --json stay, bound to its args). Returns them, to leave them out of the fingerprint.
+std::set<const CLI::Option*> AddBatchOptions(CLI::App* cmd, BatchCommandArgs& a) {
+  for (const char* name : kPerFileOptions) {
+    if (CLI::Option* option = cmd->get_option_no_throw(name)) cmd->remove_option(option);
+  }
+  std::set<const CLI::Option*> own;
+  own.insert(cmd->add_option("inputs", a.inputs, "files, folders or @LIST (one path per line)")
+                 ->required()
+                 ->type_name("IN"));
+  own.insert(cmd->add_option("-o,--output-dir", a.out_dir, "folder the outputs are written under")
+                 ->required()
+                 ->type_name("OUTDIR"));
+  if (cmd->get_name() != "lipblink") {  // LipBlink has no sheet
+    own.insert(cmd->add_flag("--timing", a.timing,
+                             "write each clip's timing sheet beside its output as "
+                             "NAME.timing.csv"));
+  }
+  own.insert(cmd->add_flag("--report", a.report,
+                           "write each clip's HTML report beside its output as NAME.report.html"));
+  own.insert(cmd->add_option("-j,--jobs", a.jobs, "calls in flight (default 2 per server)")
+                 ->check(CLI::Range(1, 4096)));
+  own.insert(cmd->add_option("--io-threads", a.io_threads,
+                             "threads reading and parsing inputs and writing outputs (default 4)")
+                 ->check(CLI::Range(1, 64)));
+  own.insert(cmd->add_option("--retries", a.retries,
+                             "times a clip is sent again after UNAVAILABLE or RESOURCE_EXHAUSTED, "
+                             "after 50 ms doubling to 2 s, to another server when there is one "
+                             "(default 7)")
+                 ->check(CLI::Range(0, 100)));
+  own.insert(cmd->add_flag("--force", a.force, "redo every clip, even up-to-date outputs"));
+  own.insert(cmd->add_flag("-v,--verbose", a.verbose, "a line per clip written"));
+  own.insert(cmd->add_option("--progress-every", a.progress_every_s,
+                             "seconds between progress lines when stderr is not a terminal "
+                             "(default 10)")
+                 ->check(CLI::PositiveNumber));
+  own.insert(cmd->add_option("--summary", a.summary,
+                             "write every clip's status, the counts and the time as JSON here "
+                             "(- for stdout)"));
+  // The RPC's common flags, kept (bound to its args) and described as a batch uses them.
+  const std::pair<const char*, const char*> common[] = {
+      {"--server",
+       "servers, comma-separated host:port, one channel each; or one gRPC target such as "
+       "dns:///name:port (default $KOMA_SERVER or 127.0.0.1:50051)"},
+      {"--deadline", "per call, seconds (default 60)"},
+      {"--json", "print the batch summary (as --summary writes it) on stdout"},
+      {"--quiet", "no progress and no summary line (failures still go to stderr)"},
+      {"--help", nullptr}};
+  for (const auto& [name, description] : common) {
+    if (CLI::Option* option = cmd->get_option_no_throw(name)) {
+      if (description != nullptr) option->description(description);
+      own.insert(option);
+    }
+  }
+  return own;
 }
 
-void AddRpcOptions(CLI::App* cmd, BatchCommandArgs& a) {
-  const std::set<std::string> sk{"skeletal"}, cu{"curves"}, lb{"lipblink"}, curve_files{
-                                                                                "curves",
-                                                                                "lipblink"};
-  // RetimeSkeletal (as `koma skeletal`).
-  Own(a, cmd->add_option("--omit", a.skeletal.omissions, "skeletal: inbetween omissions Nio")
-             ->check(CLI::NonNegativeNumber), sk);
-  Own(a, cmd->add_option("--hold", a.skeletal.holds, "skeletal: holds Nhf")
-             ->check(CLI::NonNegativeNumber), sk);
-  Own(a, cmd->add_option("--max-hold", a.skeletal.max_hold, "skeletal: longest run of one drawing")
-             ->check(CLI::PositiveNumber), sk);
-  Own(a, cmd->add_flag("!--no-keep-length", a.skeletal.keep_length,
-                       "skeletal: do not re-insert duplicates"), sk);
-  Own(a, cmd->add_flag("--hold-first", a.skeletal.hold_first, "skeletal: holds before omissions"),
-      sk);
-  Own(a, cmd->add_flag("--root-relative", a.skeletal.root_relative,
-                       "skeletal: speed relative to the root joint"), sk);
-  Own(a, cmd->add_option_function<std::string>(
-                 "--output-rate",
-                 [&a](const std::string& rate) {
-                   a.skeletal.output_at_timing_rate = rate == "timing";
-                 },
-                 "skeletal: source or timing")
-             ->check(CLI::IsMember({"source", "timing"})), sk);
-  // RetimeCurves (as `koma curves`).
-  Own(a, cmd->add_option("--keys", a.curves.keys, "curves: key poses in frames, e.g. 0,10,25")
-             ->delimiter(','), cu);
-  Own(a, cmd->add_option("--tame", a.curves.tame, "curves: tame strength >= 1"), cu);
-  Own(a, cmd->add_option("--tsume", a.curves.tsume, "curves: tsume strength >= 1"), cu);
-  Own(a, cmd->add_option("--curve-on", a.curves.curve_on, "curves: ID=N, this curve on N"), cu);
-  // LipBlink (as `koma lipblink`).
-  Own(a, cmd->add_option("--mouth", a.lip_blink.mouth_ids, "lipblink: mouth-open curve ids")
-             ->delimiter(','), lb);
-  Own(a, cmd->add_option("--eyes", a.lip_blink.eye_ids, "lipblink: eye-open curve ids")
-             ->delimiter(','), lb);
-  Own(a, cmd->add_option("--mode", a.lip_blink.mode, "lipblink: random or follow")
-             ->check(CLI::IsMember({"random", "follow"})), lb);
-  Own(a, cmd->add_option("--seed", a.lip_blink.seed, "lipblink: seed of mouth shapes and blinks"),
-      lb);
-  Own(a, cmd->add_option("--auto-blink", a.lip_blink.auto_blink_mean_s,
-                         "lipblink: insert blinks about every MEAN_S seconds")
-             ->check(CLI::PositiveNumber), lb);
-  Own(a, cmd->add_flag("--unlinked-eyes", a.lip_blink.unlinked_eyes,
-                       "lipblink: time each eye's blinks on its own"), lb);
-  // Shared by two or three RPCs.
-  Own(a, cmd->add_option("--on", a.on,
-                         "curves: frames per drawing; lipblink: frames per mouth drawing")
-             ->check(CLI::PositiveNumber), curve_files);
-  Own(a, cmd->add_option("--fps", a.csv_fps, "curves, lipblink: frames per second of CSV inputs")
-             ->check(CLI::PositiveNumber), curve_files);
-  Own(a, cmd->add_option("--timing-fps", a.timing_fps,
-                         "film grid frames per second (default 24; 0 = the input's own frames)"),
-      {"skeletal", "curves", "lipblink"});
-  Own(a, cmd->add_flag("--timing", a.timing,
-                       "skeletal, curves: write each clip's timing sheet beside its output as "
-                       "NAME.timing.csv"), {"skeletal", "curves"});
+// Every option of `cmd` given on the command line, except `skip`, with its values as typed,
+// in the order the command declares them (so argument order and aliases do not matter), as a
+// 64-bit FNV-1a digest in hex: the options that shape the outputs. Conservative: a value
+// spelled differently (--omit 4 or none) counts as other options, and the clips are redone.
+std::string OptionsFingerprint(const std::string& rpc, const CLI::App& cmd,
+                               const std::set<const CLI::Option*>& skip) {
+  uint64_t hash = 1469598103934665603ULL;
+  auto mix = [&hash](const std::string& bytes) {
+    const std::string framed = absl::StrCat(bytes.size(), ":", bytes);  // "ab"+"c" != "a"+"bc"
+    for (unsigned char c : framed) {
+      hash ^= c;
+      hash *= 1099511628211ULL;
+    }
+  };
+  mix(rpc);
+  for (const CLI::Option* option : cmd.get_options()) {
+    if (skip.count(option) > 0 || option->count() == 0) continue;
+    mix(option->get_name());
+    for (const std::string& value : option->results()) mix(value);
+  }
+  return absl::StrFormat("%016x", hash);
 }
 
 // "a:p,b:p" -> one channel per address; a URI (dns:///name:p, ipv4:a:p,b:p) -> one channel
-// (gRPC balances within it). Usage error (thrown) for a malformed entry.
-std::vector<std::string> SplitServers(const std::string& servers) {
+// (gRPC balances within it). INVALID_ARGUMENT for a malformed entry.
+absl::StatusOr<std::vector<std::string>> SplitServers(const std::string& servers) {
   std::vector<std::string> list;
   if (absl::StrContains(servers, ":///") || absl::StartsWith(servers, "ipv4:") ||
       absl::StartsWith(servers, "ipv6:") || absl::StartsWith(servers, "unix:")) {
@@ -135,37 +135,13 @@ std::vector<std::string> SplitServers(const std::string& servers) {
   } else {
     list = absl::StrSplit(servers, ',', absl::SkipEmpty());
   }
-  if (list.empty()) throw CLI::ValidationError("--server", "empty server list");
+  if (list.empty()) return absl::InvalidArgumentError("--server: empty server list");
   for (const std::string& server : list) {
     if (absl::StatusOr<ChannelTarget> target = ResolveTarget(server); !target.ok()) {
-      throw CLI::ValidationError("--server", std::string(target.status().message()));
+      return absl::InvalidArgumentError(absl::StrCat("--server: ", target.status().message()));
     }
   }
   return list;
-}
-
-// The RPC options given for another RPC than the one chosen: a usage error.
-void CheckOwnership(const BatchCommandArgs& args) {
-  for (const auto& [option, rpcs] : args.owned) {
-    if (option->count() > 0 && rpcs.count(args.rpc) == 0) {
-      throw CLI::ValidationError(
-          option->get_name(),
-          absl::StrCat("is an option of ", absl::StrJoin(rpcs, ", "), ", not of ", args.rpc));
-    }
-  }
-}
-
-// TLS from the parent's --tls-ca/--tls-cert/--tls-key (or their KOMA_TLS_* variables).
-absl::Status ConfigureTlsFrom(const CLI::App& app) {
-  TlsFiles files;
-  auto value = [&app](const char* name) {
-    const CLI::Option* option = app.get_option_no_throw(name);
-    return option != nullptr && option->count() > 0 ? option->as<std::string>() : std::string();
-  };
-  files.ca = value("--tls-ca");
-  files.cert = value("--tls-cert");
-  files.key = value("--tls-key");
-  return ConfigureTls(files);
 }
 
 const char* StatusName(ItemStatus status) {
@@ -181,12 +157,13 @@ const char* StatusName(ItemStatus status) {
   }
 }
 
-absl::Status WriteSummary(const std::string& path, const BatchCommandArgs& args,
-                          const std::vector<std::string>& servers, int jobs,
+absl::Status WriteSummary(const std::string& path, const std::string& rpc,
+                          const std::string& out_dir, const std::vector<std::string>& servers,
+                          int jobs,
                           const std::vector<BatchItem>& items, const RunResult& run) {
   nlohmann::json json;
-  json["rpc"] = args.rpc;
-  json["out_dir"] = args.out_dir;
+  json["rpc"] = rpc;
+  json["out_dir"] = out_dir;
   json["servers"] = servers;
   json["jobs"] = jobs;
   json["total"] = run.counts.total;
@@ -206,6 +183,7 @@ absl::Status WriteSummary(const std::string& path, const BatchCommandArgs& args,
                            {"status", StatusName(r.status)},
                            {"attempts", r.attempts}};
     if (!items[i].timing.empty()) file["timing"] = items[i].timing;
+    if (!items[i].report.empty()) file["report"] = items[i].report;
     if (!r.server.empty()) file["server"] = r.server;
     if (r.status == ItemStatus::kFailed) {
       file["code"] = r.code;
@@ -222,36 +200,48 @@ absl::Status WriteSummary(const std::string& path, const BatchCommandArgs& args,
   return WriteFile(path, text);
 }
 
-int Run(BatchCommandArgs& args, const CLI::App& root) {
-  CheckOwnership(args);
-  const std::vector<std::string> servers = SplitServers(args.servers);
-  if (absl::Status s = ConfigureTlsFrom(root); !s.ok()) {
+int UsageError(const std::string& message) {
+  std::fprintf(stderr, "koma batch: %s\n", message.c_str());
+  std::fprintf(stderr, "Run `koma batch RPC --help` for the options.\n");
+  return kUsageError;
+}
+
+int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& fingerprint) {
+  const std::string& server_flag = rpc_name == "skeletal" ? args.skeletal.server
+                                   : rpc_name == "curves" ? args.curves.server
+                                                          : args.lip_blink.server;
+  absl::StatusOr<std::vector<std::string>> servers = SplitServers(server_flag);
+  if (!servers.ok()) return UsageError(std::string(servers.status().message()));
+  if (absl::Status s = ConfigureTls(args.tls); !s.ok()) {
     std::fprintf(stderr, "koma: %s\n", std::string(s.message()).c_str());
     return kUsageError;
   }
-  if (args.on) args.curves.frames_per_drawing = args.lip_blink.frames_per_shape = *args.on;
-  if (args.csv_fps) args.curves.csv_fps = args.lip_blink.csv_fps = *args.csv_fps;
-  if (args.timing_fps) {
-    args.skeletal.timing_fps = args.curves.timing_fps = args.lip_blink.timing_fps = *args.timing_fps;
-  }
   std::unique_ptr<Rpc> rpc;
-  if (args.rpc == "skeletal") {
+  double deadline_seconds = 60.0;
+  bool quiet = false;
+  bool json = false;
+  if (rpc_name == "skeletal") {
     rpc = MakeSkeletalRpc(args.skeletal);
-  } else if (args.rpc == "curves") {
-    // Malformed per-curve or per-segment flags are usage errors, found before any clip is read.
-    if (absl::StatusOr<v1::RetimeCurvesRequest> check = BuildCurvesRequest(args.curves, CurveSet{});
-        !check.ok()) {
-      std::fprintf(stderr, "koma batch: %s\n", std::string(check.status().message()).c_str());
-      return kUsageError;
-    }
+    deadline_seconds = args.skeletal.deadline_seconds;
+    quiet = args.skeletal.quiet;
+    json = args.skeletal.json;
+  } else if (rpc_name == "curves") {
     rpc = MakeCurvesRpc(args.curves);
+    deadline_seconds = args.curves.deadline_seconds;
+    quiet = args.curves.quiet;
+    json = args.curves.json;
   } else {
     rpc = MakeLipBlinkRpc(args.lip_blink);
+    deadline_seconds = args.lip_blink.deadline_seconds;
+    quiet = args.lip_blink.quiet;
+    json = args.lip_blink.json;
   }
+  if (json && args.summary == "-") return UsageError("--json and --summary -: one JSON on stdout");
+  if (json) args.summary = "-";
 
-  const std::vector<std::string> extensions = ExtensionsOf(args.rpc);
+  const std::vector<std::string> extensions = ExtensionsOf(rpc_name);
   absl::StatusOr<std::vector<BatchItem>> items =
-      DiscoverInputs(args.inputs, extensions, args.out_dir, args.timing);
+      DiscoverInputs(args.inputs, extensions, args.out_dir, args.timing, args.report);
   if (!items.ok()) {
     std::fprintf(stderr, "koma: %s\n", std::string(items.status().message()).c_str());
     return kUsageError;
@@ -270,7 +260,6 @@ int Run(BatchCommandArgs& args, const CLI::App& root) {
   }
 
   Manifest manifest = Manifest::Load(args.out_dir);
-  const std::string fingerprint = rpc->Fingerprint();
   std::vector<ItemResult> results(items->size());
   if (!args.force) {
     for (size_t i = 0; i < items->size(); ++i) {
@@ -279,13 +268,13 @@ int Run(BatchCommandArgs& args, const CLI::App& root) {
   }
 
   RunnerSettings settings;
-  settings.servers = servers;
-  settings.jobs = args.jobs > 0 ? args.jobs : 2 * static_cast<int>(servers.size());
+  settings.servers = *servers;
+  settings.jobs = args.jobs > 0 ? args.jobs : 2 * static_cast<int>(servers->size());
   settings.io_threads = args.io_threads;
   settings.max_attempts = args.retries + 1;
-  settings.deadline_seconds = args.deadline_seconds;
+  settings.deadline_seconds = deadline_seconds;
   settings.verbose = args.verbose;
-  Progress progress(stderr, isatty(STDERR_FILENO) == 1, args.quiet, args.progress_every_s);
+  Progress progress(stderr, isatty(STDERR_FILENO) == 1, quiet, args.progress_every_s);
   auto last_save = std::chrono::steady_clock::now();
   const std::function<void(size_t)> on_written = [&](size_t i) {
     manifest.Set((*items)[i], fingerprint);
@@ -309,7 +298,7 @@ int Run(BatchCommandArgs& args, const CLI::App& root) {
   }
   const size_t not_done =
       run.counts.total - run.counts.ok - run.counts.up_to_date - run.counts.failed;
-  if (!args.quiet) {
+  if (!quiet) {
     std::fprintf(stderr,
                  "koma batch: %zu clips: %zu done, %zu up to date, %zu failed, %zu not done; "
                  "%.2f s, %.1f clips/s%s\n",
@@ -319,7 +308,8 @@ int Run(BatchCommandArgs& args, const CLI::App& root) {
                  run.interrupted ? " (interrupted)" : "");
   }
   if (!args.summary.empty()) {
-    if (absl::Status s = WriteSummary(args.summary, args, servers, settings.jobs, *items, run);
+    if (absl::Status s =
+            WriteSummary(args.summary, rpc_name, args.out_dir, *servers, settings.jobs, *items, run);
         !s.ok()) {
       std::fprintf(stderr, "koma: --summary: %s\n", std::string(s.message()).c_str());
       if (code == 0) code = kFailed;
@@ -330,51 +320,81 @@ int Run(BatchCommandArgs& args, const CLI::App& root) {
 
 }  // namespace
 
-void AddBatch(CLI::App& app) {
-  static BatchCommandArgs args;  // CLI11 keeps pointers to these for the process's life
-  args.servers = DefaultServer();
-  CLI::App* cmd = app.add_subcommand(
+int ParseBatchCommandLine(const std::vector<std::string>& argv, BatchCommandLine* out) {
+  BatchCommandArgs& args = out->args;
+  CLI::App app{"koma batch: retime many clips over every server given", "koma"};
+  app.fallthrough();  // the TLS options may stand anywhere
+  app.add_option("--tls-ca", args.tls.ca, "PEM CA of the server's certificate: use TLS")
+      ->envname("KOMA_TLS_CA");
+  app.add_option("--tls-cert", args.tls.cert, "PEM client certificate (mutual TLS)")
+      ->envname("KOMA_TLS_CERT");
+  app.add_option("--tls-key", args.tls.key, "PEM key of --tls-cert")->envname("KOMA_TLS_KEY");
+  CLI::App* batch = app.add_subcommand(
       "batch",
       "Retime many clips: files, folders (searched by extension) or @LIST files, outputs "
-      "mirrored under -o OUTDIR, calls spread over every --server, finished work skipped");
-  cmd->add_option("rpc", args.rpc, "skeletal, curves or lipblink")
-      ->required()
-      ->check(CLI::IsMember({"skeletal", "curves", "lipblink"}));
-  cmd->add_option("inputs", args.inputs, "files, folders or @LIST (one path per line)")
-      ->required();
-  cmd->add_option("-o,--output-dir", args.out_dir, "folder the outputs are written under")
-      ->required();
-  cmd->add_option("--server", args.servers,
-                  "servers, comma-separated host:port (one channel each), or one gRPC target "
-                  "such as dns:///name:port (default $KOMA_SERVER or 127.0.0.1:50051)");
-  cmd->add_option("-j,--jobs", args.jobs, "calls in flight (default 2 per server)")
-      ->check(CLI::Range(1, 4096));
-  cmd->add_option("--io-threads", args.io_threads,
-                  "threads reading and parsing inputs and writing outputs (default 4)")
-      ->check(CLI::Range(1, 64));
-  cmd->add_option("--retries", args.retries,
-                  "times a clip is sent again after UNAVAILABLE or RESOURCE_EXHAUSTED, with "
-                  "backoff from 50 ms to 2 s, on another server when there is one (default 7)")
-      ->check(CLI::Range(0, 100));
-  cmd->add_option("--deadline", args.deadline_seconds, "per call, seconds (default 60)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_flag("--force", args.force, "redo every clip, even outputs that are up to date");
-  cmd->add_flag("-q,--quiet", args.quiet, "no progress and no summary line (failures still)");
-  cmd->add_flag("-v,--verbose", args.verbose, "a line per clip written");
-  cmd->add_option("--progress-every", args.progress_every_s,
-                  "seconds between progress lines when stderr is not a terminal (default 10)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--summary", args.summary,
-                  "write the per-clip status, counts and time as JSON here (- for stdout)");
-  AddRpcOptions(cmd, args);
-  cmd->callback([cmd] {
-    const CLI::App* root = cmd;
-    while (root->get_parent() != nullptr) root = root->get_parent();
-    const int code = Run(args, *root);
-    std::fflush(stdout);
-    std::fflush(stderr);
-    std::exit(code);
-  });
+      "mirrored under -o OUTDIR, calls spread over every --server, finished clips skipped. "
+      "After the RPC name come its inputs and the options of that RPC's single-file command.");
+  batch->require_subcommand(1);
+  args.skeletal.server = args.curves.server = args.lip_blink.server = DefaultServer();
+  std::map<std::string, std::pair<CLI::App*, std::set<const CLI::Option*>>> commands;
+  for (CLI::App* cmd : {AddSkeletalCommand(*batch, args.skeletal),
+                        AddCurvesCommand(*batch, args.curves),
+                        AddLipBlinkCommand(*batch, args.lip_blink)}) {
+    cmd->fallthrough();
+    commands[cmd->get_name()] = {cmd, AddBatchOptions(cmd, args)};
+  }
+  // The RPC named after "batch" (CLI11 would only say that a subcommand is required).
+  const auto word = std::find(argv.begin() + 1, argv.end(), "batch");
+  if (word != argv.end() && word + 1 != argv.end() && (*(word + 1))[0] != '-' &&
+      commands.count(*(word + 1)) == 0) {
+    return UsageError(absl::StrCat("unknown RPC \"", *(word + 1),
+                                   "\": skeletal, curves or lipblink"));
+  }
+  std::vector<std::string> reversed(argv.begin() + 1, argv.end());
+  std::reverse(reversed.begin(), reversed.end());  // CLI11 parses a reversed vector
+  try {
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ExtrasError& e) {
+    std::string extras = e.what();
+    if (const size_t colon = extras.find(": "); colon != std::string::npos) {
+      extras = extras.substr(colon + 2);
+    }
+    return UsageError(absl::StrCat("unknown option or extra argument ", extras,
+                                   " (the RPC's options are listed by koma batch RPC --help)"));
+  } catch (const CLI::ParseError& e) {
+    return UsageError(e.what());
+  }
+  for (const auto& [name, command] : commands) {
+    if (command.first->parsed()) {
+      out->rpc = name;
+      out->fingerprint = OptionsFingerprint(name, *command.first, command.second);
+      return -1;
+    }
+  }
+  return UsageError("name the RPC: koma batch skeletal|curves|lipblink IN... -o OUTDIR");
+}
+
+int RunIfBatch(int argc, char** argv) {
+  // The command word: the first argument that is not a global option (or its value).
+  int i = 1;
+  while (i < argc && argv[i][0] == '-') {
+    const std::string arg = argv[i];
+    if (arg == "--tls-ca" || arg == "--tls-cert" || arg == "--tls-key") ++i;
+    ++i;
+  }
+  if (i >= argc || std::string(argv[i]) != "batch") return -1;
+  BatchCommandLine line;
+  if (const int code = ParseBatchCommandLine(std::vector<std::string>(argv, argv + argc), &line);
+      code >= 0) {
+    return code;
+  }
+  const int code = Run(line.args, line.rpc, line.fingerprint);
+  std::fflush(stdout);
+  return code;
 }
 
 }  // namespace koma::client::batch

@@ -121,19 +121,20 @@ std::vector<std::string> ExtensionsOf(const std::string& rpc) {
   return {".motion3.json", ".csv"};
 }
 
-std::string TimingPathFor(const std::string& output, const std::vector<std::string>& extensions) {
+std::string BesidePath(const std::string& output, const std::vector<std::string>& extensions,
+                       const std::string& suffix) {
   for (const std::string& extension : extensions) {
     if (absl::EndsWithIgnoreCase(output, extension)) {
-      return absl::StrCat(output.substr(0, output.size() - extension.size()), ".timing.csv");
+      return absl::StrCat(output.substr(0, output.size() - extension.size()), suffix);
     }
   }
-  return absl::StrCat(output, ".timing.csv");
+  return absl::StrCat(output, suffix);
 }
 
 absl::StatusOr<std::vector<BatchItem>> DiscoverInputs(const std::vector<std::string>& arguments,
                                                       const std::vector<std::string>& extensions,
                                                       const std::string& out_dir,
-                                                      bool with_timing) {
+                                                      bool with_timing, bool with_report) {
   Collector collector(extensions, out_dir);
   for (const std::string& argument : arguments) {
     absl::Status status = absl::StartsWith(argument, "@")
@@ -146,7 +147,8 @@ absl::StatusOr<std::vector<BatchItem>> DiscoverInputs(const std::vector<std::str
   std::map<std::string, const std::string*> writer;
   for (BatchItem& item : items) {
     if (with_timing) item.timing = TimingPathFor(item.output, extensions);
-    for (const std::string* path : {&item.output, &item.timing}) {
+    if (with_report) item.report = ReportPathFor(item.output, extensions);
+    for (const std::string* path : {&item.output, &item.timing, &item.report}) {
       if (path->empty()) continue;
       const std::string key = fs::path(*path).lexically_normal().string();
       auto [it, inserted] = writer.emplace(key, &item.input);

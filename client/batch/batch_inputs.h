@@ -16,14 +16,25 @@ struct BatchItem {
   std::string relative;  // its output's path below the output folder ("a/b.bvh")
   std::string output;    // out_dir / relative
   std::string timing;    // the timing sheet beside the output; empty when none is asked for
+  std::string report;    // the HTML report beside the output; empty when none is asked for
 };
 
 // File name endings the RPC reads, lower case: {".bvh"}, or {".motion3.json", ".csv"}.
 std::vector<std::string> ExtensionsOf(const std::string& rpc);
 
-// "a/b.bvh" -> "a/b.timing.csv"; "a/b.motion3.json" -> "a/b.timing.csv" (the first of
-// `extensions` that ends the name is replaced; otherwise ".timing.csv" is appended).
-std::string TimingPathFor(const std::string& output, const std::vector<std::string>& extensions);
+// A file beside `output`: ("a/b.bvh", ".timing.csv") -> "a/b.timing.csv"; "a/b.motion3.json"
+// -> "a/b.timing.csv" (the first of `extensions` that ends the name is replaced; otherwise
+// `suffix` is appended).
+std::string BesidePath(const std::string& output, const std::vector<std::string>& extensions,
+                       const std::string& suffix);
+inline std::string TimingPathFor(const std::string& output,
+                                 const std::vector<std::string>& extensions) {
+  return BesidePath(output, extensions, ".timing.csv");
+}
+inline std::string ReportPathFor(const std::string& output,
+                                 const std::vector<std::string>& extensions) {
+  return BesidePath(output, extensions, ".report.html");
+}
 
 // The clips named by `arguments`, in order, each input once:
 // - a file: taken whatever its name; its output is out_dir/<file name>;
@@ -31,13 +42,13 @@ std::string TimingPathFor(const std::string& output, const std::vector<std::stri
 //   path order; each keeps its path below the folder (out_dir itself is never searched);
 // - "@LIST": a text file naming one file or folder per line (treated as above; blank lines
 //   and lines starting with '#' skipped; relative paths from the current folder).
-// `with_timing`: fill BatchItem::timing. INVALID_ARGUMENT naming the argument (or the list
+// `with_timing`, `with_report`: fill BatchItem::timing, ::report. INVALID_ARGUMENT naming the argument (or the list
 // file and line) for a path that does not exist, a list that cannot be read, and two inputs
-// whose outputs (or timing sheets) would be the same file.
+// whose outputs (or sheets, or reports) would be the same file.
 absl::StatusOr<std::vector<BatchItem>> DiscoverInputs(const std::vector<std::string>& arguments,
                                                       const std::vector<std::string>& extensions,
                                                       const std::string& out_dir,
-                                                      bool with_timing);
+                                                      bool with_timing, bool with_report = false);
 
 }  // namespace koma::client::batch
 

@@ -1,57 +1,22 @@
 #include "client/batch/batch_rpc.h"
 
-#include <google/protobuf/io/coded_stream.h>
-#include <google/protobuf/io/zero_copy_stream_impl_lite.h>
-
-#include <cstdint>
 #include <filesystem>
 #include <system_error>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
 #include "client/curve_files.h"
-#include "client/files.h"
-#include "formats/bvh.h"
+#include "client/report/curves_report.h"
+#include "client/report/lip_blink_report.h"
+#include "client/report/skeletal_report.h"
 
 namespace koma::client::batch {
 namespace {
 
-// Protobuf bytes with map entries in key order, so equal messages give equal bytes.
-std::string DeterministicBytes(const google::protobuf::MessageLite& message) {
-  std::string bytes;
-  {
-    google::protobuf::io::StringOutputStream stream(&bytes);
-    google::protobuf::io::CodedOutputStream coded(&stream);
-    coded.SetSerializationDeterministic(true);
-    message.SerializeToCodedStream(&coded);
-  }
-  return bytes;
-}
-
-// 64-bit FNV-1a of the parts, each prefixed with its length (so "ab"+"c" != "a"+"bc"), as
-// 16 hex digits. Not a security digest: it tells option sets apart.
-std::string Digest(std::initializer_list<std::string> parts) {
-  uint64_t hash = 1469598103934665603ULL;
-  auto mix = [&hash](const std::string& bytes) {
-    for (unsigned char c : bytes) {
-      hash ^= c;
-      hash *= 1099511628211ULL;
-    }
-  };
-  for (const std::string& part : parts) {
-    mix(absl::StrCat(part.size(), ":"));
-    mix(part);
-  }
-  return absl::StrFormat("%016x", hash);
-}
-
-// The bytes of a request built from the flags alone (no clip), or the reason it cannot be built:
-// what the fingerprint of an option set is made of.
-template <typename Request>
-std::string RequestBytes(const absl::StatusOr<Request>& request) {
-  return request.ok() ? DeterministicBytes(*request)
-                      : absl::StrCat("error:", request.status().ToString());
+// A request that cannot be built for this clip (a flag that does not fit it, such as
+// --joint-weights for another skeleton): the error, naming the file.
+absl::Status WithPath(const BatchItem& item, const absl::Status& status) {
+  return absl::Status(status.code(), absl::StrCat(item.input, ": ", status.message()));
 }
 
 absl::Status MakeParentFolder(const std::string& path) {
@@ -83,7 +48,9 @@ class SkeletalClipCall final : public Clip {
     args.input = item.input;
     args.output = item.output;
     args.timing = item.timing;
-    return WriteSkeletalOutputs(args, clip_, response_);
+    if (absl::Status s = WriteSkeletalOutputs(args, clip_, response_); !s.ok()) return s;
+    if (item.report.empty()) return absl::OkStatus();
+    return report::WriteSkeletalReport(item.report, request_, response_, item.input);
   }
 
  private:
@@ -98,22 +65,11 @@ class SkeletalRpc final : public Rpc {
   explicit SkeletalRpc(const SkeletalArgs& args) : args_(args) {}
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
-    absl::StatusOr<std::string> text = ReadFile(item.input);
-    if (!text.ok()) return text.status();
-    absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(*text);
-    if (!clip.ok()) {
-      return absl::InvalidArgumentError(absl::StrCat(item.input, ": ", clip.status().message()));
-    }
+    absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(item.input);
+    if (!clip.ok()) return clip.status();
     absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args_, *clip);
-    if (!request.ok()) {
-      return absl::InvalidArgumentError(absl::StrCat(item.input, ": ", request.status().message()));
-    }
+    if (!request.ok()) return WithPath(item, request.status());
     return std::make_unique<SkeletalClipCall>(args_, *std::move(clip), *std::move(request));
-  }
-
-  std::string Fingerprint() const override {
-    // The timing sheet path itself is per clip; whether there is one is not.
-    return Digest({"skeletal", RequestBytes(BuildSkeletalRequest(args_, SkeletalClip{}))});
   }
 
  private:
@@ -137,7 +93,9 @@ class CurvesClipCall final : public Clip {
     args.input = item.input;
     args.output = item.output;
     args.timing = item.timing;
-    return WriteCurvesOutputs(args, input_, response_);
+    if (absl::Status s = WriteCurvesOutputs(args, input_, response_); !s.ok()) return s;
+    if (item.report.empty()) return absl::OkStatus();
+    return report::WriteCurvesReport(item.report, request_, response_, item.input);
   }
 
  private:
@@ -155,15 +113,8 @@ class CurvesRpc final : public Rpc {
     absl::StatusOr<CurveInput> input = ReadCurveInput(item.input, args_.csv_fps);
     if (!input.ok()) return input.status();
     absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args_, input->curves);
-    if (!request.ok()) {
-      return absl::InvalidArgumentError(absl::StrCat(item.input, ": ", request.status().message()));
-    }
+    if (!request.ok()) return WithPath(item, request.status());
     return std::make_unique<CurvesClipCall>(args_, *std::move(input), *std::move(request));
-  }
-
-  std::string Fingerprint() const override {
-    return Digest({"curves", RequestBytes(BuildCurvesRequest(args_, CurveSet{})),
-                   absl::StrFormat("%.17g", args_.csv_fps)});
   }
 
  private:
@@ -186,7 +137,9 @@ class LipBlinkClipCall final : public Clip {
     LipBlinkArgs args = args_;
     args.input = item.input;
     args.output = item.output;
-    return WriteLipBlinkOutputs(args, input_, response_);
+    if (absl::Status s = WriteLipBlinkOutputs(args, input_, response_); !s.ok()) return s;
+    if (item.report.empty()) return absl::OkStatus();
+    return report::WriteLipBlinkReport(item.report, request_, response_, item.input);
   }
 
  private:
@@ -204,11 +157,6 @@ class LipBlinkRpc final : public Rpc {
     absl::StatusOr<CurveInput> input = ReadCurveInput(item.input, args_.csv_fps);
     if (!input.ok()) return input.status();
     return std::make_unique<LipBlinkClipCall>(args_, *std::move(input));
-  }
-
-  std::string Fingerprint() const override {
-    return Digest({"lipblink", DeterministicBytes(BuildLipBlinkRequest(args_, CurveSet{})),
-                   absl::StrFormat("%.17g", args_.csv_fps)});
   }
 
  private:

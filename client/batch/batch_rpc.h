@@ -28,7 +28,8 @@ class Clip {
   // answer first (a retry).
   virtual void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
                      std::function<void(grpc::Status)> done) = 0;
-  // Writes item.output (and item.timing when set) from the answer, atomically.
+  // Writes item.output (and item.timing, item.report when set) from the answer, atomically,
+  // as the single-file command writes -o, --timing and --report.
   virtual absl::Status Write(const BatchItem& item) = 0;
 };
 
@@ -36,12 +37,9 @@ class Clip {
 class Rpc {
  public:
   virtual ~Rpc() = default;
-  // The file read and parsed, the request built. Errors name the file.
+  // The file read and parsed, the request built (as the single-file command builds it).
+  // Errors name the file.
   virtual absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const = 0;
-  // A digest of every option that shapes the outputs (the request without its clip, and the
-  // client-side settings such as a CSV's frame rate and whether timing sheets are written):
-  // equal fingerprints, equal outputs for the same input.
-  virtual std::string Fingerprint() const = 0;
 };
 
 std::unique_ptr<Rpc> MakeSkeletalRpc(const SkeletalArgs& args);

@@ -60,7 +60,8 @@ bool Manifest::UpToDate(const BatchItem& item, const std::string& fingerprint) c
     return false;
   }
   if (!NotOlder(item.output, item.input)) return false;
-  return item.timing.empty() || NotOlder(item.timing, item.input);
+  return (item.timing.empty() || NotOlder(item.timing, item.input)) &&
+         (item.report.empty() || NotOlder(item.report, item.input));
 }
 
 absl::Status Manifest::Save() const {

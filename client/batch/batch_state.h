@@ -20,7 +20,7 @@ class Manifest {
   // OUTDIR/.koma-batch.json; empty when absent or unreadable (everything is then redone).
   static Manifest Load(const std::string& out_dir);
 
-  // True when item.output (and item.timing, if asked for) exists, is not older than
+  // True when item.output (and item.timing and item.report, if asked for) exists, is not older than
   // item.input, and was made from that input with `fingerprint`.
   bool UpToDate(const BatchItem& item, const std::string& fingerprint) const;
 

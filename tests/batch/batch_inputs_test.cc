@@ -57,11 +57,13 @@ TEST_F(Tree, FolderIsSearchedByExtensionInPathOrderAndMirrored) {
   Touch("in/notes.txt");
   Touch("in/x.bvh.tmp");
   ASSERT_OK_AND_ASSIGN(std::vector<BatchItem> items,
-                       DiscoverInputs({P("in")}, {".bvh"}, P("out"), /*with_timing=*/true));
+                       DiscoverInputs({P("in")}, {".bvh"}, P("out"), /*with_timing=*/true,
+                                      /*with_report=*/true));
   EXPECT_THAT(Relatives(items), ElementsAre("sub/deeper/a.bvh", "sub/y.BVH", "x.bvh"));
   EXPECT_EQ(items[1].input, P("in/sub/y.BVH"));
   EXPECT_EQ(items[1].output, P("out/sub/y.BVH"));
   EXPECT_EQ(items[1].timing, P("out/sub/y.timing.csv"));
+  EXPECT_EQ(items[1].report, P("out/sub/y.report.html"));
 }
 
 TEST_F(Tree, FilesKeepTheirNameAndAreTakenOnce) {
@@ -116,6 +118,8 @@ TEST_F(Tree, TwoInputsWritingOneFileAreRefused) {
   EXPECT_THAT(DiscoverInputs({P("c")}, {".motion3.json", ".csv"}, P("out"), false), IsOk());
   EXPECT_THAT(DiscoverInputs({P("c")}, {".motion3.json", ".csv"}, P("out"), true),
               StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("x.timing.csv")));
+  EXPECT_THAT(DiscoverInputs({P("c")}, {".motion3.json", ".csv"}, P("out"), false, true),
+              StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("x.report.html")));
 }
 
 TEST(TimingPathFor, ReplacesTheInputExtension) {
@@ -126,6 +130,7 @@ TEST(TimingPathFor, ReplacesTheInputExtension) {
   EXPECT_EQ(TimingPathFor("a/b.csv", curves), "a/b.timing.csv");
   EXPECT_EQ(TimingPathFor("a/b.json", curves), "a/b.json.timing.csv");
   EXPECT_EQ(TimingPathFor("noext", {".bvh"}), "noext.timing.csv");
+  EXPECT_EQ(ReportPathFor("a/b.motion3.json", curves), "a/b.report.html");
 }
 
 TEST(ExtensionsOf, PerRpc) {

@@ -1,5 +1,5 @@
-// The skip manifest (Manifest) and the options fingerprints (Rpc::Fingerprint) that decide
-// which clips a rerun of `koma batch` redoes.
+// The skip manifest (Manifest) and the options fingerprints (BatchCommandLine) that decide
+// which clips a rerun of `koma batch` redoes; the batch command line.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -8,8 +8,9 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
-#include "client/batch/batch_rpc.h"
+#include "client/batch/batch_command.h"
 #include "client/batch/batch_state.h"
 #include "tests/testing/status_matchers.h"
 
@@ -74,6 +75,9 @@ TEST_F(ManifestTest, NewerInputMissingOutputOrOtherInputIsNotUpToDate) {
   BatchItem with_timing = item_;
   with_timing.timing = (root_ / "out/a.timing.csv").string();
   EXPECT_FALSE(manifest.UpToDate(with_timing, "f1"));  // the sheet was never written
+  BatchItem with_report = item_;
+  with_report.report = (root_ / "out/a.report.html").string();
+  EXPECT_FALSE(manifest.UpToDate(with_report, "f1"));  // nor the report
   fs::remove(item_.output);
   EXPECT_FALSE(manifest.UpToDate(item_, "f1"));
 }
@@ -87,38 +91,64 @@ TEST_F(ManifestTest, ErasedEntryAndUnreadableFileMeanRedo) {
   EXPECT_FALSE(Manifest::Load(Out()).UpToDate(item_, "f1"));
 }
 
+// The fingerprint of a batch command line (parsed as `koma batch ...`).
+std::string FingerprintOf(std::vector<std::string> args) {
+  args.insert(args.begin(), {"koma", "batch"});
+  BatchCommandLine line;
+  EXPECT_EQ(ParseBatchCommandLine(args, &line), -1);
+  return line.fingerprint;
+}
+
 TEST(Fingerprint, EqualForEqualOptionsDifferentForAnyChange) {
-  SkeletalArgs skeletal;
-  const std::string base = MakeSkeletalRpc(skeletal)->Fingerprint();
-  EXPECT_EQ(MakeSkeletalRpc(skeletal)->Fingerprint(), base);
-  skeletal.input = "elsewhere.bvh";  // paths do not shape the output bytes
-  skeletal.server = "10.0.0.1:1";
-  EXPECT_EQ(MakeSkeletalRpc(skeletal)->Fingerprint(), base);
-  SkeletalArgs changed;
-  changed.omissions = 4;  // the server default, but set: another request
-  EXPECT_NE(MakeSkeletalRpc(changed)->Fingerprint(), base);
-  changed = SkeletalArgs();
-  changed.timing_fps = 0;
-  EXPECT_NE(MakeSkeletalRpc(changed)->Fingerprint(), base);
-  changed = SkeletalArgs();
-  changed.output_at_timing_rate = true;
-  EXPECT_NE(MakeSkeletalRpc(changed)->Fingerprint(), base);
+  const std::string base = FingerprintOf({"skeletal", "in", "-o", "out"});
+  // Inputs, output folder, servers, jobs, deadline, progress, timing sheets: not in it.
+  EXPECT_EQ(FingerprintOf({"skeletal", "a", "b", "-o", "elsewhere", "--server", "h:1,h:2",
+                           "--jobs", "9", "--deadline", "5", "--quiet", "--timing", "--force",
+                           "--verbose", "--summary", "s.json", "--progress-every", "1"}),
+            base);
+  const std::string omit = FingerprintOf({"skeletal", "in", "-o", "out", "--omit", "3"});
+  EXPECT_NE(omit, base);
+  // Argument order and aliases do not matter; values do.
+  EXPECT_EQ(FingerprintOf({"skeletal", "--omissions", "3", "in", "-o", "out"}), omit);
+  EXPECT_EQ(FingerprintOf({"skeletal", "in", "--hold", "5", "-o", "out", "--omit", "3"}),
+            FingerprintOf({"skeletal", "in", "--omit", "3", "-o", "out", "--holds", "5"}));
+  EXPECT_NE(FingerprintOf({"skeletal", "in", "-o", "out", "--omit", "4"}), omit);
+  EXPECT_NE(FingerprintOf({"skeletal", "in", "-o", "out", "--timing-fps", "0"}), base);
+  EXPECT_NE(FingerprintOf({"skeletal", "in", "-o", "out", "--output-rate", "timing"}), base);
+  EXPECT_NE(FingerprintOf({"skeletal", "in", "-o", "out", "--root-relative"}), base);
+  // The RPC is part of it; so is a CSV's frame rate (the input reads otherwise).
+  const std::string curves = FingerprintOf({"curves", "in", "-o", "out"});
+  EXPECT_NE(curves, base);
+  EXPECT_NE(FingerprintOf({"lipblink", "in", "-o", "out"}), curves);
+  EXPECT_NE(FingerprintOf({"curves", "in", "-o", "out", "--fps", "25"}), curves);
+  EXPECT_NE(FingerprintOf({"curves", "in", "-o", "out", "--curve-on", "ParamHair=2"}), curves);
+  EXPECT_NE(FingerprintOf({"lipblink", "in", "-o", "out", "--seed", "7"}),
+            FingerprintOf({"lipblink", "in", "-o", "out", "--seed", "8"}));
+}
 
-  CurvesArgs curves;
-  const std::string curves_base = MakeCurvesRpc(curves)->Fingerprint();
-  EXPECT_NE(curves_base, base);
-  CurvesArgs other_fps = curves;
-  other_fps.csv_fps = 30.000000001;  // read differently: another output
-  EXPECT_NE(MakeCurvesRpc(other_fps)->Fingerprint(), curves_base);
-  CurvesArgs override_curve = curves;
-  override_curve.curve_on = {"ParamHair=2"};
-  EXPECT_NE(MakeCurvesRpc(override_curve)->Fingerprint(), curves_base);
-
-  LipBlinkArgs lip;
-  const std::string lip_base = MakeLipBlinkRpc(lip)->Fingerprint();
-  EXPECT_NE(lip_base, curves_base);
-  lip.seed = 7;
-  EXPECT_NE(MakeLipBlinkRpc(lip)->Fingerprint(), lip_base);
+TEST(BatchCommandLine, PerFileOptionsAreNotTakenAndUsageErrorsExit2) {
+  BatchCommandLine line;
+  EXPECT_EQ(ParseBatchCommandLine({"koma", "batch", "skeletal", "a", "b", "-o", "out", "--omit",
+                                   "2", "--server", "h:1,h:2", "--jobs", "3", "--timing"},
+                                  &line),
+            -1);
+  EXPECT_EQ(line.rpc, "skeletal");
+  EXPECT_THAT(line.args.inputs, ::testing::ElementsAre("a", "b"));
+  EXPECT_EQ(line.args.out_dir, "out");
+  EXPECT_EQ(line.args.skeletal.omissions, 2);
+  EXPECT_EQ(line.args.skeletal.server, "h:1,h:2");
+  EXPECT_EQ(line.args.jobs, 3);
+  EXPECT_TRUE(line.args.timing);
+  for (const std::vector<std::string>& bad : std::vector<std::vector<std::string>>{
+           {"koma", "batch", "skeletal", "a"},                                 // no -o
+           {"koma", "batch", "skeletal", "-o", "out"},                         // no input
+           {"koma", "batch", "morph", "a", "-o", "out"},                       // no such RPC
+           {"koma", "batch", "skeletal", "a", "-o", "out", "--timing-only"},   // per file
+           {"koma", "batch", "curves", "a", "-o", "out", "--omit", "3"},       // another RPC's
+           {"koma", "batch", "skeletal", "a", "-o", "out", "--jobs", "0"}}) {  // out of range
+    BatchCommandLine ignored;
+    EXPECT_EQ(ParseBatchCommandLine(bad, &ignored), 2) << bad.back();
+  }
 }
 
 }  // namespace

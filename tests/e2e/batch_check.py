@@ -3,8 +3,9 @@
 Usage: batch_check.py CLIENT SERVER RPC SUMMARY_JSON STDERR_TXT BAD_LIST CLIP_ROOT -- OPTIONS...
 For every clip in the summary: a clip whose path (below CLIP_ROOT) is listed in BAD_LIST must
 be "failed" with a code and an error naming it, and that error must be on the batch's stderr;
-every other clip must be "ok", and its output (and timing sheet, when the summary names one)
-must equal, byte for byte, what `koma RPC IN -o OUT [--timing SHEET] OPTIONS...` writes.
+every other clip must be "ok", and its output (and timing sheet and report, when the summary
+names them) must equal, byte for byte, what `koma RPC IN -o OUT [--timing SHEET] [--report
+REPORT] OPTIONS...` writes.
 The single commands run 4 at a time. Prints a line of counts; exits 1 at the first mismatch.
 """
 import concurrent.futures
@@ -56,6 +57,8 @@ def main():
         command = [client, rpc, f["input"], "-o", out, "--server", server, "--deadline", "60"]
         if "timing" in f:
             command += ["--timing", out + ".timing.csv"]
+        if "report" in f:
+            command += ["--report", out + ".report.html"]
         done = subprocess.run(command + options, stdout=subprocess.DEVNULL,
                               stderr=subprocess.PIPE, text=True, timeout=60)
         if done.returncode != 0:
@@ -63,6 +66,8 @@ def main():
         pairs = [(out, f["output"])]
         if "timing" in f:
             pairs.append((out + ".timing.csv", f["timing"]))
+        if "report" in f:
+            pairs.append((out + ".report.html", f["report"]))
         for want_path, got_path in pairs:
             with open(want_path, "rb") as want, open(got_path, "rb") as got:
                 if want.read() != got.read():
@@ -75,7 +80,9 @@ def main():
             if problem:
                 fail(problem)
     timing = sum(1 for f in good if "timing" in f)
-    print(f"{rpc}: {len(good)} outputs and {timing} timing sheets equal the single command's; "
+    reports = sum(1 for f in good if "report" in f)
+    print(f"{rpc}: {len(good)} outputs, {timing} timing sheets and {reports} reports equal the "
+          "single command's; "
           f"{len(failed)} bad clips listed with their errors")
 
 

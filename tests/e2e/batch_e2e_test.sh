@@ -83,7 +83,7 @@ expect_exit 1 "$work/cu5.err" "$client_bin" batch curves "$work/clips/curves" \
 [ "$(started)" = $((before + 350)) ] || fail "--force: $(($(started) - before)) calls, want 350"
 
 # 5. An @list of files and a folder (outputs: files by name, the folder's by their path in
-#    it), all good: exit 0. LipBlink on the motion3 clips, against one server.
+#    it), all good: exit 0. LipBlink on the motion3 clips with reports, against one server.
 {
   echo "# clips picked by hand"
   echo "$work/clips/bvh/g01/clip_0001.bvh"
@@ -108,7 +108,7 @@ cmp -s "$work/listed/clip_0001.bvh" "$work/out/bvh/g02/clip_0002.bvh" || fail "s
 mkdir "$work/lip_in"
 cp "$work"/clips/curves/g0[0-2]/*.motion3.json "$work/lip_in/"
 expect_exit 0 "$work/lip.err" "$client_bin" batch lipblink "$work/lip_in" -o "$work/lip_out" \
-  --server "$target_a" --mouth Param0 --eyes Param1 --seed 7 --summary "$work/lip.json"
+  --server "$target_a" --mouth Param0 --eyes Param1 --seed 7 --report --summary "$work/lip.json"
 : >"$work/no_bad.txt"
 "$python" "$here/batch_check.py" "$client_bin" "$target_a" lipblink "$work/lip.json" \
   "$work/lip.err" "$work/no_bad.txt" "$work/lip_in" -- --mouth Param0 --eyes Param1 --seed 7 \
@@ -126,12 +126,13 @@ grep -q "bad_list.txt:1: .*missing.bvh: no such file or folder" "$work/u2.err" \
   || fail "missing list entry: $(cat "$work/u2.err")"
 expect_exit 2 "$work/u3.err" "$client_bin" batch curves "$work/clips/curves" -o "$work/u" \
   --omit 3 --server "$servers"
-grep -q -- "--omit: is an option of skeletal, not of curves" "$work/u3.err" \
+grep -q -- "unknown option or extra argument --omit" "$work/u3.err" \
   || fail "an option of another RPC: $(cat "$work/u3.err")"
 expect_exit 2 "$work/u4.err" "$client_bin" batch skeletal "$work/clips/bvh/g01/clip_0001.bvh" \
   "$work/listed/clip_0001.bvh" -o "$work/u" --server "$servers"
 grep -q "would both write" "$work/u4.err" || fail "two inputs, one output: $(cat "$work/u4.err")"
 expect_exit 2 "$work/u5.err" "$client_bin" batch morph "$work/clips" -o "$work/u"
+grep -q 'unknown RPC "morph"' "$work/u5.err" || fail "an unknown RPC: $(cat "$work/u5.err")"
 mkdir "$work/empty"
 expect_exit 2 "$work/u6.err" "$client_bin" batch curves "$work/empty" -o "$work/u" --server "$servers"
 grep -q "no input clips" "$work/u6.err" || fail "an empty folder: $(cat "$work/u6.err")"
