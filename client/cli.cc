@@ -279,7 +279,8 @@ int ExpandPreset(const std::string& command, size_t command_index, std::vector<s
 const std::vector<std::string>& CommandNames() {
   // batch runs before this parser sees the line (client/main.cc, batch/batch_command.h); it
   // is listed so the messages about commands name it.
-  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health", "batch"};
+  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health",
+                                              "batch"};
   return names;
 }
 
@@ -328,8 +329,7 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
     const std::string who = command.empty() ? "koma" : "koma " + command;
     return UsageError(who, ParseErrorText(e), who + " --help");
   }
-  for (const CLI::App* sub : app.get_subcommands())
-    out->command = sub->get_name();  // the one parsed
+  for (const CLI::App* sub : app.get_subcommands()) out->command = sub->get_name();  // the one parsed
   return -1;
 }
 

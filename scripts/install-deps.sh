@@ -29,6 +29,9 @@ if [ "${1:-}" != "--build-only" ]; then
   # python3-jsonschema: the client tests validate `koma ... --json` against
   # docs/summary.schema.json.
   packages+=(python3-jsonschema)
+  # jq, bsdextrautils (column): docs/usage.md's examples pipe into them, and the docs test
+  # runs every documented command.
+  packages+=(jq bsdextrautils)
 fi
 
 missing=()

@@ -345,6 +345,9 @@ int ParseBatchCommandLine(const std::vector<std::string>& argv, BatchCommandLine
   }
   // The RPC named after "batch" (CLI11 would only say that a subcommand is required).
   const auto word = std::find(argv.begin() + 1, argv.end(), "batch");
+  if (word != argv.end() && word + 1 == argv.end()) {
+    return UsageError("name the RPC: koma batch skeletal|curves|lipblink IN... -o OUTDIR");
+  }
   if (word != argv.end() && word + 1 != argv.end() && (*(word + 1))[0] != '-' &&
       commands.count(*(word + 1)) == 0) {
     return UsageError(absl::StrCat("unknown RPC \"", *(word + 1),

@@ -140,6 +140,7 @@ TEST(BatchCommandLine, PerFileOptionsAreNotTakenAndUsageErrorsExit2) {
   EXPECT_EQ(line.args.jobs, 3);
   EXPECT_TRUE(line.args.timing);
   for (const std::vector<std::string>& bad : std::vector<std::vector<std::string>>{
+           {"koma", "batch"},                                                  // no RPC
            {"koma", "batch", "skeletal", "a"},                                 // no -o
            {"koma", "batch", "skeletal", "-o", "out"},                         // no input
            {"koma", "batch", "morph", "a", "-o", "out"},                       // no such RPC

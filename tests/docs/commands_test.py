@@ -1,11 +1,12 @@
-"""Runs every `koma ...` command of the README's sh code blocks against a real koma_server.
+"""Runs every `koma ...` command of the docs' sh code blocks against a real koma_server.
 
-Usage: readme_commands_test.py REPO_ROOT KOMA_SERVER_BINARY KOMA_CLIENT_BINARY [MARKDOWN ...]
+Usage: commands_test.py REPO_ROOT KOMA_SERVER_BINARY KOMA_CLIENT_BINARY [MARKDOWN ...]
 
 MARKDOWN files default to README.md (paths relative to REPO_ROOT). Each line of a ```sh block
-that starts with `koma ` runs as written (shell words, no shell), from a scratch folder that
-has `samples/` (the repository's) and an empty `out/`, with the client first on PATH and
-KOMA_SERVER naming a koma_server started here on 127.0.0.1 (a free port). A command must exit 0,
+that starts with `koma ` runs as written, through `bash -o pipefail -c` (so pipes and
+redirections work and a failing `koma` fails its pipeline), in document order, from one scratch
+folder that has `samples/` (the repository's) and an empty `out/`, with the client first on
+PATH and KOMA_SERVER naming a koma_server started here on 127.0.0.1 (a free port). A command must exit 0,
 or N when its trailing comment says "exit N"; "exit N: TEXT ..." also requires TEXT (up to
 an ellipsis) in its output; a line whose comment says "not run" is skipped (for examples that
 need TLS files or several servers). The server is stopped with SIGTERM at the end and
@@ -15,7 +16,6 @@ no command was found.
 import os
 import re
 import shutil
-import shlex
 import signal
 import subprocess
 import sys
@@ -75,11 +75,11 @@ def main():
     try:
         for document in documents:
             for number, text, expected, message in commands(os.path.join(root, document)):
-                words = shlex.split(text, comments=True)
                 ran += 1
                 try:
-                    result = subprocess.run(words, cwd=work, env=env, capture_output=True,
-                                            text=True, timeout=COMMAND_TIMEOUT_S)
+                    result = subprocess.run(["bash", "-o", "pipefail", "-c", text], cwd=work,
+                                            env=env, capture_output=True, text=True,
+                                            timeout=COMMAND_TIMEOUT_S)
                     code, output = result.returncode, result.stdout + result.stderr
                 except subprocess.TimeoutExpired:
                     code, output = "timeout", ""
