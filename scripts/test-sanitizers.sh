@@ -4,9 +4,11 @@
 #
 # asan: ASan + UBSan with no recovery (the first report aborts the process, so the test
 #       fails), leak checking on, in build-asan: every unit, property, in-process gRPC and
-#       end-to-end test, except the container image (label image: minutes of buildah) and
-#       the benchmarks and fault tests (they need bench/, which this build leaves out; the
-#       fault tests run in the ordinary build).
+#       end-to-end test, except the container image (label image: minutes of buildah), the
+#       report pages in headless Chromium (label browser: they test the browser's rendering
+#       of pages the report tests already check byte for byte; 2 min under ASan), and the
+#       benchmarks and fault tests (they need bench/, which this build leaves out; the fault
+#       tests run in the ordinary build).
 # tsan: TSan in build-tsan, on the tests whose threads koma itself starts and synchronises:
 #       the worker pool, the idle trimmer, the memory budget's concurrent reservations,
 #       forward kinematics split over threads and the huge-page pool. Not the gRPC tests:
@@ -32,7 +34,7 @@ run_asan() {
   "$root/scripts/sanitizer-build.sh" asan
   echo "test-sanitizers: ASan + UBSan build took $((SECONDS - start)) s"
   start=$SECONDS
-  ctest --test-dir "$asan_build" --output-on-failure -j"$(nproc)" -LE 'image|bench'
+  ctest --test-dir "$asan_build" --output-on-failure -j"$(nproc)" -LE 'image|bench|browser'
   echo "test-sanitizers: ASan + UBSan tests took $((SECONDS - start)) s"
 }
 

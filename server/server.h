@@ -51,7 +51,7 @@ struct ServerConfig {
   // quarter is headroom for what neither counts: the process' code and threads, malloc's
   // slack, and gRPC's overshoot (its quota slows and refuses streams, it does not stop a
   // message already being received). Measured: 64 x 50 MB requests under 512 MiB peaked at
-  // 295-366 MiB (tests/e2e/memory_budget_test.sh), against 3.2 GiB with no budget.
+  // 295-461 MiB (tests/e2e/memory_budget_test.sh), against 3.0-3.2 GiB with no budget.
   int64_t max_memory_mb = 0;
   // Prometheus: "HOST:PORT" serves GET /metrics over plain HTTP there (port 0 picks a free
   // one); empty = no endpoint.
