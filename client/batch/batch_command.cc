@@ -237,7 +237,9 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
     json = args.lip_blink.json;
   }
   if (json && args.summary == "-") return UsageError("--json and --summary -: one JSON on stdout");
-  if (json) args.summary = "-";
+  std::vector<std::string> summary_paths;  // --summary FILE, and stdout for --json
+  if (!args.summary.empty()) summary_paths.push_back(args.summary);
+  if (json) summary_paths.push_back("-");
 
   const std::vector<std::string> extensions = ExtensionsOf(rpc_name);
   absl::StatusOr<std::vector<BatchItem>> items =
@@ -307,9 +309,9 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
                  run.seconds > 0 ? (run.counts.ok + run.counts.failed) / run.seconds : 0.0,
                  run.interrupted ? " (interrupted)" : "");
   }
-  if (!args.summary.empty()) {
+  for (const std::string& summary_path : summary_paths) {
     if (absl::Status s =
-            WriteSummary(args.summary, rpc_name, args.out_dir, *servers, settings.jobs, *items, run);
+            WriteSummary(summary_path, rpc_name, args.out_dir, *servers, settings.jobs, *items, run);
         !s.ok()) {
       std::fprintf(stderr, "koma: --summary: %s\n", std::string(s.message()).c_str());
       if (code == 0) code = kFailed;

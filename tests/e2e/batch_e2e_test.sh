@@ -155,8 +155,9 @@ expect_exit 0 "$work/busy.err" "$client_bin" batch skeletal "$work/clips/bvh/g06
 [ "$(summary_field "$work/busy.json" retried)" -gt 0 ] || fail "RESOURCE_EXHAUSTED never happened"
 [ "$(summary_field "$work/busy.json" ok)" = 70 ] || fail "busy server: $(tail -2 "$work/busy.err")"
 stop_named c
-expect_exit 0 "$work/in1.err" "$client_bin" batch skeletal "$work/few" -o "$work/few/out" \
-  --server "$servers" --summary "$work/in1.json"
+timeout 60 "$client_bin" batch skeletal "$work/few" -o "$work/few/out" --server "$servers" \
+  --json >"$work/in1.json" 2>"$work/in1.err" || fail "--json: $(cat "$work/in1.err")"
+[ "$(summary_field "$work/in1.json" ok)" = 4 ] || fail "--json on stdout: $(cat "$work/in1.json")"
 expect_exit 0 "$work/in2.err" "$client_bin" batch skeletal "$work/few" -o "$work/few/out" \
   --server "$servers" --summary "$work/in2.json"
 [ "$(summary_field "$work/in2.json" total)" = 4 ] && [ "$(summary_field "$work/in2.json" up_to_date)" = 4 ] \
