@@ -34,7 +34,7 @@ run_asan() {
   "$root/scripts/sanitizer-build.sh" asan
   echo "test-sanitizers: ASan + UBSan build took $((SECONDS - start)) s"
   start=$SECONDS
-  ctest --test-dir "$asan_build" --output-on-failure -j"$(nproc)" -LE 'image|bench|browser'
+  ctest --test-dir "$asan_build" --output-on-failure -j"$(nproc)" -LE 'image|bench|browser|setup'
   echo "test-sanitizers: ASan + UBSan tests took $((SECONDS - start)) s"
 }
 

@@ -6,12 +6,14 @@
 #include <gtest/gtest.h>
 #include <prometheus/registry.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "convert/curve_text.h"
@@ -488,6 +490,13 @@ TEST(FileRequestTest, FileRequestsAreSizedByTheMemoryBudgetOnceParsed) {
   curves.set_motion3_json(curves_json);
   status = Call(server, curves, &curves_response);
   EXPECT_TRUE(status.ok()) << status.error_message();
+  // The call's reservation is released once gRPC has taken the response, which may be just
+  // after the client has it: wait for that (bounded) instead of reading it at once.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (server.server().memory_budget()->in_use() != 0 &&
+         std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
   EXPECT_EQ(server.server().memory_budget()->in_use(), 0);
 }
 

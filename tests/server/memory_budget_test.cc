@@ -8,6 +8,7 @@
 #include <prometheus/registry.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -235,6 +236,13 @@ TEST(MemoryBudgetServerTest, ACallThatDoesNotFitIsRefusedNamingTheBudget) {
   EXPECT_THAT(status.error_message(),
               HasSubstr("memory budget (--max_memory_mb=32, 16 MiB of it for calls)"));
   EXPECT_THAT(status.error_message(), HasSubstr("more than the whole budget"));
+  // The first call's reservation goes back once gRPC has taken its response, which may be just
+  // after the client has it: wait for that (bounded).
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (server.server().memory_budget()->in_use() != 0 &&
+         std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
   EXPECT_EQ(server.server().memory_budget()->in_use(), 0);
   EXPECT_EQ(Value(*config.metrics_registry, "koma_memory_budget_refused_total"), 1);
 }
