@@ -5,22 +5,10 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "convert/curves_convert.h"
 
 namespace koma::client {
 namespace {
-
-const char* ShapeName(int shape) {
-  switch (shape) {
-    case v1::MOUTH_CLOSED:
-      return "closed";
-    case v1::MOUTH_MID:
-      return "mid";
-    case v1::MOUTH_OPEN:
-      return "open";
-    default:
-      return "?";
-  }
-}
 
 // Frame numbers of the response: the curves' frames, or film-grid frames (timing_fps > 0),
 // which the summary also gives in seconds.
@@ -48,7 +36,7 @@ std::string MouthLine(const v1::MouthTrack& mouth, const Frames& frames) {
     speech.push_back(frames.Range(i.begin(), i.end() - 1));
   }
   std::vector<std::string> shapes;
-  for (const v1::MouthHold& hold : mouth.holds()) shapes.push_back(ShapeName(hold.shape()));
+  for (const v1::MouthHold& hold : mouth.holds()) shapes.push_back(convert::MouthShapeName(hold.shape()));
   return absl::StrFormat("  mouth %s: speech at %s %s; %d holds: %s\n", mouth.id(), frames.noun(),
                          speech.empty() ? "none" : absl::StrJoin(speech, ", "), mouth.holds_size(),
                          absl::StrJoin(shapes, " "));
@@ -106,7 +94,7 @@ nlohmann::json LipBlinkSummaryJson(const LipBlinkArgs& args, const CurveSet& cur
     nlohmann::json holds = nlohmann::json::array();
     for (const v1::MouthHold& h : mouth.holds()) {
       holds.push_back(
-          {{"begin", h.begin()}, {"length", h.length()}, {"shape", ShapeName(h.shape())}});
+          {{"begin", h.begin()}, {"length", h.length()}, {"shape", convert::MouthShapeName(h.shape())}});
     }
     j["mouths"].push_back({{"id", mouth.id()},
                            {"speech", Intervals(mouth.speech())},

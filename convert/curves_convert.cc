@@ -70,4 +70,17 @@ DrawingTiming TimingFromProto(const v1::DrawingTiming& timing) {
   return out;
 }
 
+const char* MouthShapeName(int shape) {
+  switch (shape) {
+    case v1::MOUTH_CLOSED:
+      return "closed";
+    case v1::MOUTH_MID:
+      return "mid";
+    case v1::MOUTH_OPEN:
+      return "open";
+    default:
+      return "unspecified";
+  }
+}
+
 }  // namespace koma::convert

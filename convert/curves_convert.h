@@ -20,6 +20,10 @@ std::vector<CurvePoint> StepsFromProto(const v1::Curve& stepped);
 // A response timing as the core type (for the drawing sheet writer).
 DrawingTiming TimingFromProto(const v1::DrawingTiming& timing);
 
+// "closed", "mid" or "open" for a MouthShape (the CLI's summaries and the report's strip);
+// "unspecified" for any other value.
+const char* MouthShapeName(int shape);
+
 }  // namespace koma::convert
 
 #endif  // KOMA_CONVERT_CURVES_CONVERT_H_

@@ -6,24 +6,12 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "convert/curves_convert.h"
 #include "client/report/input_curves.h"
 #include "client/report/report_data.h"
 
 namespace koma::client::report {
 namespace {
-
-const char* ShapeName(int shape) {
-  switch (shape) {
-    case v1::MOUTH_CLOSED:
-      return "closed";
-    case v1::MOUTH_MID:
-      return "mid";
-    case v1::MOUTH_OPEN:
-      return "open";
-    default:
-      return "unspecified";
-  }
-}
 
 nlohmann::json Levels(double closed, double mid, double open) {
   return {{"closed", Round6(closed)}, {"mid", Round6(mid)}, {"open", Round6(open)}};
@@ -66,7 +54,7 @@ nlohmann::json LipBlinkReportWriter::Data() const {
     for (const v1::FrameInterval& i : m.speech()) speech.push_back({i.begin(), i.end()});
     nlohmann::json shapes = nlohmann::json::array();
     for (const v1::MouthHold& h : m.holds()) {
-      shapes.push_back({h.begin(), h.length(), ShapeName(h.shape())});
+      shapes.push_back({h.begin(), h.length(), convert::MouthShapeName(h.shape())});
     }
     holds += m.holds_size();
     mouths.push_back({{"id", m.id()},
