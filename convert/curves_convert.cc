@@ -1,11 +1,78 @@
 #include "convert/curves_convert.h"
 
+#include "absl/strings/str_cat.h"
+#include "core/status_macros.h"
+
 namespace koma::convert {
 namespace {
+
+CurvePoint PointFromProto(const v1::CurvePoint& p) { return {p.frame(), p.value()}; }
 
 void PointToProto(const CurvePoint& p, v1::CurvePoint* out) {
   out->set_frame(p.frame);
   out->set_value(p.value);
+}
+
+// `path` makes the segment's field path; it is only called on an error (a string per segment
+// would be made for every valid segment otherwise).
+template <typename PathFn>
+absl::StatusOr<SegmentType> SegmentTypeFromProto(int type, const PathFn& path) {
+  switch (type) {
+    case v1::SEGMENT_LINEAR:
+      return SegmentType::kLinear;
+    case v1::SEGMENT_BEZIER:
+      return SegmentType::kBezier;
+    case v1::SEGMENT_STEPPED:
+      return SegmentType::kStepped;
+    case v1::SEGMENT_INVERSE_STEPPED:
+      return SegmentType::kInverseStepped;
+    default:
+      return absl::InvalidArgumentError(absl::StrCat(
+          path(), ".type: ", type,
+          " is not a segment type (1 LINEAR, 2 BEZIER, 3 STEPPED, 4 INVERSE_STEPPED)"));
+  }
+}
+
+// `path` makes the curve's field path ("curves.curves[2]"); like the segments' it is only
+// called on an error (a path string per curve was a malloc per curve on every request).
+template <typename PathFn>
+absl::StatusOr<Curve> CurveFromProtoAt(const v1::Curve& proto, const PathFn& path) {
+  Curve curve;
+  curve.id = proto.id();
+  const bool keyframes = proto.has_start() || proto.segments_size() > 0;
+  if (proto.samples_size() > 0) {
+    if (keyframes) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          path(), ": both keyframes (start/segments) and samples are set; give one form"));
+    }
+    curve.samples.assign(proto.samples().begin(), proto.samples().end());
+    return curve;
+  }
+  if (!proto.has_start()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(path(), ": empty curve (neither start nor samples is set)"));
+  }
+  curve.start = PointFromProto(proto.start());
+  // Each segment is written where it stays: a local copied in by push_back was read back
+  // with wide loads right after its narrow stores (the type), a store-forwarding stall per
+  // segment that perf put at ~half of this conversion.
+  curve.segments.resize(static_cast<size_t>(proto.segments_size()));
+  for (int s = 0; s < proto.segments_size(); ++s) {
+    const v1::CurveSegment& in = proto.segments(s);
+    CurveSegment& segment = curve.segments[static_cast<size_t>(s)];
+    KOMA_ASSIGN_OR_RETURN(segment.type, SegmentTypeFromProto(in.type(), [&] {
+                            return absl::StrCat(path(), ".segments[", s, "]");
+                          }));
+    segment.handles[0] = PointFromProto(in.handle1());
+    segment.handles[1] = PointFromProto(in.handle2());
+    segment.end = PointFromProto(in.end());
+  }
+  return curve;
+}
+
+absl::Status Prefixed(const absl::Status& status, absl::string_view prefix) {
+  if (status.ok()) return status;
+  return absl::Status(status.code(), absl::StrCat(prefix, status.message()));
 }
 
 v1::SegmentType SegmentTypeToProto(SegmentType type) {
@@ -51,13 +118,42 @@ v1::CurveSet CurveSetToProto(const CurveSet& set) {
   return out;
 }
 
+absl::StatusOr<CurveSet> CurveSetFromProto(const v1::CurveSet& proto, absl::string_view path) {
+  CurveSet set;
+  set.fps = proto.fps();
+  set.frame_count = proto.frame_count();
+  set.beziers_restricted = proto.beziers_restricted();
+  set.curves.reserve(proto.curves_size());
+  for (int i = 0; i < proto.curves_size(); ++i) {
+    KOMA_ASSIGN_OR_RETURN(Curve curve, CurveFromProtoAt(proto.curves(i), [&] {
+                            return absl::StrCat(path, ".curves[", i, "]");
+                          }));
+    set.curves.push_back(std::move(curve));
+  }
+  KOMA_RETURN_IF_ERROR(Prefixed(ValidateCurveSet(set), absl::StrCat(path, ".")));
+  return set;
+}
+
+absl::StatusOr<Curve> CurveFromProto(const v1::Curve& proto, absl::string_view path) {
+  return CurveFromProtoAt(proto, [path] { return std::string(path); });
+}
+
+void SteppedKeyframesToProto(const std::vector<CurvePoint>& steps, v1::Curve* out) {
+  if (steps.empty()) return;
+  PointToProto(steps.front(), out->mutable_start());
+  out->mutable_segments()->Reserve(static_cast<int>(steps.size()) - 1);
+  for (size_t k = 1; k < steps.size(); ++k) {
+    v1::CurveSegment* segment = out->add_segments();
+    segment->set_type(v1::SEGMENT_STEPPED);
+    PointToProto(steps[k], segment->mutable_end());
+  }
+}
+
 std::vector<CurvePoint> StepsFromProto(const v1::Curve& stepped) {
   std::vector<CurvePoint> steps;
   steps.reserve(stepped.segments_size() + 1);
-  steps.push_back({stepped.start().frame(), stepped.start().value()});
-  for (const v1::CurveSegment& s : stepped.segments()) {
-    steps.push_back({s.end().frame(), s.end().value()});
-  }
+  steps.push_back(PointFromProto(stepped.start()));
+  for (const v1::CurveSegment& s : stepped.segments()) steps.push_back(PointFromProto(s.end()));
   return steps;
 }
 

@@ -1,10 +1,14 @@
-// CurveSet (formats/ side) <-> koma.v1 curve messages (wire side), for the CLI and for the
-// server's file-carrying requests.
+// CurveSet (formats/ and core/ side) <-> koma.v1 curve messages (wire side): the one
+// conversion, used by the CLI (requests it sends, responses and reports it reads) and by the
+// server (requests it checks, responses it answers).
 #ifndef KOMA_CONVERT_CURVES_CONVERT_H_
 #define KOMA_CONVERT_CURVES_CONVERT_H_
 
+#include <string>
 #include <vector>
 
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "core/curves.h"
 #include "core/koma_uchi.h"
 #include "koma/v1/motion.pb.h"
@@ -13,6 +17,20 @@
 namespace koma::convert {
 
 v1::CurveSet CurveSetToProto(const CurveSet& set);
+
+// A request's curve set as the core type, checked: INVALID_ARGUMENT naming the field under
+// `path` ("curves") for an unknown segment type, a curve with both keyframes and samples or
+// with neither, and whatever core ValidateCurveSet refuses (its message after "curves.").
+// Size limits are the server's (server/curve_convert.h), checked before this.
+absl::StatusOr<CurveSet> CurveSetFromProto(const v1::CurveSet& proto, absl::string_view path);
+
+// One curve as the core type, with CurveSetFromProto's per-curve checks; `path` names it in
+// an error ("curves.curves[2]").
+absl::StatusOr<Curve> CurveFromProto(const v1::Curve& proto, absl::string_view path);
+
+// Stepped keyframes: `steps[0]` as the start, then a SEGMENT_STEPPED segment to each next
+// (nothing for no steps). The inverse of StepsFromProto.
+void SteppedKeyframesToProto(const std::vector<CurvePoint>& steps, v1::Curve* out);
 
 // A response curve's stepped keyframes as points (start, then each segment's end).
 std::vector<CurvePoint> StepsFromProto(const v1::Curve& stepped);

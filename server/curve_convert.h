@@ -1,4 +1,5 @@
-// koma.v1 curve messages <-> core curve types, shared by RetimeCurves and LipBlink.
+// The server's checks around the curve conversion (convert/curves_convert.h), shared by
+// RetimeCurves and LipBlink: the size limit before converting, finite values after evaluating.
 #ifndef KOMA_SERVER_CURVE_CONVERT_H_
 #define KOMA_SERVER_CURVE_CONVERT_H_
 
@@ -12,9 +13,10 @@
 
 namespace koma::server {
 
-// Converts and validates (core ValidateCurveSet) a request's curve set. Errors name the
-// field under `path` ("curves"): INVALID_ARGUMENT for malformed curves, RESOURCE_EXHAUSTED
-// when curves x frames or the number of points is over --max_values.
+// Converts and validates (convert::CurveSetFromProto, core ValidateCurveSet) a request's
+// curve set. Errors name the field under `path` ("curves"): INVALID_ARGUMENT for malformed
+// curves, RESOURCE_EXHAUSTED when curves x frames or the number of points is over
+// --max_values (checked first, before anything is copied).
 absl::StatusOr<CurveSet> CurveSetFromProto(const v1::CurveSet& proto, absl::string_view path,
                                            const RequestLimits& limits);
 
@@ -22,9 +24,6 @@ absl::StatusOr<CurveSet> CurveSetFromProto(const v1::CurveSet& proto, absl::stri
 // keys can still overflow (a linear segment from -1e308 to 1e308), and such a curve must get
 // an error, never a silent NaN in an answer.
 absl::Status CheckEvaluatedFinite(const std::vector<double>& values, int curve_index);
-
-// Stepped keyframes: `steps[0]` as the start, then a SEGMENT_STEPPED segment to each next.
-void SteppedKeyframesToProto(const std::vector<CurvePoint>& steps, v1::Curve* out);
 
 }  // namespace koma::server
 

@@ -6,6 +6,7 @@
 #include "absl/container/flat_hash_set.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/string_view.h"
+#include "convert/curves_convert.h"
 #include "core/film_grid.h"
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
@@ -151,7 +152,7 @@ void FillCurvesResponse(const CurveSet& set, const KomaUchiResult& result,
     out->set_timing(in.timing);
     out->mutable_values()->Add(in.values.begin(), in.values.end());
     out->mutable_stepped()->set_id(set.curves[c].id);
-    SteppedKeyframesToProto(in.steps, out->mutable_stepped());
+    convert::SteppedKeyframesToProto(in.steps, out->mutable_stepped());
     for (const auto& [length, drawings] : in.hold_histogram) {  // std::map: ascending
       v1::HoldCount* count = out->add_hold_histogram();
       count->set_length(length);

@@ -2,6 +2,7 @@
 // response.
 #include <vector>
 
+#include "convert/curves_convert.h"
 #include "core/lip_blink_grid.h"
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
@@ -29,7 +30,7 @@ void AddConvertedCurve(const std::string& id, const std::vector<double>& values,
   out->set_id(id);
   out->mutable_values()->Add(values.begin(), values.end());
   out->mutable_stepped()->set_id(id);
-  SteppedKeyframesToProto(steps, out->mutable_stepped());
+  convert::SteppedKeyframesToProto(steps, out->mutable_stepped());
 }
 
 // A converted curve: per-frame `values` (source frames without a grid), or, with a grid,
