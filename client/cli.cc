@@ -36,11 +36,7 @@ const std::set<std::string>& GlobalValueOptions() {
 }
 
 void AddGlobalOptions(CLI::App& app, TlsFiles& tls) {
-  app.add_option("--tls-ca", tls.ca, "PEM CA of the server's certificate: use TLS")
-      ->envname("KOMA_TLS_CA");
-  app.add_option("--tls-cert", tls.cert, "PEM client certificate (mutual TLS)")
-      ->envname("KOMA_TLS_CERT");
-  app.add_option("--tls-key", tls.key, "PEM key of --tls-cert")->envname("KOMA_TLS_KEY");
+  AddTlsFlags(app, tls);
   // Studio defaults: a TOML file with a [COMMAND] section of option = value lines (names as
   // the long flags without "--"); flags on the command line win.
   app.set_config("--config", "",
@@ -66,12 +62,6 @@ std::vector<std::string> LongNames(const CLI::App* cmd) {
   return names;
 }
 
-int UsageError(const std::string& who, const std::string& message, const std::string& help) {
-  std::fprintf(stderr, "%s: %s\n", who.c_str(), message.c_str());
-  std::fprintf(stderr, "Run `%s` for the options.\n", help.c_str());
-  return kExitUsage;
-}
-
 std::string DidYouMean(const std::string& typed, const std::vector<std::string>& candidates) {
   const std::string close = ClosestMatch(typed, candidates);
   return close.empty() ? "" : absl::StrCat("; did you mean ", close, "?");
@@ -83,7 +73,7 @@ std::string DidYouMean(const std::string& typed, const std::vector<std::string>&
 int CheckConfigFile(const CLI::App& app, const std::string& path) {
   std::ifstream in(path);
   if (!in) {
-    return UsageError("koma",
+    return PrintUsageError("koma",
                       absl::StrCat("--config ", path, ": cannot read: ", std::strerror(errno)),
                       "koma --help");
   }
@@ -91,7 +81,7 @@ int CheckConfigFile(const CLI::App& app, const std::string& path) {
   try {
     items = CLI::ConfigTOML().from_config(in);
   } catch (const CLI::ParseError& e) {
-    return UsageError("koma", absl::StrCat("--config ", path, ": ", e.what()), "koma --help");
+    return PrintUsageError("koma", absl::StrCat("--config ", path, ": ", e.what()), "koma --help");
   }
   for (const CLI::ConfigItem& item : items) {
     if (item.name == "++" || item.name == "--") continue;
@@ -101,7 +91,7 @@ int CheckConfigFile(const CLI::App& app, const std::string& path) {
       section = "[" + item.parents[0] + "]";
       if (std::find(CommandNames().begin(), CommandNames().end(), item.parents[0]) ==
           CommandNames().end()) {
-        return UsageError("koma",
+        return PrintUsageError("koma",
                           absl::StrCat("--config ", path, ": unknown section ", section,
                                        DidYouMean(item.parents[0], CommandNames())),
                           "koma --help");
@@ -111,7 +101,7 @@ int CheckConfigFile(const CLI::App& app, const std::string& path) {
     std::vector<std::string> keys;
     for (const std::string& name : LongNames(owner)) keys.push_back(name.substr(2));
     if (item.parents.size() > 1 || std::find(keys.begin(), keys.end(), item.name) == keys.end()) {
-      return UsageError("koma",
+      return PrintUsageError("koma",
                         absl::StrCat("--config ", path, ": ", section, " ", item.name,
                                      ": unknown option", DidYouMean(item.name, keys)),
                         "koma --help");
@@ -148,28 +138,28 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
       for (const CLI::App* sub : subs) {
         const std::vector<std::string> names = LongNames(sub);
         if (std::find(names.begin(), names.end(), name) != names.end()) {
-          return UsageError("koma",
+          return PrintUsageError("koma",
                             absl::StrCat(name, " is an option of `koma ", sub->get_name(),
                                          "`: put it after the command (koma ", sub->get_name(),
                                          " ... ", name, ")"),
                             "koma --help");
         }
       }
-      return UsageError("koma", absl::StrCat("unknown option ", name, DidYouMean(name, global)),
+      return PrintUsageError("koma", absl::StrCat("unknown option ", name, DidYouMean(name, global)),
                         "koma --help");
     }
     if (absl::StartsWith(arg, "-") && arg.size() > 1) continue;  // CLI11 names it
     break;
   }
   if (i >= args.size()) {
-    return UsageError("koma",
+    return PrintUsageError("koma",
                       absl::StrCat("a command is required: ", absl::StrJoin(CommandNames(), ", ")),
                       "koma --help");
   }
   const std::string& typed = args[i];
   if (std::find(CommandNames().begin(), CommandNames().end(), typed) == CommandNames().end()) {
     const std::string close = ClosestMatch(typed, CommandNames());
-    return UsageError(
+    return PrintUsageError(
         "koma",
         absl::StrCat("unknown command \"", typed, "\"",
                      close.empty() ? "" : absl::StrCat("; did you mean \"", close, "\"?"),
@@ -199,7 +189,7 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
     if (!absl::StartsWith(arg, "--") && !is_short) continue;
     const std::string name = arg.substr(0, arg.find('='));
     if (!is_short && std::find(known.begin(), known.end(), name) == known.end()) {
-      return UsageError(who, absl::StrCat("unknown option ", name, DidYouMean(name, known)),
+      return PrintUsageError(who, absl::StrCat("unknown option ", name, DidYouMean(name, known)),
                         who + " --help");
     }
     // CLI11 takes the next argument as the value even when it is an option ("-o --json"
@@ -210,7 +200,7 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
         j + 1 < args.size()) {
       const std::string next = args[j + 1].substr(0, args[j + 1].find('='));
       if (std::find(known.begin(), known.end(), next) != known.end()) {
-        return UsageError(who, absl::StrCat(name, " needs a value (", next, " is an option)"),
+        return PrintUsageError(who, absl::StrCat(name, " needs a value (", next, " is an option)"),
                           who + " --help");
       }
     }
@@ -264,7 +254,7 @@ int ExpandPreset(const std::string& command, size_t command_index, std::vector<s
   const std::vector<std::string>* flags = PresetFlags(command, name);
   const std::string who = "koma " + command;
   if (flags == nullptr) {
-    return UsageError(
+    return PrintUsageError(
         who,
         absl::StrCat("--preset: \"", name, "\" is not one of ", absl::StrJoin(PresetNames(), ", ")),
         who + " --help");
@@ -315,19 +305,14 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
   size_t command_index = 0;
   if (int code = PreCheck(app, line, &command, &command_index); code >= 0) return code;
   if (int code = ExpandPreset(command, command_index, &line); code >= 0) return code;
-  std::vector<std::string> reversed(line.begin() + 1, line.end());
-  std::reverse(reversed.begin(), reversed.end());  // CLI11 parses a reversed vector
-  try {
-    app.parse(reversed);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    const std::string who = command.empty() ? "koma" : "koma " + command;
-    return UsageError(who, ParseErrorText(e), who + " --help");
+  if (int code = ParseOrExit(app, line,
+                             [&command](const CLI::ParseError& e) {
+                               const std::string who =
+                                   command.empty() ? "koma" : "koma " + command;
+                               return PrintUsageError(who, ParseErrorText(e), who + " --help");
+                             });
+      code >= 0) {
+    return code;
   }
   for (const CLI::App* sub : app.get_subcommands()) out->command = sub->get_name();  // the one parsed
   return -1;

@@ -1,9 +1,13 @@
 #include "client/cli_options.h"
 
+#include <algorithm>
+#include <cstdio>
+
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "absl/strings/strip.h"
+#include "client/command_output.h"
 
 namespace koma::client {
 namespace {
@@ -26,6 +30,30 @@ std::vector<std::string> Items(const std::vector<std::string>& values) {
 }
 
 }  // namespace
+
+int PrintUsageError(const std::string& who, const std::string& message, const std::string& help) {
+  std::fprintf(stderr, "%s: %s\n", who.c_str(), message.c_str());
+  std::fprintf(stderr, "Run `%s` for the options.\n", help.c_str());
+  return kExitUsage;
+}
+
+int ParseOrExit(CLI::App& app, const std::vector<std::string>& args,
+                const std::function<int(const CLI::ParseError&)>& on_error) {
+  std::vector<std::string> reversed(args.begin() + 1, args.end());
+  std::reverse(reversed.begin(), reversed.end());  // CLI11 parses a reversed vector
+  try {
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return on_error(e);
+  }
+  return -1;
+}
 
 void ThrowFlagError(const absl::Status& status) {
   throw FlagValueError(std::string(status.message()));

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +22,16 @@ class FlagValueError : public CLI::ParseError {
   explicit FlagValueError(const std::string& message)
       : CLI::ParseError("FlagValueError", message, CLI::ExitCodes::ValidationError) {}
 };
+
+// "WHO: message", then "Run `HELP` for the options." on stderr; returns 2 (kExitUsage, a
+// usage error). Every usage error of `koma` and `koma batch` is printed by this.
+int PrintUsageError(const std::string& who, const std::string& message, const std::string& help);
+
+// CLI11 parses args[1..] (args[0] the program) into `app`: -1 when the line parsed. After
+// --help or --version CLI11 prints them and this returns its exit code (0); after any other
+// CLI11 error, what `on_error` returns (having printed koma's message).
+int ParseOrExit(CLI::App& app, const std::vector<std::string>& args,
+                const std::function<int(const CLI::ParseError&)>& on_error);
 
 // Throws FlagValueError with the status's message.
 [[noreturn]] void ThrowFlagError(const absl::Status& status);

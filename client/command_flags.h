@@ -6,9 +6,13 @@
 #define KOMA_CLIENT_COMMAND_FLAGS_H_
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "client/call_flags.h"
+#include "client/channel.h"
+#include "client/curve_files.h"
 #include "client/curves_command.h"
 #include "client/health_command.h"
 #include "client/lip_blink_command.h"
@@ -31,8 +35,24 @@ const std::vector<std::string>* PresetFlags(const std::string& command, const st
 void AddPresetFlag(CLI::App* cmd);
 
 // --server, --deadline (seconds), --json, --quiet: on every subcommand.
-void AddCommonFlags(CLI::App* cmd, std::string* server, double* deadline_seconds, bool* json,
-                    bool* quiet, const std::string& default_deadline);
+void AddCommonFlags(CLI::App* cmd, CallFlags* flags, const std::string& default_deadline);
+
+// --tls-ca, --tls-cert, --tls-key (also $KOMA_TLS_*): on `koma` and on `koma batch`.
+void AddTlsFlags(CLI::App& app, TlsFiles& tls);
+
+// The flags the file commands share, each registered where the command's help lists it.
+// The input file of curves and lipblink (motion3.json or CSV).
+void AddCurveInputFlag(CLI::App* cmd, std::string* input);
+// --report OUT.html.
+void AddReportFlag(CLI::App* cmd, std::string* report);
+// --timing-fps: "film grid `counted` counted on ... 0 = count in `frames_of` own frames".
+void AddTimingFpsFlag(CLI::App* cmd, std::optional<double>* timing_fps, const std::string& counted,
+                      const std::string& frames_of);
+// --send-file: the file goes in the request's `fields` for the server to parse.
+void AddSendFileFlag(CLI::App* cmd, bool* send_file, const std::string& fields);
+// The last flags of curves and lipblink: --fps, --timing-fps (see AddTimingFpsFlag),
+// --format, --send-file, --preset and the common flags.
+void AddCurveFileFlags(CLI::App* cmd, CurveFileArgs& args, const std::string& timing_counted);
 
 // Each adds its subcommand to `app` with every flag bound to `args`, and returns it.
 CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args);

@@ -44,26 +44,74 @@ void AddPresetFlag(CLI::App* cmd) {
       ->type_name(absl::StrJoin(PresetNames(), "|"));
 }
 
-void AddCommonFlags(CLI::App* cmd, std::string* server, double* deadline_seconds, bool* json,
-                    bool* quiet, const std::string& default_deadline) {
-  cmd->add_option("--server", *server,
+void AddCommonFlags(CLI::App* cmd, CallFlags* flags, const std::string& default_deadline) {
+  cmd->add_option("--server", flags->server,
                   "server host:port, or a list a:p,b:p balanced round-robin (default "
                   "$KOMA_SERVER or 127.0.0.1:50051)")
       ->type_name("HOST:PORT")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  AddNumberWithDefault(cmd, "--deadline", deadline_seconds, Above(0),
+  AddNumberWithDefault(cmd, "--deadline", &flags->deadline_seconds, Above(0),
                        "RPC deadline in seconds (default " + default_deadline + ")")
       ->type_name("SECONDS");
-  cmd->add_flag("--json", *json,
+  cmd->add_flag("--json", flags->json,
                 "print the summary as one JSON object on stdout (docs/summary.schema.json); "
                 "the human summary goes to stderr");
-  cmd->add_flag("-q,--quiet", *quiet, "no human summary (errors still go to stderr)");
+  cmd->add_flag("-q,--quiet", flags->quiet, "no human summary (errors still go to stderr)");
+}
+
+void AddTlsFlags(CLI::App& app, TlsFiles& tls) {
+  app.add_option("--tls-ca", tls.ca, "PEM CA of the server's certificate: use TLS")
+      ->envname("KOMA_TLS_CA");
+  app.add_option("--tls-cert", tls.cert, "PEM client certificate (mutual TLS)")
+      ->envname("KOMA_TLS_CERT");
+  app.add_option("--tls-key", tls.key, "PEM key of --tls-cert")->envname("KOMA_TLS_KEY");
+}
+
+void AddCurveInputFlag(CLI::App* cmd, std::string* input) {
+  cmd->add_option("input", *input,
+                  "motion3.json, or CSV (frame,<id>,... per frame); - reads standard input")
+      ->required()
+      ->type_name("IN");
+}
+
+void AddReportFlag(CLI::App* cmd, std::string* report) {
+  cmd->add_option("--report", *report,
+                  "before/after HTML report to write, one self-contained file (docs/report.md)")
+      ->type_name("OUT.html");
+}
+
+void AddTimingFpsFlag(CLI::App* cmd, std::optional<double>* timing_fps, const std::string& counted,
+                      const std::string& frames_of) {
+  AddNumber(cmd, "--timing-fps", timing_fps, {},
+            "film grid " + counted + " counted on, frames per second (default 24; 0 = count in " +
+                frames_of + " own frames; at most 1000)")
+      ->type_name("FPS");
+}
+
+void AddSendFileFlag(CLI::App* cmd, bool* send_file, const std::string& fields) {
+  cmd->add_flag("--send-file", *send_file,
+                "send the input file as is (" + fields +
+                    ") for the server to parse, instead of the decoded data; the outputs are the "
+                    "same bytes");
+}
+
+void AddCurveFileFlags(CLI::App* cmd, CurveFileArgs& args, const std::string& timing_counted) {
+  AddNumberWithDefault(cmd, "--fps", &args.csv_fps, Above(0),
+                       "frames per second of a CSV input (default 30)")
+      ->type_name("FPS");
+  AddTimingFpsFlag(cmd, &args.timing_fps, timing_counted, "the input's");
+  AddChoice(cmd, "--format", &args.format, {"motion3", "csv"},
+            "format of the output -o - (default: the input's; an input's format is read from its "
+            "contents)");
+  AddSendFileFlag(cmd, &args.send_file, "motion3_json or csv_text, csv_fps = --fps");
+  AddPresetFlag(cmd);
+  AddCommonFlags(cmd, &args, "60");
 }
 
 CLI::App* AddHealthCommand(CLI::App& app, HealthArgs& args) {
   CLI::App* cmd = app.add_subcommand("health", "Ask the server's grpc.health.v1 service");
   cmd->add_option("--service", args.service, "service name (default: the whole server)");
-  AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "5");
+  AddCommonFlags(cmd, &args, "5");
   return cmd;
 }
 

@@ -10,6 +10,7 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
+#include "client/call_flags.h"
 #include "convert/curve_text.h"
 #include "core/curves.h"
 
@@ -50,6 +51,32 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
 // name ends in .bvh.
 absl::StatusOr<CurveFormat> CurveOutputFormat(const std::string& path, CurveFormat format,
                                               const CurveInput& input);
+
+// The flags `koma curves` and `koma lipblink` share (client/command_flags.h registers them),
+// extended by each command's own.
+struct CurveFileArgs : CallFlags {
+  std::string input;                 // .motion3.json or .csv; "-": standard input
+  std::string output;                // .motion3.json (needs a motion3 input) or .csv; "-"
+  std::string report;                // --report: HTML report to write; empty: none
+  double csv_fps = 30.0;             // --fps, frames per second of a CSV input
+  std::optional<double> timing_fps;  // --timing-fps: the film grid; unset: the server's 24
+  std::string format;                // --format motion3|csv: of the output "-"
+  bool send_file = false;  // --send-file: the file's text (motion3_json or csv_text + csv_fps)
+};
+
+// --send-file: `request` (RetimeCurvesRequest or LipBlinkRequest) carries the file as read
+// for the server to parse, in place of its decoded curves: csv_text with csv_fps = --fps for
+// a CSV, else motion3_json.
+template <typename Request>
+void PutCurveFile(const CurveFileArgs& args, const CurveInput& input, Request* request) {
+  request->clear_curves();
+  if (input.format == CurveFormat::kCsv) {
+    request->set_csv_text(input.text);
+    request->set_csv_fps(args.csv_fps);
+  } else {
+    request->set_motion3_json(input.text);
+  }
+}
 
 using convert::CurveReplacement;  // a retimed curve (convert/curve_text.h)
 

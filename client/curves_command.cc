@@ -97,14 +97,7 @@ absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesRequest(const CurvesArgs& arg
 absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesFileRequest(const CurvesArgs& args,
                                                                const CurveInput& input) {
   absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args, input.curves);
-  if (!request.ok() || !args.send_file) return request;
-  request->clear_curves();
-  if (input.format == CurveFormat::kCsv) {
-    request->set_csv_text(input.text);
-    request->set_csv_fps(args.csv_fps);
-  } else {
-    request->set_motion3_json(input.text);
-  }
+  if (request.ok() && args.send_file) PutCurveFile(args, input, &*request);
   return request;
 }
 

@@ -27,26 +27,15 @@ struct SegmentOverrideFlag {
 };
 absl::StatusOr<SegmentOverrideFlag> ParseSegmentOverride(const std::string& text);
 
-struct CurvesArgs {
-  std::string input;                      // .motion3.json or .csv; "-": standard input
-  std::string output;                     // .motion3.json (needs a motion3 input) or .csv; "-"
+struct CurvesArgs : CurveFileArgs {
   std::string timing;                     // drawing sheet CSV to write; empty: none; "-"
-  std::string report;                     // --report: HTML report to write; empty: none
   std::optional<int> frames_per_drawing;  // --on / --frames-per-drawing; unset: server's 3
   std::vector<int> keys;                  // --keys / --key-frames; empty: keyframe times
   std::optional<double> tame;             // --tame; unset: 1
   std::optional<double> tsume;            // --tsume; unset: 1
   std::vector<std::string> curve_on;      // --curve-on / --curve-overrides ID=N, repeatable
   std::vector<SegmentOverrideFlag> segment_overrides;  // --segment-overrides, repeatable
-  double csv_fps = 30.0;                               // --fps, frames per second of a CSV input
-  std::optional<double> timing_fps;  // --timing-fps: the film grid; unset: server's 24
-  std::string format;                // --format motion3|csv: of the output "-"
-  bool send_file = false;    // --send-file: the file's text (motion3_json or csv_text + csv_fps)
   bool timing_only = false;  // --timing-only: write only the drawing sheet
-  std::string server;
-  double deadline_seconds = 60.0;
-  bool json = false;   // --json
-  bool quiet = false;  // --quiet
 };
 
 // The request for `curves` with every flag of `args` applied. INVALID_ARGUMENT naming the

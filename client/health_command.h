@@ -4,14 +4,15 @@
 
 #include <string>
 
+#include "client/call_flags.h"
+
 namespace koma::client {
 
-struct HealthArgs {
-  std::string server;   // host:port
+// --json: {"status": "ok", "serving_status": "SERVING", ...}; --quiet: print nothing, the exit
+// code tells. A health check's deadline is short: 5 s.
+struct HealthArgs : CallFlags {
+  HealthArgs() { deadline_seconds = 5.0; }
   std::string service;  // "" = the whole server
-  double deadline_seconds = 5.0;
-  bool json = false;   // --json: {"status": "ok", "serving_status": "SERVING", ...}
-  bool quiet = false;  // --quiet: print nothing; the exit code tells
 };
 
 // Prints SERVING / NOT_SERVING / ... to stdout. Exit code 0 when SERVING, 1 otherwise.

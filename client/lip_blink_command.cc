@@ -68,14 +68,7 @@ v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSe
 
 v1::LipBlinkRequest BuildLipBlinkFileRequest(const LipBlinkArgs& args, const CurveInput& input) {
   v1::LipBlinkRequest request = BuildLipBlinkRequest(args, input.curves);
-  if (!args.send_file) return request;
-  request.clear_curves();
-  if (input.format == CurveFormat::kCsv) {
-    request.set_csv_text(input.text);
-    request.set_csv_fps(args.csv_fps);
-  } else {
-    request.set_motion3_json(input.text);
-  }
+  if (args.send_file) PutCurveFile(args, input, &request);
   return request;
 }
 

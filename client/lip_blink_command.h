@@ -20,10 +20,7 @@
 
 namespace koma::client {
 
-struct LipBlinkArgs {
-  std::string input;   // .motion3.json or .csv; "-": standard input
-  std::string output;  // .motion3.json (needs a motion3 input) or .csv; "-"
-  std::string report;  // --report: HTML report to write; empty: none
+struct LipBlinkArgs : CurveFileArgs {
   // mouth (MouthSettings)
   std::vector<std::string> mouth_ids;     // --mouth / --mouth-ids; empty: ParamMouthOpenY
   std::string mode = "random";            // --mode / --mouth-mode random|follow
@@ -48,14 +45,6 @@ struct LipBlinkArgs {
   std::optional<int> auto_blink_hold;         // --auto-blink-hold 1..3
   std::vector<FlagInterval> auto_blink_keep;  // --auto-blink-keep BEGIN-END,...
   std::optional<uint64_t> seed;               // --seed; unset: the server's default
-  double csv_fps = 30.0;                      // --fps of a CSV input
-  std::optional<double> timing_fps;           // --timing-fps: the film grid; unset: server's 24
-  bool send_file = false;  // --send-file: the file's text (motion3_json or csv_text + csv_fps)
-  std::string format;      // --format motion3|csv: of "-" input/output
-  std::string server;
-  double deadline_seconds = 60.0;
-  bool json = false;   // --json
-  bool quiet = false;  // --quiet
 };
 
 v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSet& curves);

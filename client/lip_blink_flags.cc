@@ -6,16 +6,11 @@ namespace koma::client {
 CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   CLI::App* cmd =
       app.add_subcommand("lipblink", "Three-drawing mouth flaps and anime blinks (LipBlink)");
-  cmd->add_option("input", args.input,
-                  "motion3.json, or CSV (frame,<id>,... per frame); - reads standard input")
-      ->required()
-      ->type_name("IN");
+  AddCurveInputFlag(cmd, &args.input);
   cmd->add_option("-o,--output", args.output,
                   "motion3.json or .csv to write; - writes standard output")
       ->type_name("OUT");
-  cmd->add_option("--report", args.report,
-                  "before/after HTML report to write, one self-contained file (docs/report.md)")
-      ->type_name("OUT.html");
+  AddReportFlag(cmd, &args.report);
   // mouth
   AddStringList(cmd, "--mouth,--mouth-ids", &args.mouth_ids,
                 "mouth-open curve ids (default ParamMouthOpenY)");
@@ -64,22 +59,7 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
                "frames automatic blinks must not touch, BEGIN-END,...");
   AddSeed(cmd, "--seed", &args.seed,
           "seed of the random mouth shapes and auto-blinks, 0 .. 2^64-1 (default 0x6b6f6d61)");
-  AddNumberWithDefault(cmd, "--fps", &args.csv_fps, Above(0),
-                       "frames per second of a CSV input (default 30)")
-      ->type_name("FPS");
-  AddNumber(cmd, "--timing-fps", &args.timing_fps, {},
-            "film grid mouth and blink holds are counted on, frames per second (default 24; "
-            "0 = count in the input's own frames; at most 1000)")
-      ->type_name("FPS");
-  AddChoice(cmd, "--format", &args.format, {"motion3", "csv"},
-            "format of the output -o - (default: the input's; an input's format is read from its "
-            "contents)");
-  cmd->add_flag("--send-file", args.send_file,
-                "send the input file as is (motion3_json or csv_text, csv_fps = --fps) for the "
-                "server to parse, instead of the "
-                "decoded data; the outputs are the same bytes");
-  AddPresetFlag(cmd);
-  AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "60");
+  AddCurveFileFlags(cmd, args, "mouth and blink holds are");
   return cmd;
 }
 

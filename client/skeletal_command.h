@@ -12,6 +12,7 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "core/retime.h"
+#include "client/call_flags.h"
 #include "core/skeleton.h"
 #include "koma/v1/retime.pb.h"
 
@@ -19,7 +20,7 @@ namespace koma::client {
 
 // Flags of `koma skeletal`. Field per request field (see docs/usage.md); unset optionals
 // leave the request field unset, so the server's default applies.
-struct SkeletalArgs {
+struct SkeletalArgs : CallFlags {
   std::string input;                       // BVH file to read; "-": standard input
   std::string output;                      // BVH file to write; "-": standard output
   std::string timing;                      // timing sheet CSV to write; empty: none; "-": stdout
@@ -39,10 +40,6 @@ struct SkeletalArgs {
   bool timing_only = false;           // --timing-only: no motion asked for, only the sheet written
   std::optional<double> timing_fps;   // --timing-fps: the film grid; unset: server default (24)
   bool output_at_timing_rate = false;  // --output-rate timing: write the BVH at the grid rate
-  std::string server;                  // host:port
-  double deadline_seconds = 60.0;      // --deadline
-  bool json = false;                   // --json: summary as JSON on stdout
-  bool quiet = false;                  // --quiet: no human summary
 };
 
 // The clip in `path` ("-": standard input). A motion3.json or CSV is refused as such; a

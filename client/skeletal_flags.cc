@@ -17,9 +17,7 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
       ->type_name("OUT.csv");
   cmd->add_flag("--timing-only", args.timing_only,
                 "ask for no motion (return_motion false) and write only --timing");
-  cmd->add_option("--report", args.report,
-                  "before/after HTML report to write, one self-contained file (docs/report.md)")
-      ->type_name("OUT.html");
+  AddReportFlag(cmd, &args.report);
   AddWholeNumber(cmd, "--omit,--omissions", &args.omissions, 0, INT32_MAX,
                  "Nio, inbetween omissions (nakanashi): frames removed where the motion is "
                  "fastest (default min(4, frames - 3))");
@@ -47,10 +45,7 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
   AddBool(cmd, "--return-motion", &args.return_motion,
           "ask for the retimed motion (default true; false: the timing map only, needs "
           "--timing)");
-  AddNumber(cmd, "--timing-fps", &args.timing_fps, {},
-            "film grid the drawings are counted on, frames per second (default 24; 0 = count "
-            "in the BVH's own frames; at most 1000)")
-      ->type_name("FPS");
+  AddTimingFpsFlag(cmd, &args.timing_fps, "the drawings are", "the BVH's");
   cmd->add_option_function<std::string>(
          "--output-rate",
          [&args](const std::string& rate) {
@@ -62,11 +57,9 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
          "source (default: the BVH's rate and length) or timing (one frame per grid frame)")
       ->type_name("source|timing")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  cmd->add_flag("--send-file", args.send_file,
-                "send the input file as is (bvh_text) for the server to parse, instead of the "
-                "decoded data; the outputs are the same bytes");
+  AddSendFileFlag(cmd, &args.send_file, "bvh_text");
   AddPresetFlag(cmd);
-  AddCommonFlags(cmd, &args.server, &args.deadline_seconds, &args.json, &args.quiet, "60");
+  AddCommonFlags(cmd, &args, "60");
   return cmd;
 }
 

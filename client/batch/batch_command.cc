@@ -29,6 +29,7 @@
 #include "client/batch/batch_runner.h"
 #include "client/batch/batch_state.h"
 #include "client/channel.h"
+#include "client/cli_options.h"
 #include "client/command_flags.h"
 #include "client/files.h"
 
@@ -201,41 +202,26 @@ absl::Status WriteSummary(const std::string& path, const std::string& rpc,
 }
 
 int UsageError(const std::string& message) {
-  std::fprintf(stderr, "koma batch: %s\n", message.c_str());
-  std::fprintf(stderr, "Run `koma batch RPC --help` for the options.\n");
-  return kUsageError;
+  return PrintUsageError("koma batch", message, "koma batch RPC --help");
 }
 
 int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& fingerprint) {
-  const std::string& server_flag = rpc_name == "skeletal" ? args.skeletal.server
-                                   : rpc_name == "curves" ? args.curves.server
-                                                          : args.lip_blink.server;
-  absl::StatusOr<std::vector<std::string>> servers = SplitServers(server_flag);
+  // The RPC's --server, --deadline, --quiet and --json (bound to its args by its command).
+  const CallFlags& call = rpc_name == "skeletal" ? static_cast<const CallFlags&>(args.skeletal)
+                          : rpc_name == "curves" ? static_cast<const CallFlags&>(args.curves)
+                                                 : static_cast<const CallFlags&>(args.lip_blink);
+  absl::StatusOr<std::vector<std::string>> servers = SplitServers(call.server);
   if (!servers.ok()) return UsageError(std::string(servers.status().message()));
   if (absl::Status s = ConfigureTls(args.tls); !s.ok()) {
     std::fprintf(stderr, "koma: %s\n", std::string(s.message()).c_str());
     return kUsageError;
   }
-  std::unique_ptr<Rpc> rpc;
-  double deadline_seconds = 60.0;
-  bool quiet = false;
-  bool json = false;
-  if (rpc_name == "skeletal") {
-    rpc = MakeSkeletalRpc(args.skeletal);
-    deadline_seconds = args.skeletal.deadline_seconds;
-    quiet = args.skeletal.quiet;
-    json = args.skeletal.json;
-  } else if (rpc_name == "curves") {
-    rpc = MakeCurvesRpc(args.curves);
-    deadline_seconds = args.curves.deadline_seconds;
-    quiet = args.curves.quiet;
-    json = args.curves.json;
-  } else {
-    rpc = MakeLipBlinkRpc(args.lip_blink);
-    deadline_seconds = args.lip_blink.deadline_seconds;
-    quiet = args.lip_blink.quiet;
-    json = args.lip_blink.json;
-  }
+  const std::unique_ptr<Rpc> rpc = rpc_name == "skeletal" ? MakeSkeletalRpc(args.skeletal)
+                                   : rpc_name == "curves" ? MakeCurvesRpc(args.curves)
+                                                          : MakeLipBlinkRpc(args.lip_blink);
+  const double deadline_seconds = call.deadline_seconds;
+  const bool quiet = call.quiet;
+  const bool json = call.json;
   if (json && args.summary == "-") return UsageError("--json and --summary -: one JSON on stdout");
   std::vector<std::string> summary_paths;  // --summary FILE, and stdout for --json
   if (!args.summary.empty()) summary_paths.push_back(args.summary);
@@ -326,11 +312,7 @@ int ParseBatchCommandLine(const std::vector<std::string>& argv, BatchCommandLine
   BatchCommandArgs& args = out->args;
   CLI::App app{"koma batch: retime many clips over every server given", "koma"};
   app.fallthrough();  // the TLS options may stand anywhere
-  app.add_option("--tls-ca", args.tls.ca, "PEM CA of the server's certificate: use TLS")
-      ->envname("KOMA_TLS_CA");
-  app.add_option("--tls-cert", args.tls.cert, "PEM client certificate (mutual TLS)")
-      ->envname("KOMA_TLS_CERT");
-  app.add_option("--tls-key", args.tls.key, "PEM key of --tls-cert")->envname("KOMA_TLS_KEY");
+  AddTlsFlags(app, args.tls);
   CLI::App* batch = app.add_subcommand(
       "batch",
       "Retime many clips: files, folders (searched by extension) or @LIST files, outputs "
@@ -355,23 +337,22 @@ int ParseBatchCommandLine(const std::vector<std::string>& argv, BatchCommandLine
     return UsageError(absl::StrCat("unknown RPC \"", *(word + 1),
                                    "\": skeletal, curves or lipblink"));
   }
-  std::vector<std::string> reversed(argv.begin() + 1, argv.end());
-  std::reverse(reversed.begin(), reversed.end());  // CLI11 parses a reversed vector
-  try {
-    app.parse(reversed);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ExtrasError& e) {
-    std::string extras = e.what();
-    if (const size_t colon = extras.find(": "); colon != std::string::npos) {
-      extras = extras.substr(colon + 2);
-    }
-    return UsageError(absl::StrCat("unknown option or extra argument ", extras,
+  if (int code = ParseOrExit(app, argv,
+                             [](const CLI::ParseError& e) {
+                               if (dynamic_cast<const CLI::ExtrasError*>(&e) == nullptr) {
+                                 return UsageError(e.what());
+                               }
+                               std::string extras = e.what();
+                               if (const size_t colon = extras.find(": ");
+                                   colon != std::string::npos) {
+                                 extras = extras.substr(colon + 2);
+                               }
+                               return UsageError(absl::StrCat(
+                                   "unknown option or extra argument ", extras,
                                    " (the RPC's options are listed by koma batch RPC --help)"));
-  } catch (const CLI::ParseError& e) {
-    return UsageError(e.what());
+                             });
+      code >= 0) {
+    return code;
   }
   for (const auto& [name, command] : commands) {
     if (command.first->parsed()) {
