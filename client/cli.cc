@@ -74,8 +74,8 @@ int CheckConfigFile(const CLI::App& app, const std::string& path) {
   std::ifstream in(path);
   if (!in) {
     return PrintUsageError("koma",
-                      absl::StrCat("--config ", path, ": cannot read: ", std::strerror(errno)),
-                      "koma --help");
+                           absl::StrCat("--config ", path, ": cannot read: ", std::strerror(errno)),
+                           "koma --help");
   }
   std::vector<CLI::ConfigItem> items;
   try {
@@ -92,9 +92,9 @@ int CheckConfigFile(const CLI::App& app, const std::string& path) {
       if (std::find(CommandNames().begin(), CommandNames().end(), item.parents[0]) ==
           CommandNames().end()) {
         return PrintUsageError("koma",
-                          absl::StrCat("--config ", path, ": unknown section ", section,
-                                       DidYouMean(item.parents[0], CommandNames())),
-                          "koma --help");
+                               absl::StrCat("--config ", path, ": unknown section ", section,
+                                            DidYouMean(item.parents[0], CommandNames())),
+                               "koma --help");
       }
       owner = app.get_subcommand(item.parents[0]);
     }
@@ -102,9 +102,9 @@ int CheckConfigFile(const CLI::App& app, const std::string& path) {
     for (const std::string& name : LongNames(owner)) keys.push_back(name.substr(2));
     if (item.parents.size() > 1 || std::find(keys.begin(), keys.end(), item.name) == keys.end()) {
       return PrintUsageError("koma",
-                        absl::StrCat("--config ", path, ": ", section, " ", item.name,
-                                     ": unknown option", DidYouMean(item.name, keys)),
-                        "koma --help");
+                             absl::StrCat("--config ", path, ": ", section, " ", item.name,
+                                          ": unknown option", DidYouMean(item.name, keys)),
+                             "koma --help");
     }
   }
   return -1;
@@ -139,22 +139,22 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
         const std::vector<std::string> names = LongNames(sub);
         if (std::find(names.begin(), names.end(), name) != names.end()) {
           return PrintUsageError("koma",
-                            absl::StrCat(name, " is an option of `koma ", sub->get_name(),
-                                         "`: put it after the command (koma ", sub->get_name(),
-                                         " ... ", name, ")"),
-                            "koma --help");
+                                 absl::StrCat(name, " is an option of `koma ", sub->get_name(),
+                                              "`: put it after the command (koma ", sub->get_name(),
+                                              " ... ", name, ")"),
+                                 "koma --help");
         }
       }
-      return PrintUsageError("koma", absl::StrCat("unknown option ", name, DidYouMean(name, global)),
-                        "koma --help");
+      return PrintUsageError(
+          "koma", absl::StrCat("unknown option ", name, DidYouMean(name, global)), "koma --help");
     }
     if (absl::StartsWith(arg, "-") && arg.size() > 1) continue;  // CLI11 names it
     break;
   }
   if (i >= args.size()) {
-    return PrintUsageError("koma",
-                      absl::StrCat("a command is required: ", absl::StrJoin(CommandNames(), ", ")),
-                      "koma --help");
+    return PrintUsageError(
+        "koma", absl::StrCat("a command is required: ", absl::StrJoin(CommandNames(), ", ")),
+        "koma --help");
   }
   const std::string& typed = args[i];
   if (std::find(CommandNames().begin(), CommandNames().end(), typed) == CommandNames().end()) {
@@ -190,7 +190,7 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
     const std::string name = arg.substr(0, arg.find('='));
     if (!is_short && std::find(known.begin(), known.end(), name) == known.end()) {
       return PrintUsageError(who, absl::StrCat("unknown option ", name, DidYouMean(name, known)),
-                        who + " --help");
+                             who + " --help");
     }
     // CLI11 takes the next argument as the value even when it is an option ("-o --json"
     // would write a file named "--json"): refuse that.
@@ -201,7 +201,7 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
       const std::string next = args[j + 1].substr(0, args[j + 1].find('='));
       if (std::find(known.begin(), known.end(), next) != known.end()) {
         return PrintUsageError(who, absl::StrCat(name, " needs a value (", next, " is an option)"),
-                          who + " --help");
+                               who + " --help");
       }
     }
   }
@@ -307,8 +307,7 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
   if (int code = ExpandPreset(command, command_index, &line); code >= 0) return code;
   if (int code = ParseOrExit(app, line,
                              [&command](const CLI::ParseError& e) {
-                               const std::string who =
-                                   command.empty() ? "koma" : "koma " + command;
+                               const std::string who = command.empty() ? "koma" : "koma " + command;
                                return PrintUsageError(who, ParseErrorText(e), who + " --help");
                              });
       code >= 0) {

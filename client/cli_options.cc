@@ -29,6 +29,37 @@ std::vector<std::string> Items(const std::vector<std::string>& values) {
   return items;
 }
 
+// An option of one value (the last of repeats wins): `parse(flag, text)` gives what *out
+// takes, or throws FlagValueError with koma's message; `flag` is the first long name.
+template <typename Out, typename Parse>
+CLI::Option* AddParsed(CLI::App* cmd, const std::string& names, Out* out,
+                       const std::string& type_name, const std::string& help, Parse parse) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::string>(
+          names, [=](const std::string& text) { *out = parse(flag, text); }, help)
+      ->type_name(type_name)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
+// A list option, repeatable and comma-separated (values add up): `parse(flag, item)` gives
+// each element, or throws.
+template <typename Element, typename Parse>
+CLI::Option* AddParsedList(CLI::App* cmd, const std::string& names, std::vector<Element>* out,
+                           const std::string& type_name, const std::string& help, Parse parse) {
+  const std::string flag = FirstLongName(names);
+  return cmd
+      ->add_option_function<std::vector<std::string>>(
+          names,
+          [=](const std::vector<std::string>& values) {
+            out->clear();
+            for (const std::string& item : Items(values)) out->push_back(parse(flag, item));
+          },
+          help)
+      ->type_name(type_name)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
 }  // namespace
 
 int PrintUsageError(const std::string& who, const std::string& message, const std::string& help) {
@@ -69,144 +100,89 @@ std::string FirstLongName(const std::string& names) {
 
 CLI::Option* AddWholeNumber(CLI::App* cmd, const std::string& names, std::optional<int>* out,
                             int64_t min, int64_t max, const std::string& help) {
-  const std::string flag = FirstLongName(names);
-  return cmd
-      ->add_option_function<std::string>(
-          names,
-          [=](const std::string& text) {
-            *out = static_cast<int>(OrThrow(ParseWholeNumber(flag, text, min, max)));
-          },
-          help)
-      ->type_name("N")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  return AddParsed(cmd, names, out, "N", help,
+                   [=](const std::string& flag, const std::string& text) {
+                     return static_cast<int>(OrThrow(ParseWholeNumber(flag, text, min, max)));
+                   });
 }
 
 CLI::Option* AddSeed(CLI::App* cmd, const std::string& names, std::optional<uint64_t>* out,
                      const std::string& help) {
-  const std::string flag = FirstLongName(names);
-  return cmd
-      ->add_option_function<std::string>(
-          names, [=](const std::string& text) { *out = OrThrow(ParseUnsigned64(flag, text)); },
-          help)
-      ->type_name("N")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  return AddParsed(cmd, names, out, "N", help,
+                   [](const std::string& flag, const std::string& text) {
+                     return OrThrow(ParseUnsigned64(flag, text));
+                   });
 }
 
 CLI::Option* AddNumber(CLI::App* cmd, const std::string& names, std::optional<double>* out,
                        const NumberBounds& bounds, const std::string& help) {
-  const std::string flag = FirstLongName(names);
-  return cmd
-      ->add_option_function<std::string>(
-          names, [=](const std::string& text) { *out = OrThrow(ParseNumber(flag, text, bounds)); },
-          help)
-      ->type_name("X")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  return AddParsed(cmd, names, out, "X", help,
+                   [=](const std::string& flag, const std::string& text) {
+                     return OrThrow(ParseNumber(flag, text, bounds));
+                   });
 }
 
 CLI::Option* AddNumberWithDefault(CLI::App* cmd, const std::string& names, double* out,
                                   const NumberBounds& bounds, const std::string& help) {
-  const std::string flag = FirstLongName(names);
-  return cmd
-      ->add_option_function<std::string>(
-          names, [=](const std::string& text) { *out = OrThrow(ParseNumber(flag, text, bounds)); },
-          help)
-      ->type_name("X")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  return AddParsed(cmd, names, out, "X", help,
+                   [=](const std::string& flag, const std::string& text) {
+                     return OrThrow(ParseNumber(flag, text, bounds));
+                   });
 }
 
 CLI::Option* AddBool(CLI::App* cmd, const std::string& names, std::optional<bool>* out,
                      const std::string& help) {
-  const std::string flag = FirstLongName(names);
-  return cmd
-      ->add_option_function<std::string>(
-          names, [=](const std::string& text) { *out = OrThrow(ParseBool(flag, text)); }, help)
-      ->type_name("true|false")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  return AddParsed(cmd, names, out, "true|false", help,
+                   [](const std::string& flag, const std::string& text) {
+                     return OrThrow(ParseBool(flag, text));
+                   });
 }
 
 CLI::Option* AddChoice(CLI::App* cmd, const std::string& names, std::string* out,
                        const std::vector<std::string>& choices, const std::string& help) {
-  const std::string flag = FirstLongName(names);
-  return cmd
-      ->add_option_function<std::string>(
-          names,
-          [=](const std::string& text) {
-            if (std::find(choices.begin(), choices.end(), text) == choices.end()) {
-              throw FlagValueError(absl::StrCat(flag, ": \"", text, "\" is not one of ",
-                                                absl::StrJoin(choices, ", ")));
-            }
-            *out = text;
-          },
-          help)
-      ->type_name(absl::StrJoin(choices, "|"))
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  return AddParsed(cmd, names, out, absl::StrJoin(choices, "|"), help,
+                   [=](const std::string& flag, const std::string& text) {
+                     if (std::find(choices.begin(), choices.end(), text) == choices.end()) {
+                       throw FlagValueError(absl::StrCat(flag, ": \"", text, "\" is not one of ",
+                                                         absl::StrJoin(choices, ", ")));
+                     }
+                     return text;
+                   });
 }
 
 CLI::Option* AddWholeNumberList(CLI::App* cmd, const std::string& names, std::vector<int>* out,
                                 int64_t min, int64_t max, const std::string& help) {
-  const std::string flag = FirstLongName(names);
-  return cmd
-      ->add_option_function<std::vector<std::string>>(
-          names,
-          [=](const std::vector<std::string>& values) {
-            out->clear();
-            for (const std::string& item : Items(values)) {
-              out->push_back(static_cast<int>(OrThrow(ParseWholeNumber(flag, item, min, max))));
-            }
-          },
-          help)
-      ->type_name("N,...")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  return AddParsedList(cmd, names, out, "N,...", help,
+                       [=](const std::string& flag, const std::string& item) {
+                         return static_cast<int>(OrThrow(ParseWholeNumber(flag, item, min, max)));
+                       });
 }
 
 CLI::Option* AddNumberList(CLI::App* cmd, const std::string& names, std::vector<double>* out,
                            const NumberBounds& bounds, int count, const std::string& help) {
-  const std::string flag = FirstLongName(names);
-  return cmd
-      ->add_option_function<std::string>(
-          names,
-          [=](const std::string& text) {
-            *out = OrThrow(ParseNumberList(flag, text, bounds, count));
-          },
-          help)
-      ->type_name("X,...")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  return AddParsed(cmd, names, out, "X,...", help,
+                   [=](const std::string& flag, const std::string& text) {
+                     return OrThrow(ParseNumberList(flag, text, bounds, count));
+                   });
 }
 
 CLI::Option* AddStringList(CLI::App* cmd, const std::string& names, std::vector<std::string>* out,
                            const std::string& help) {
-  const std::string flag = FirstLongName(names);
-  return cmd
-      ->add_option_function<std::vector<std::string>>(
-          names,
-          [=](const std::vector<std::string>& values) {
-            out->clear();
-            for (const std::string& item : Items(values)) {
-              if (item.empty())
-                throw FlagValueError(absl::StrCat(flag, ": empty name in the list"));
-              out->push_back(item);
-            }
-          },
-          help)
-      ->type_name("ID,...")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  return AddParsedList(cmd, names, out, "ID,...", help,
+                       [](const std::string& flag, const std::string& item) {
+                         if (item.empty()) {
+                           throw FlagValueError(absl::StrCat(flag, ": empty name in the list"));
+                         }
+                         return item;
+                       });
 }
 
 CLI::Option* AddIntervals(CLI::App* cmd, const std::string& names, std::vector<FlagInterval>* out,
                           const std::string& help) {
-  const std::string flag = FirstLongName(names);
-  return cmd
-      ->add_option_function<std::vector<std::string>>(
-          names,
-          [=](const std::vector<std::string>& values) {
-            out->clear();
-            for (const std::string& item : Items(values)) {
-              out->push_back(OrThrow(ParseInterval(flag, item)));
-            }
-          },
-          help)
-      ->type_name("BEGIN-END,...")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  return AddParsedList(cmd, names, out, "BEGIN-END,...", help,
+                       [](const std::string& flag, const std::string& item) {
+                         return OrThrow(ParseInterval(flag, item));
+                       });
 }
 
 }  // namespace koma::client

@@ -11,8 +11,8 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
-#include "core/retime.h"
 #include "client/call_flags.h"
+#include "core/retime.h"
 #include "core/skeleton.h"
 #include "koma/v1/retime.pb.h"
 
