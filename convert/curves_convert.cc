@@ -1,6 +1,7 @@
 #include "convert/curves_convert.h"
 
 #include "absl/strings/str_cat.h"
+#include "convert/field_error.h"
 #include "core/status_macros.h"
 
 namespace koma::convert {
@@ -68,11 +69,6 @@ absl::StatusOr<Curve> CurveFromProtoAt(const v1::Curve& proto, const PathFn& pat
     segment.end = PointFromProto(in.end());
   }
   return curve;
-}
-
-absl::Status Prefixed(const absl::Status& status, absl::string_view prefix) {
-  if (status.ok()) return status;
-  return absl::Status(status.code(), absl::StrCat(prefix, status.message()));
 }
 
 v1::SegmentType SegmentTypeToProto(SegmentType type) {

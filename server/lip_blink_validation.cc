@@ -4,6 +4,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "convert/field_error.h"
 #include "core/lip_blink_grid.h"
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
@@ -15,10 +16,7 @@ namespace {
 constexpr const char* kDefaultMouthIds[] = {"ParamMouthOpenY"};
 constexpr const char* kDefaultEyeIds[] = {"ParamEyeLOpen", "ParamEyeROpen"};
 
-absl::Status Prefixed(const absl::Status& status, absl::string_view prefix) {
-  if (status.ok()) return status;
-  return absl::Status(status.code(), absl::StrCat(prefix, status.message()));
-}
+using convert::Prefixed;
 
 int IndexOf(const CurveSet& set, const std::string& id) {
   for (size_t i = 0; i < set.curves.size(); ++i) {

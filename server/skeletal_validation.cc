@@ -6,6 +6,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "convert/field_error.h"
 #include "core/film_grid.h"
 #include "core/magnitude_scan.h"
 #include "core/status_macros.h"
@@ -14,10 +15,7 @@
 namespace koma::server {
 namespace {
 
-absl::Status Prefixed(const absl::Status& status, absl::string_view prefix) {
-  if (status.ok()) return status;
-  return absl::Status(status.code(), absl::StrCat(prefix, status.message()));
-}
+using convert::Prefixed;
 
 absl::StatusOr<Skeleton> ConvertSkeleton(const v1::Skeleton& proto, const RequestLimits& limits) {
   if (proto.joints_size() == 0) {
