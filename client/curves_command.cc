@@ -13,6 +13,7 @@
 #include "client/files.h"
 #include "client/flag_values.h"
 #include "client/report/curves_report.h"
+#include "client/retime_call.h"
 #include "formats/drawing_sheet.h"
 #include "koma/v1/retime.grpc.pb.h"
 
@@ -113,11 +114,8 @@ absl::Status CheckCurvesFlags(const CurvesArgs& args) {
         "-o/--output OUT.motion3.json or OUT.csv is required (or --timing-only with --timing "
         "OUT.csv)");
   }
-  if (IsStdio(args.output) + IsStdio(args.timing) + IsStdio(args.report) + args.json > 1) {
-    return absl::InvalidArgumentError(
-        "only one of -o -, --timing -, --report - and --json can use standard output");
-  }
-  return absl::OkStatus();
+  return CheckOneOnStdout(
+      {{"-o", args.output}, {"--timing", args.timing}, {"--report", args.report}}, args.json);
 }
 
 absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
@@ -170,14 +168,12 @@ int RunCurves(const CurvesArgs& args) {
   if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok())
     return out.Failure(s);
 
-  absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
-  if (!stub.ok()) return out.UsageFailure(stub.status());
-  grpc::ClientContext context;
-  SetDeadline(&context, args.deadline_seconds);
   v1::RetimeCurvesResponse response;
-  const grpc::Status status =
-      (*stub)->RetimeCurves(&context, file_request ? *file_request : *request, &response);
-  if (!status.ok()) return out.RpcFailure(status);
+  if (int code = CallRetime(args, out, &v1::Retime::Stub::RetimeCurves,
+                            file_request ? *file_request : *request, &response);
+      code >= 0) {
+    return code;
+  }
 
   if (absl::Status s = WriteCurvesOutputs(args, *input, response); !s.ok()) return out.Failure(s);
   if (!args.report.empty()) {

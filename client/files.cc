@@ -95,6 +95,19 @@ absl::Status ReplaceRegularFile(const std::string& target, const std::string& co
 
 bool IsStdio(const std::string& path) { return path == "-"; }
 
+absl::Status CheckOneOnStdout(std::initializer_list<OutputFlag> outputs, bool json) {
+  int on_stdout = json ? 1 : 0;
+  std::string flags;
+  for (const OutputFlag& output : outputs) {
+    on_stdout += IsStdio(output.path) ? 1 : 0;
+    absl::StrAppend(&flags, output.flag, " -, ");
+  }
+  if (on_stdout <= 1) return absl::OkStatus();
+  if (flags.size() >= 2) flags.resize(flags.size() - 2);
+  return absl::InvalidArgumentError(
+      absl::StrCat("only one of ", flags, " and --json can use standard output"));
+}
+
 absl::StatusOr<std::string> ReadFile(const std::string& path) {
   std::string contents;
   if (IsStdio(path)) {

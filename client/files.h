@@ -14,6 +14,17 @@ namespace koma::client {
 // True for "-": standard input or output.
 bool IsStdio(const std::string& path);
 
+// An output flag and its path ({"-o", args.output}).
+struct OutputFlag {
+  const char* flag;
+  const std::string& path;
+};
+
+// INVALID_ARGUMENT when more than one of `outputs` is "-" (with --json, `json`, counted as
+// one more): "only one of -o -, --report - and --json can use standard output", naming the
+// flags given.
+absl::Status CheckOneOnStdout(std::initializer_list<OutputFlag> outputs, bool json);
+
 // The whole file ("-": all of standard input). NOT_FOUND / PERMISSION_DENIED / ... naming
 // the path and the OS error ("cannot read x.bvh: No such file or directory").
 absl::StatusOr<std::string> ReadFile(const std::string& path);

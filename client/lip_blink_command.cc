@@ -12,6 +12,7 @@
 #include "client/files.h"
 #include "client/lip_blink_summary.h"
 #include "client/report/lip_blink_report.h"
+#include "client/retime_call.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
@@ -76,11 +77,7 @@ absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args) {
   if (args.output.empty()) {
     return absl::InvalidArgumentError("-o/--output OUT.motion3.json or OUT.csv is required");
   }
-  if (IsStdio(args.output) + IsStdio(args.report) + args.json > 1) {
-    return absl::InvalidArgumentError(
-        "only one of -o -, --report - and --json can use standard output");
-  }
-  return absl::OkStatus();
+  return CheckOneOnStdout({{"-o", args.output}, {"--report", args.report}}, args.json);
 }
 
 absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& input,
@@ -112,18 +109,16 @@ int RunLipBlink(const LipBlinkArgs& args) {
   if (!format.ok()) return out.UsageFailure(format.status());
   if (absl::Status s = CheckWritable({args.output, args.report}); !s.ok()) return out.Failure(s);
 
-  absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
-  if (!stub.ok()) return out.UsageFailure(stub.status());
-  grpc::ClientContext context;
-  SetDeadline(&context, args.deadline_seconds);
-  v1::LipBlinkResponse response;
   const v1::LipBlinkRequest request = BuildLipBlinkRequest(args, input->curves);
   // --send-file: the wire carries the file; the report still reads the decoded request.
-  const grpc::Status status =
-      args.send_file
-          ? (*stub)->LipBlink(&context, BuildLipBlinkFileRequest(args, *input), &response)
-          : (*stub)->LipBlink(&context, request, &response);
-  if (!status.ok()) return out.RpcFailure(status);
+  std::optional<v1::LipBlinkRequest> file_request;
+  if (args.send_file) file_request = BuildLipBlinkFileRequest(args, *input);
+  v1::LipBlinkResponse response;
+  if (int code = CallRetime(args, out, &v1::Retime::Stub::LipBlink,
+                            file_request ? *file_request : request, &response);
+      code >= 0) {
+    return code;
+  }
   if (absl::Status s = WriteLipBlinkOutputs(args, *input, response); !s.ok()) {
     return out.Failure(s);
   }

@@ -14,6 +14,7 @@
 #include "client/files.h"
 #include "client/flag_values.h"
 #include "client/report/skeletal_report.h"
+#include "client/retime_call.h"
 #include "client/skeletal_convert.h"
 #include "client/skeletal_summary.h"
 #include "formats/bvh.h"
@@ -146,11 +147,10 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
   if (args.timing.empty() && !motion_wanted) {
     return absl::InvalidArgumentError("--return-motion false needs --timing OUT.csv");
   }
-  const int on_stdout =
-      IsStdio(args.output) + IsStdio(args.timing) + IsStdio(args.report) + args.json;
-  if (on_stdout > 1) {
-    return absl::InvalidArgumentError(
-        "only one of -o -, --timing -, --report - and --json can use standard output");
+  if (absl::Status s = CheckOneOnStdout(
+          {{"-o", args.output}, {"--timing", args.timing}, {"--report", args.report}}, args.json);
+      !s.ok()) {
+    return s;
   }
   const FileFormat named = FormatFromName(args.output);
   if (named != FileFormat::kUnknown && named != FileFormat::kBvh) {
@@ -204,14 +204,12 @@ int RunSkeletal(const SkeletalArgs& args) {
     file_request->clear_motion();
     file_request->set_bvh_text(input->text);
   }
-  absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> stub = NewRetimeStub(args.server);
-  if (!stub.ok()) return out.UsageFailure(stub.status());
-  grpc::ClientContext context;
-  SetDeadline(&context, args.deadline_seconds);
   v1::RetimeSkeletalResponse response;
-  const grpc::Status status =
-      (*stub)->RetimeSkeletal(&context, file_request ? *file_request : *request, &response);
-  if (!status.ok()) return out.RpcFailure(status);
+  if (int code = CallRetime(args, out, &v1::Retime::Stub::RetimeSkeletal,
+                            file_request ? *file_request : *request, &response);
+      code >= 0) {
+    return code;
+  }
   if (absl::Status s = WriteSkeletalOutputs(args, *clip, response); !s.ok()) return out.Failure(s);
   if (!args.report.empty()) {
     if (absl::Status s = report::WriteSkeletalReport(args.report, *request, response, args.input);
