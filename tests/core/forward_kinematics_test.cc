@@ -15,6 +15,7 @@
 
 #include "core/split_mix64.h"
 #include "core/trig_degrees.h"
+#include "tests/testing/long_chain_clip.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma {
@@ -258,19 +259,9 @@ class ReversedTaskRunner final : public TaskRunner {
 // (tests/platform/thread_task_runner_test runs them on real threads.)
 TEST(ForwardKinematicsTest, ThreadsShareTheFramesWithTheSameBits) {
   SplitMix64 rng(41);
-  Skeleton skeleton;
-  for (int j = 0; j < 5; ++j) {
-    Joint joint;
-    joint.name = "j" + std::to_string(j);
-    joint.parent = j - 1;
-    joint.offset = {1.0, 2.0 + j, -0.5};
-    joint.channels = {C::kZRotation, C::kXRotation, C::kYRotation};
-    if (j == 0) joint.channels.insert(joint.channels.begin(), C::kXPosition);
-    skeleton.joints.push_back(joint);
-  }
+  const Skeleton skeleton = testing::FiveJointChain();
   for (const int frames : {kFramesPerFkThread * 2 - 1, kFramesPerFkThread * 3 + 5}) {
-    std::vector<double> values(static_cast<size_t>(frames) * ChannelCount(skeleton));
-    for (double& v : values) v = (rng.Unit() - 0.5) * 720.0;
+    const std::vector<double> values = testing::RandomChannelValues(skeleton, frames, rng);
     ASSERT_OK_AND_ASSIGN(const LargeArray<double> one,
                          ComputeWorldPositions(skeleton, values, frames));
     for (const int threads : {2, 3, 7}) {

@@ -29,45 +29,37 @@ import sys
 import tempfile
 import time
 
+from code_blocks import SHELL, block_lines
+
 COMMAND_TIMEOUT_S = 60
 
 
 def commands(markdown_path):
     """(line number, command, expected exit code, expected text) of `koma ` lines in sh blocks."""
-    found, in_sh = [], False
-    with open(markdown_path, encoding="utf-8") as f:
-        for number, line in enumerate(f, 1):
-            stripped = line.strip()
-            if stripped.startswith("```"):
-                in_sh = not in_sh and stripped in ("```sh", "```bash", "```shell")
-                continue
-            if in_sh and stripped.startswith("koma "):
-                comment = stripped.partition("#")[2]
-                if "not run" in comment:
-                    continue  # needs what this harness lacks (TLS files, several servers)
-                expected = re.search(r"\bexit (\d+)(?::\s*(.*?)\s*(?:\.\.\.|…|$))?", comment)
-                code = int(expected.group(1)) if expected else 0
-                text = expected.group(2) if expected and expected.group(2) else ""
-                found.append((number, stripped, code, text))
+    found = []
+    for number, line in block_lines(markdown_path, SHELL):
+        stripped = line.strip()
+        if stripped.startswith("koma "):
+            comment = stripped.partition("#")[2]
+            if "not run" in comment:
+                continue  # needs what this harness lacks (TLS files, several servers)
+            expected = re.search(r"\bexit (\d+)(?::\s*(.*?)\s*(?:\.\.\.|…|$))?", comment)
+            code = int(expected.group(1)) if expected else 0
+            text = expected.group(2) if expected and expected.group(2) else ""
+            found.append((number, stripped, code, text))
     return found
 
 
 def python_program(markdown_path):
     """(first line number, the file's python blocks joined, expected printed texts)."""
-    lines, expected, first, in_python = [], [], 0, False
-    with open(markdown_path, encoding="utf-8") as f:
-        for number, line in enumerate(f, 1):
-            stripped = line.strip()
-            if stripped.startswith("```"):
-                in_python = not in_python and stripped == "```python"
-                first = first or (number if in_python else 0)
-                continue
-            if in_python:
-                lines.append(line.rstrip("\n"))
-                said = re.match(r"\s*print\(.*\)\s*#\s*(.*?)\s*(?:\.\.\.|…|$)", line)
-                if said and said.group(1):
-                    expected.append(said.group(1))
-    return first, "\n".join(lines) + "\n", expected
+    lines = block_lines(markdown_path, ("python",))
+    expected = []
+    for _, line in lines:
+        said = re.match(r"\s*print\(.*\)\s*#\s*(.*?)\s*(?:\.\.\.|…|$)", line)
+        if said and said.group(1):
+            expected.append(said.group(1))
+    first = lines[0][0] if lines else 0
+    return first, "\n".join(line for _, line in lines) + "\n", expected
 
 
 def run_python(document, program, address, work, python_path):

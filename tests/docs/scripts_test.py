@@ -20,6 +20,8 @@ import subprocess
 import sys
 import tempfile
 
+from code_blocks import SHELL, block_lines
+
 COMMAND_TIMEOUT_S = 600
 # What run-sample.sh writes into its out folder (README "Two commands").
 RUN_SAMPLE_OUTPUTS = [
@@ -32,16 +34,9 @@ RUN_SAMPLE_OUTPUTS = [
 
 def script_commands(markdown_path):
     """(line number, command without its comment) of `./scripts/` lines in sh blocks."""
-    found, in_sh = [], False
-    with open(markdown_path, encoding="utf-8") as f:
-        for number, line in enumerate(f, 1):
-            stripped = line.strip()
-            if stripped.startswith("```"):
-                in_sh = not in_sh and stripped in ("```sh", "```bash", "```shell")
-                continue
-            if in_sh and stripped.startswith("./scripts/"):
-                found.append((number, stripped.partition("#")[0].strip()))
-    return found
+    return [(number, line.strip().partition("#")[0].strip())
+            for number, line in block_lines(markdown_path, SHELL)
+            if line.strip().startswith("./scripts/")]
 
 
 def ci_lines(root):

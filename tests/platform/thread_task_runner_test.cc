@@ -6,12 +6,12 @@
 #include <cstring>
 #include <mutex>
 #include <set>
-#include <string>
 #include <thread>
 #include <vector>
 
 #include "core/forward_kinematics.h"
 #include "core/split_mix64.h"
+#include "tests/testing/long_chain_clip.h"
 
 namespace koma::platform {
 namespace {
@@ -44,19 +44,9 @@ TEST(ThreadTaskRunnerTest, ParallelismIsAtLeastOne) {
 // --threads_per_call): the same bits as on the calling thread alone.
 TEST(ThreadTaskRunnerTest, ForwardKinematicsOnThreadsGivesTheSameBits) {
   SplitMix64 rng(41);
-  Skeleton skeleton;
-  for (int j = 0; j < 5; ++j) {
-    Joint joint;
-    joint.name = "j" + std::to_string(j);
-    joint.parent = j - 1;
-    joint.offset = {1.0, 2.0 + j, -0.5};
-    joint.channels = {ChannelKind::kZRotation, ChannelKind::kXRotation, ChannelKind::kYRotation};
-    if (j == 0) joint.channels.insert(joint.channels.begin(), ChannelKind::kXPosition);
-    skeleton.joints.push_back(joint);
-  }
+  const Skeleton skeleton = testing::FiveJointChain();
   const int frames = kFramesPerFkThread * 3 + 5;
-  std::vector<double> values(static_cast<size_t>(frames) * ChannelCount(skeleton));
-  for (double& v : values) v = (rng.Unit() - 0.5) * 720.0;
+  const std::vector<double> values = testing::RandomChannelValues(skeleton, frames, rng);
   absl::StatusOr<LargeArray<double>> one = ComputeWorldPositions(skeleton, values, frames);
   ASSERT_TRUE(one.ok()) << one.status();
   for (const int threads : {2, 3, 7}) {
