@@ -19,7 +19,7 @@
 #include "bench/echo_shapes.h"
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/arena_allocator.h"
-#include "server/malloc_tuning.h"
+#include "platform/malloc_tuning.h"
 #include "server/mutex_tuning.h"
 #include "server/process_control.h"
 #include "server/skeletal_parse.h"
@@ -108,7 +108,7 @@ int Fail(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  koma::server::TuneMallocForLargeMessages();
+  koma::platform::TuneMallocForLargeMessages();
   koma::server::IgnoreMutexDeadlockCycles();
   absl::SetProgramUsageMessage(
       "koma_echo_server [--address=HOST:PORT] [--port_file=F] [--max_message_bytes=N] "
@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
   const int max_bytes = absl::GetFlag(FLAGS_max_message_bytes);
   if (max_bytes < 1024) return Fail("--max_message_bytes: below 1024");
   if (absl::GetFlag(FLAGS_huge_page_cache_mb) < 0) return Fail("--huge_page_cache_mb: negative");
-  koma::server::SetHugePageCache(absl::GetFlag(FLAGS_huge_page_cache_mb));
+  koma::platform::SetHugePageCache(absl::GetFlag(FLAGS_huge_page_cache_mb));
   EchoService service;
   grpc::EnableDefaultHealthCheckService(true);
   grpc::ServerBuilder builder;

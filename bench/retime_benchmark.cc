@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/distance.h"
-#include "core/huge_page_vector.h"
+#include "core/large_array.h"
 #include "core/retime.h"
 #include "core/split_mix64.h"
 
@@ -103,7 +103,7 @@ void BM_InputSsd(benchmark::State& state) {
 // across iterations so that only the pass is timed. At 10k frames the clip fits the L3 cache.
 void BM_AdjacentDistances(benchmark::State& state) {
   const FrameDistance& distance = CachedDistance(static_cast<int>(state.range(0)));
-  HugePageVector<double> ssd, skip, skip2;
+  LargeArray<double> ssd, skip, skip2;
   for (auto _ : state) {
     distance.AdjacentDistances(&ssd, &skip, &skip2);
     benchmark::DoNotOptimize(ssd.data());

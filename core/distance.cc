@@ -8,7 +8,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
-#include "core/huge_page_vector.h"
+#include "core/large_array.h"
 #include "core/magnitude_scan.h"
 #include "core/status_macros.h"
 #include "core/target_clones.h"
@@ -351,7 +351,7 @@ void FrameDistance::AdjacentDistances(Vector* ssd, Vector* skip, Vector* skip2) 
 
 template void FrameDistance::AdjacentDistances(std::vector<double>*, std::vector<double>*,
                                                std::vector<double>*) const;
-template void FrameDistance::AdjacentDistances(HugePageVector<double>*, HugePageVector<double>*,
-                                               HugePageVector<double>*) const;
+template void FrameDistance::AdjacentDistances(LargeArray<double>*, LargeArray<double>*,
+                                               LargeArray<double>*) const;
 
 }  // namespace koma

@@ -11,7 +11,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/types/span.h"
-#include "core/huge_page_vector.h"
+#include "core/large_array.h"
 
 namespace koma {
 
@@ -75,7 +75,7 @@ class FrameDistance {
   // skip[k] = dist(k - 1, k + 1) for 1 <= k <= N - 2 and skip2[k] = dist(k - 1, k + 2) for
   // 1 <= k <= N - 3 (0 elsewhere), each bit-identical to operator() (same summation order).
   // Any pointer may be null; non-null vectors are resized to frame_count.
-  // `Vector` is std::vector<double> or HugePageVector<double> (core/huge_page_vector.h).
+  // `Vector` is std::vector<double> or LargeArray<double> (core/large_array.h).
   template <typename Vector>
   void AdjacentDistances(Vector* ssd, Vector* skip, Vector* skip2 = nullptr) const;
 
@@ -84,9 +84,9 @@ class FrameDistance {
   int frame_count_ = 0;
   int joint_count_ = 0;
   int dims_ = 3;  // 3, or 2 after camera projection
-  // The transformed points, unless read in place; on huge pages when large (every distance
+  // The transformed points, unless read in place; a LargeArray (every distance
   // pass reads them, the holds at random).
-  HugePageVector<double> owned_;
+  LargeArray<double> owned_;
   absl::Span<const double> points_;  // frame_count x joint_count x dims_: owned_ or a view
   std::vector<double> weights_;      // joint_count
 };

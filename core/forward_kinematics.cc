@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <thread>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
@@ -298,10 +297,10 @@ void FillWorldPositions(const std::vector<Joint>& joints, const double* values, 
 
 }  // namespace
 
-absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& skeleton,
-                                                             absl::Span<const double> values,
-                                                             int frame_count, int threads,
-                                                             size_t capacity_doubles) {
+absl::StatusOr<LargeArray<double>> ComputeWorldPositions(const Skeleton& skeleton,
+                                                         absl::Span<const double> values,
+                                                         int frame_count, const TaskRunner& runner,
+                                                         size_t capacity_doubles) {
   KOMA_RETURN_IF_ERROR(ValidateSkeleton(skeleton));
   const std::vector<Joint>& joints = skeleton.joints;
   const int channel_count = ChannelCount(skeleton);
@@ -315,27 +314,25 @@ absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& ske
                                                    " channels), got ", values.size()));
   }
   const size_t doubles = static_cast<size_t>(frame_count) * joints.size() * 3;
-  HugePageVector<double> positions;
+  LargeArray<double> positions;
   positions.reserve(std::max(doubles, capacity_doubles));
-  positions.resize(doubles);  // not zeroed (HugePageAllocator::construct)
-  // Stretches of whole four-frame groups (the lanes), one per thread.
-  const int used = std::max(1, std::min(threads, frame_count / kFramesPerFkThread));
+  positions.resize(doubles);  // not zeroed (LargeArrayAllocator::construct)
+  // Stretches of whole four-frame groups (the lanes), one per task.
+  const int used =
+      std::max(1, std::min(runner.Parallelism(), frame_count / kFramesPerFkThread));
   const int stretch = (frame_count / used + kLanes - 1) / kLanes * kLanes;
-  auto fill = [&](int first) {
+  const int stretches = used == 1 ? 1 : (frame_count + stretch - 1) / stretch;
+  runner.Run(stretches, [&](int index) {
+    const int first = index * stretch;
     const int count = std::min(stretch, frame_count - first);
     FillWorldPositions(joints, values.data() + static_cast<size_t>(first) * channel_count, count,
                        channel_count,
                        positions.data() + static_cast<size_t>(first) * joints.size() * 3);
-  };
-  std::vector<std::thread> helpers;
-  for (int first = stretch; first < frame_count; first += stretch)
-    helpers.emplace_back(fill, first);
-  fill(0);
-  for (std::thread& helper : helpers) helper.join();
+  });
   return positions;
 }
 
-absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const SkeletalClip& clip) {
+absl::StatusOr<LargeArray<double>> ComputeWorldPositions(const SkeletalClip& clip) {
   return ComputeWorldPositions(clip.skeleton, clip.values, clip.frame_count);
 }
 

@@ -6,13 +6,14 @@
 
 #include "absl/status/statusor.h"
 #include "absl/types/span.h"
-#include "core/huge_page_vector.h"
+#include "core/large_array.h"
 #include "core/skeleton.h"
+#include "core/task_runner.h"
 
 namespace koma {
 
-// World positions of every joint in every frame, frame-major: frame_count x joints x 3 (on
-// huge pages when large: core/huge_page_vector.h).
+// World positions of every joint in every frame, frame-major: frame_count x joints x 3 (a
+// LargeArray: core/large_array.h).
 //
 // Convention (the common BVH reading): a joint's local transform is
 //   T(offset) * T(position channels) * R(c1) * R(c2) * ...
@@ -21,21 +22,20 @@ namespace koma {
 // parent world * local; a joint's position is the translation of its world transform.
 // Requires ValidateSkeleton OK and values.size() == frame_count * ChannelCount.
 // INVALID_ARGUMENT if the sizes disagree.
-absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const SkeletalClip& clip);
+absl::StatusOr<LargeArray<double>> ComputeWorldPositions(const SkeletalClip& clip);
 
 // The same over channel values held elsewhere (the server passes a view of the request's
-// packed field, so 77 MB of a 100k-frame clip are not copied first). Up to `threads` threads
-// share a long clip's frames, each a contiguous stretch of at least kFramesPerFkThread (the
-// calling thread takes the first); frames do not depend on each other, so the result is the
-// same, bit for bit, for any thread count. The result's capacity is at least
+// packed field, so 77 MB of a 100k-frame clip are not copied first). A long clip's frames are
+// split into up to runner.Parallelism() contiguous stretches of at least kFramesPerFkThread,
+// which `runner` may compute at once (core/task_runner.h); frames do not depend on each other,
+// so the result is the same, bit for bit, for any runner. The result's capacity is at least
 // `capacity_doubles`: a caller that needs an array of that size once the positions are freed
-// gets the same memory back from the huge-page cache (core/huge_page_pool.h) instead of
-// faulting in fresh pages.
+// can get the same memory back (koma_server's huge-page cache, platform/huge_page_pool.h)
+// instead of faulting in fresh pages.
 inline constexpr int kFramesPerFkThread = 16384;
-absl::StatusOr<HugePageVector<double>> ComputeWorldPositions(const Skeleton& skeleton,
-                                                             absl::Span<const double> values,
-                                                             int frame_count, int threads = 1,
-                                                             size_t capacity_doubles = 0);
+absl::StatusOr<LargeArray<double>> ComputeWorldPositions(
+    const Skeleton& skeleton, absl::Span<const double> values, int frame_count,
+    const TaskRunner& runner = InlineTaskRunner(), size_t capacity_doubles = 0);
 
 }  // namespace koma
 

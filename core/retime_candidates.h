@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/huge_page_vector.h"
+#include "core/large_array.h"
 
 namespace koma::retime_internal {
 
@@ -30,7 +30,7 @@ struct CandidateEntry {
 // of the entry the caller has just built with separate 8- and 4-byte stores, which the CPU
 // cannot forward from its store buffer: a stall of about 15 cycles on every push, half the
 // time of loading a Pitch-size clip's heaps (perf annotate).
-inline void AppendEntry(HugePageVector<CandidateEntry>& entries, const CandidateEntry& entry) {
+inline void AppendEntry(LargeArray<CandidateEntry>& entries, const CandidateEntry& entry) {
   entries.emplace_back();
   CandidateEntry& slot = entries.back();
   slot.ssd = entry.ssd;
@@ -140,7 +140,7 @@ class CandidateHeap {
   bool bulk_ = false;
   bool bounded_ = false;
   CandidateEntry bound_;
-  HugePageVector<CandidateEntry> entries_;
+  LargeArray<CandidateEntry> entries_;
 };
 
 // The hold queue of RetimeFast (smallest SSD first, ties to the smallest run): the same
@@ -264,8 +264,8 @@ class SortedCandidateQueue {
   size_t sorted_end_ = 0;  // sorted_[..sorted_end_) are in final order
   size_t bucket_ = 0;      // the bucket being read
   std::vector<uint32_t> bucket_end_;
-  HugePageVector<CandidateEntry> sorted_;
-  HugePageVector<CandidateEntry> scratch_;
+  LargeArray<CandidateEntry> sorted_;
+  LargeArray<CandidateEntry> scratch_;
   CandidateHeap pushed_;
 };
 

@@ -50,7 +50,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/huge_page_vector.h"
+#include "core/large_array.h"
 #include "core/retime.h"
 #include "core/retime_candidates.h"
 #include "core/retime_internal.h"
@@ -189,12 +189,12 @@ class FastRetimer {
 
   const FrameDistance& distance_;
   const RetimeOptions& options_;
-  // The large arrays on huge pages (core/huge_page_vector.h).
-  HugePageVector<Run> runs_;   // indexed by source frame; run 0 is always first
+  // The large arrays (core/large_array.h: huge pages in koma_server).
+  LargeArray<Run> runs_;   // indexed by source frame; run 0 is always first
   std::vector<Step> gone_in_;  // per source frame: the step that removed it
   // When holds run (else empty): skip_[v] = dist(v - 1, v + 1), skip2_[v] = dist(v - 1, v + 2).
-  HugePageVector<double> skip_;
-  HugePageVector<double> skip2_;
+  LargeArray<double> skip_;
+  LargeArray<double> skip2_;
   CandidateHeap delete_heap_{true};  // largest SSD first
   CandidateHeap duplicate_heap_{false};
   SortedCandidateQueue hold_heap_;
@@ -216,7 +216,7 @@ FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& opt
     // those distances, computed in the same streaming pass as the input SSD. They cost two
     // more distances per frame, so only where they replace enough random reads: many holds
     // (>= N/4) on a clip too large for the cache.
-    HugePageVector<double> ssd;
+    LargeArray<double> ssd;
     distance_.AdjacentDistances(&ssd, &skip_, &skip2_);
     for (int32_t v = 1; v < n; ++v) runs_[v].head_ssd = ssd[v];
     if (input_ssd != nullptr) input_ssd->assign(ssd.begin(), ssd.end());

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # Installs missing Debian packages, configures and builds koma in ./build (or $KOMA_BUILD_DIR).
+# The build type is $KOMA_BUILD_TYPE, else the build folder's own (a rerun never switches a
+# configured Release build to another type and rebuilds it all), else RelWithDebInfo.
 # With KOMA_BUILD_LOG=FILE the compiler output goes to FILE (its tail is shown on failure).
 # The build also assembles the Python package in $build/python (python/CMakeLists.txt: stubs
 # from proto/ by Debian's protoc + grpc_python_plugin); use it with PYTHONPATH=$build/python.
@@ -7,8 +9,10 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${KOMA_BUILD_DIR:-$root/build}
 "$root/scripts/install-deps.sh"
+configured_type=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
+build_type=${KOMA_BUILD_TYPE:-${configured_type:-RelWithDebInfo}}
 build_steps() {
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="${KOMA_BUILD_TYPE:-RelWithDebInfo}"
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="$build_type"
   cmake --build "$build" -j"$(nproc)"
 }
 if [ -n "${KOMA_BUILD_LOG:-}" ]; then

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # The main job on the bundled samples: install, build, start koma_server on a loopback port,
 # retime samples/pitch.bvh (RetimeSkeletal), samples/arm_head.motion3.json (RetimeCurves) and
-# samples/talk_blink.motion3.json (LipBlink) through the koma client, write the results and their timing sheets to out/, print the
-# summaries and the paths of their HTML reports, stop the server.
+# samples/talk_blink.motion3.json (LipBlink) through the koma client, write the results and
+# their timing sheets to out/, print the summaries and the paths of their HTML reports, stop
+# the server. KOMA_OUT_DIR names another folder than ./out (the docs test uses a scratch one).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${KOMA_BUILD_DIR:-$root/build}
-out=$root/out
+out=${KOMA_OUT_DIR:-$root/out}
 mkdir -p "$out"
 KOMA_BUILD_LOG="$out/build.log" "$root/scripts/build.sh"
 

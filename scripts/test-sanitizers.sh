@@ -45,8 +45,8 @@ run_asan() {
 # reports a race on an epoll descriptor inside libgrpc's event engine: see above).
 tsan_tests=(
   "tests/server/koma_tsan_threads_test WorkerPoolTest.*:IdleTrimmerTest.*:MemoryBudgetTest.*:DefaultBudgetTest.*-IdleTrimmerTest.TheServerTrimsAfterItsCalls"
-  "tests/core/forward_kinematics_test *"
-  "tests/core/huge_page_pool_test *"
+  "tests/platform/thread_task_runner_test *"
+  "tests/platform/huge_page_pool_test *"
 )
 
 run_tsan() {

@@ -21,19 +21,15 @@
 #include <cstddef>
 #include <memory>
 
-#include "core/huge_page_vector.h"
+#include "platform/huge_page_memory.h"
 
 namespace koma::server {
 
 // Arena blocks of 4 MiB or more (a large call's big arrays, each in a block of its own) come
-// from huge pages (core/huge_page_vector.h): ~18,000 fewer page faults for a 100k-frame
+// from huge pages (platform/huge_page_memory.h): ~18,000 fewer page faults for a 100k-frame
 // clip's 74 MB response array. protobuf hands a block back with the size it asked for.
-inline void* AllocateArenaBlock(size_t bytes) {
-  return HugePageAllocator<char>().allocate(bytes);
-}
-inline void FreeArenaBlock(void* block, size_t bytes) {
-  HugePageAllocator<char>().deallocate(static_cast<char*>(block), bytes);
-}
+inline void* AllocateArenaBlock(size_t bytes) { return platform::AllocateBlock(bytes); }
+inline void FreeArenaBlock(void* block, size_t bytes) { platform::FreeBlock(block, bytes); }
 
 // Blocks grow from 8 KiB (a small call stays in one or two) to 1 MiB; a field larger than a
 // block gets a block of its own, so big packed arrays are not split.

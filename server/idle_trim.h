@@ -1,7 +1,7 @@
 // Gives the memory that large calls leave in malloc's heap back to the system once the server
 // goes idle. A burst of large calls (RetimeCurves 500 curves x 10k frames, four at a time)
 // leaves ~300 MiB resident at rest in glibc's heap: free, but in chunks between live ones, so
-// the heap's top is never trimmed (server/malloc_tuning.h). malloc_trim(0) releases those
+// the heap's top is never trimmed (platform/malloc_tuning.h). malloc_trim(0) releases those
 // pages (measured: 318 -> 19 MiB). Trimming after every large call instead cost a third of its
 // latency (the next call faults the pages in again), so it waits for a quiet moment.
 #ifndef KOMA_SERVER_IDLE_TRIM_H_

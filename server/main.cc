@@ -22,7 +22,8 @@
 #include "absl/time/time.h"
 #include "koma/version.h"
 #include "server/logging.h"
-#include "server/malloc_tuning.h"
+#include "platform/huge_page_memory.h"
+#include "platform/malloc_tuning.h"
 #include "server/mutex_tuning.h"
 #include "server/process_control.h"
 #include "server/server.h"
@@ -191,7 +192,8 @@ int Fail(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  koma::server::TuneMallocForLargeMessages();
+  koma::platform::TuneMallocForLargeMessages();
+  koma::platform::UseHugePagesForLargeArrays();
   koma::server::IgnoreMutexDeadlockCycles();
   absl::FlagsUsageConfig usage;
   // --help lists this file's flags (Abseil's default looks for a file named after the binary).
@@ -215,7 +217,7 @@ int main(int argc, char** argv) {
   }
   koma::server::StopSignals stop_signals;  // before gRPC starts any thread
   if (std::string error = ProcessFlagError(); !error.empty()) return Fail(error);
-  koma::server::SetHugePageCache(absl::GetFlag(FLAGS_huge_page_cache_mb));
+  koma::platform::SetHugePageCache(absl::GetFlag(FLAGS_huge_page_cache_mb));
 
   koma::server::ServerConfig config = ConfigFromFlags();
   if (!ReadTls(config)) return 1;

@@ -2,21 +2,20 @@
 
 #include <grpc/slice.h>
 
-#include "core/huge_page_pool.h"
-#include "core/huge_page_vector.h"
+#include "platform/huge_page_memory.h"
 
 namespace koma::server {
 namespace {
 
 // gRPC's destroy callback: any thread, once the last reference to the slice is gone.
-void ReturnMapping(void* start, size_t bytes) { UnmapHugePages(start, RoundUpToHugePages(bytes)); }
+void ReturnBlock(void* start, size_t bytes) { platform::FreeBlock(start, bytes); }
 
 }  // namespace
 
 grpc::Slice UninitialisedSlice(size_t bytes) {
-  if (bytes < HugePageAllocator<char>::kMinBytes) return grpc::Slice(bytes);
-  void* start = MapHugePages(RoundUpToHugePages(bytes));
-  return grpc::Slice(grpc_slice_new_with_len(start, bytes, ReturnMapping),
+  if (bytes < platform::kLargeBlockBytes) return grpc::Slice(bytes);
+  void* start = platform::AllocateBlock(bytes);
+  return grpc::Slice(grpc_slice_new_with_len(start, bytes, ReturnBlock),
                      grpc::Slice::STEAL_REF);
 }
 

@@ -9,7 +9,7 @@
 namespace koma::server {
 
 // `bytes` uninitialised bytes, ours alone until they are handed to gRPC. Large ones (4 MiB and
-// up, as HugePageAllocator) are huge-page mappings from core/huge_page_pool.h, given back to it
+// up) are huge-page blocks from platform/huge_page_memory.h, given back to its cache
 // when gRPC has sent them: with the cache on, a large call's response reuses memory a call
 // before it released (forward kinematics' positions of the same call, sized for it: see
 // server/skeletal_handler.cc) instead of faulting in and zeroing fresh pages, ~10 ms per

@@ -88,7 +88,7 @@ absl::StatusOr<int64_t> SerialiseInto(const Response& response, grpc::ByteBuffer
 // RetimeCurves: the wire bytes encoded straight from the core's result, no response messages
 // in between (server/curves_response.h). A large response goes out in slices of about
 // kCurvesSliceBytes, below the 1 MiB from which malloc maps blocks of their own
-// (server/malloc_tuning.h), so each slice reuses the heap memory of the curves written before
+// (platform/malloc_tuning.h), so each slice reuses the heap memory of the curves written before
 // it, which are freed as they are written.
 constexpr size_t kCurvesSliceBytes = 512 * 1024;
 absl::StatusOr<int64_t> SerialiseInto(CurvesAnswer& answer, grpc::ByteBuffer* bytes) {

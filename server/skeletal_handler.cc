@@ -7,6 +7,7 @@
 #include "core/forward_kinematics.h"
 #include "core/retime_grid.h"
 #include "core/status_macros.h"
+#include "platform/thread_task_runner.h"
 #include "server/file_requests.h"
 #include "server/response_slice.h"
 #include "server/skeletal_request.h"
@@ -40,15 +41,16 @@ int ValuesPerFrame(const SkeletalJob& job) {
 // own positions (no copy).
 absl::StatusOr<absl::Span<const double>> WorldPositions(const v1::SkeletalMotion& motion,
                                                         const SkeletalJob& job, int threads,
-                                                        HugePageVector<double>& storage) {
+                                                        LargeArray<double>& storage) {
   if (!job.channel_form) return SpanOf(motion.positions().values());
   // Room for the response as well (at most the request's values plus ~20 bytes a frame for the
   // timing fields): freed before the response is encoded, these positions' memory is then
   // exactly what UninitialisedSlice takes back from the huge-page cache (server/response_slice.h).
   const size_t response_doubles = static_cast<size_t>(motion.channels().values_size()) +
                                   3 * static_cast<size_t>(job.frame_count) + 8192;
-  absl::StatusOr<HugePageVector<double>> positions = ComputeWorldPositions(
-      job.skeleton, SpanOf(motion.channels().values()), job.frame_count, threads, response_doubles);
+  absl::StatusOr<LargeArray<double>> positions =
+      ComputeWorldPositions(job.skeleton, SpanOf(motion.channels().values()), job.frame_count,
+                            platform::ThreadTaskRunner(threads), response_doubles);
   if (!positions.ok()) return positions.status();
   storage = *std::move(positions);
   return absl::MakeConstSpan(storage);
@@ -159,7 +161,7 @@ absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
   // In this function FK's world positions (as large as the request) are alive; they are freed
   // before the response is built, so a large call never holds request, positions and
   // response at once (peak memory: measured in docs/benchmarks.md).
-  HugePageVector<double> computed_positions;
+  LargeArray<double> computed_positions;
   KOMA_ASSIGN_OR_RETURN(
       const absl::Span<const double> positions,
       WorldPositions(request.motion(), job, limits.threads_per_call, computed_positions));

@@ -46,7 +46,7 @@ absl::StatusOr<std::vector<double>> WorldPositions(const v1::SkeletalMotion& mot
   if (!skeleton.ok()) return skeleton.status();
   if (absl::Status s = ValidateSkeleton(*skeleton); !s.ok()) return s;
   const auto& values = motion.channels().values();
-  absl::StatusOr<HugePageVector<double>> world = ComputeWorldPositions(
+  absl::StatusOr<LargeArray<double>> world = ComputeWorldPositions(
       *skeleton, absl::MakeConstSpan(values.data(), values.size()), motion.frame_count());
   if (!world.ok()) return world.status();
   return std::vector<double>(world->begin(), world->end());

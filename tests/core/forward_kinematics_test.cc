@@ -6,6 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <iterator>
 #include <string>
@@ -14,6 +15,7 @@
 
 #include "core/split_mix64.h"
 #include "core/trig_degrees.h"
+#include "tests/testing/long_chain_clip.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma {
@@ -26,7 +28,7 @@ constexpr double kTolerance = 1e-9;  // cos(90 deg) is 6e-17, not 0
 
 using C = ChannelKind;
 
-void ExpectPosition(const HugePageVector<double>& positions, int joint_count, int frame, int joint,
+void ExpectPosition(const LargeArray<double>& positions, int joint_count, int frame, int joint,
                     Vec3 expected) {
   const size_t k = (static_cast<size_t>(frame) * joint_count + joint) * 3;
   ASSERT_LT(k + 2, positions.size());
@@ -55,7 +57,7 @@ SkeletalClip ChainClip() {
 }
 
 TEST(ForwardKinematicsTest, ChainWithRotationsInListedOrder) {
-  ASSERT_OK_AND_ASSIGN(const HugePageVector<double> p, ComputeWorldPositions(ChainClip()));
+  ASSERT_OK_AND_ASSIGN(const LargeArray<double> p, ComputeWorldPositions(ChainClip()));
   ASSERT_EQ(p.size(), 2u * 3u * 3u);  // end sites are not joints
   // root = offset + position channels = (1, 2, 3) + (10, 20, 30).
   ExpectPosition(p, 3, 0, 0, {11, 22, 33});
@@ -68,7 +70,7 @@ TEST(ForwardKinematicsTest, ChainWithRotationsInListedOrder) {
 }
 
 TEST(ForwardKinematicsTest, RestPoseIsTheSumOfOffsets) {
-  ASSERT_OK_AND_ASSIGN(const HugePageVector<double> p, ComputeWorldPositions(ChainClip()));
+  ASSERT_OK_AND_ASSIGN(const LargeArray<double> p, ComputeWorldPositions(ChainClip()));
   ExpectPosition(p, 3, 1, 0, {1, 2, 3});
   ExpectPosition(p, 3, 1, 1, {1, 4, 3});
   ExpectPosition(p, 3, 1, 2, {1, 4, 6});
@@ -88,7 +90,7 @@ TEST(ForwardKinematicsTest, ChildWithSixChannelsInMixedOrder) {
   };
   clip.frame_count = 1;
   clip.values = {90, /*six:*/ 90, 2, 0, 3, 0, 4};
-  ASSERT_OK_AND_ASSIGN(const HugePageVector<double> p, ComputeWorldPositions(clip));
+  ASSERT_OK_AND_ASSIGN(const LargeArray<double> p, ComputeWorldPositions(clip));
   ExpectPosition(p, 3, 0, 0, {0, 0, 0});
   // six = Ry(90) * ((1, 0, 0) + (2, 3, 4)) = Ry(90) * (3, 3, 4) = (4, 3, -3).
   ExpectPosition(p, 3, 0, 1, {4, 3, -3});
@@ -102,7 +104,7 @@ TEST(ForwardKinematicsTest, SmallAngleMatchesTrigonometry) {
                           {"bone", 0, {2, 0, 0}, {}, {}}};
   clip.frame_count = 1;
   clip.values = {30};
-  ASSERT_OK_AND_ASSIGN(const HugePageVector<double> p, ComputeWorldPositions(clip));
+  ASSERT_OK_AND_ASSIGN(const LargeArray<double> p, ComputeWorldPositions(clip));
   // 30 degrees about z: (2 cos 30, 2 sin 30, 0) = (sqrt(3), 1, 0).
   ExpectPosition(p, 2, 0, 1, {1.7320508075688772, 1, 0});
 }
@@ -126,7 +128,7 @@ TEST(ForwardKinematicsTest, ZeroFramesGiveNoPositions) {
   SkeletalClip clip = ChainClip();
   clip.frame_count = 0;
   clip.values.clear();
-  ASSERT_OK_AND_ASSIGN(const HugePageVector<double> p, ComputeWorldPositions(clip));
+  ASSERT_OK_AND_ASSIGN(const LargeArray<double> p, ComputeWorldPositions(clip));
   EXPECT_TRUE(p.empty());
 }
 
@@ -224,7 +226,7 @@ TEST(ForwardKinematicsTest, FourFramesAtOnceEqualOneFrameAtATimeBitForBit) {
     for (double& v : values) {
       v = rng.OneIn(6) ? 90.0 * rng.Int(-8, 8) : (rng.Unit() - 0.5) * (rng.OneIn(3) ? 1e-6 : 2000);
     }
-    ASSERT_OK_AND_ASSIGN(const HugePageVector<double> fast,
+    ASSERT_OK_AND_ASSIGN(const LargeArray<double> fast,
                          ComputeWorldPositions(skeleton, values, frames));
     const std::vector<double> want = ReferencePositions(skeleton, values, frames);
     ASSERT_EQ(fast.size(), want.size()) << "clip " << clip;
@@ -235,36 +237,48 @@ TEST(ForwardKinematicsTest, FourFramesAtOnceEqualOneFrameAtATimeBitForBit) {
   }
 }
 
-// Long clips split over threads (stretches of whole four-frame groups, the last one shorter):
-// the same bits as one thread, whatever the count.
+// A runner that offers `parallelism` threads but runs the pieces on the calling thread, last
+// first: the pieces must not depend on each other's order. Counts the pieces it was given.
+class ReversedTaskRunner final : public TaskRunner {
+ public:
+  explicit ReversedTaskRunner(int parallelism) : parallelism_(parallelism) {}
+  int Parallelism() const override { return parallelism_; }
+  void Run(int count, absl::FunctionRef<void(int)> task) const override {
+    pieces_ += count;
+    for (int i = count - 1; i >= 0; --i) task(i);
+  }
+  int pieces() const { return pieces_; }
+
+ private:
+  int parallelism_;
+  mutable int pieces_ = 0;
+};
+
+// Long clips split into stretches (whole four-frame groups, the last one shorter), one per
+// thread the runner offers: the same bits as one stretch, whatever the count and order.
+// (tests/platform/thread_task_runner_test runs them on real threads.)
 TEST(ForwardKinematicsTest, ThreadsShareTheFramesWithTheSameBits) {
   SplitMix64 rng(41);
-  Skeleton skeleton;
-  for (int j = 0; j < 5; ++j) {
-    Joint joint;
-    joint.name = "j" + std::to_string(j);
-    joint.parent = j - 1;
-    joint.offset = {1.0, 2.0 + j, -0.5};
-    joint.channels = {C::kZRotation, C::kXRotation, C::kYRotation};
-    if (j == 0) joint.channels.insert(joint.channels.begin(), C::kXPosition);
-    skeleton.joints.push_back(joint);
-  }
+  const Skeleton skeleton = testing::FiveJointChain();
   for (const int frames : {kFramesPerFkThread * 2 - 1, kFramesPerFkThread * 3 + 5}) {
-    std::vector<double> values(static_cast<size_t>(frames) * ChannelCount(skeleton));
-    for (double& v : values) v = (rng.Unit() - 0.5) * 720.0;
-    ASSERT_OK_AND_ASSIGN(const HugePageVector<double> one,
-                         ComputeWorldPositions(skeleton, values, frames, 1));
+    const std::vector<double> values = testing::RandomChannelValues(skeleton, frames, rng);
+    ASSERT_OK_AND_ASSIGN(const LargeArray<double> one,
+                         ComputeWorldPositions(skeleton, values, frames));
     for (const int threads : {2, 3, 7}) {
-      ASSERT_OK_AND_ASSIGN(const HugePageVector<double> many,
-                           ComputeWorldPositions(skeleton, values, frames, threads));
+      const ReversedTaskRunner runner(threads);
+      ASSERT_OK_AND_ASSIGN(const LargeArray<double> many,
+                           ComputeWorldPositions(skeleton, values, frames, runner));
+      // Each stretch at least kFramesPerFkThread frames: 2 for the shorter clip, 3 at most.
+      EXPECT_EQ(runner.pieces(), std::min(threads, frames / kFramesPerFkThread));
       ASSERT_EQ(many.size(), one.size());
       EXPECT_EQ(std::memcmp(many.data(), one.data(), sizeof(double) * one.size()), 0)
           << frames << " frames, " << threads << " threads";
     }
     // Extra capacity (room the server keeps for the response) changes nothing but capacity.
     const size_t room = one.size() * 2 + 17;
-    ASSERT_OK_AND_ASSIGN(const HugePageVector<double> roomy,
-                         ComputeWorldPositions(skeleton, values, frames, 2, room));
+    ASSERT_OK_AND_ASSIGN(const LargeArray<double> roomy,
+                         ComputeWorldPositions(skeleton, values, frames,
+                                               ReversedTaskRunner(2), room));
     ASSERT_EQ(roomy.size(), one.size());
     EXPECT_GE(roomy.capacity(), room);
     EXPECT_EQ(std::memcmp(roomy.data(), one.data(), sizeof(double) * one.size()), 0);

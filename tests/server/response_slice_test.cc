@@ -4,10 +4,15 @@
 
 #include <cstring>
 
-#include "core/huge_page_pool.h"
+#include "platform/huge_page_pool.h"
 
 namespace koma::server {
 namespace {
+
+using platform::HugePageCachedBytes;
+using platform::HugePageCacheLimit;
+using platform::kHugePageBytes;
+using platform::SetHugePageCacheLimit;
 
 class ResponseSliceTest : public ::testing::Test {
  protected:

@@ -1,4 +1,4 @@
-#include "core/huge_page_pool.h"
+#include "platform/huge_page_pool.h"
 
 #include <sys/mman.h>
 
@@ -7,7 +7,7 @@
 #include <new>
 #include <vector>
 
-namespace koma {
+namespace koma::platform {
 namespace {
 
 struct Mapping {
@@ -121,4 +121,4 @@ void SetHugePageCacheLimit(size_t bytes) { Cache().SetLimit(bytes); }
 size_t HugePageCacheLimit() { return Cache().Limit(); }
 size_t HugePageCachedBytes() { return Cache().CachedBytes(); }
 
-}  // namespace koma
+}  // namespace koma::platform

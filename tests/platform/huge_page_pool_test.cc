@@ -1,4 +1,4 @@
-#include "core/huge_page_pool.h"
+#include "platform/huge_page_pool.h"
 
 #include <gtest/gtest.h>
 #include <sys/mman.h>
@@ -8,7 +8,7 @@
 #include <thread>
 #include <vector>
 
-namespace koma {
+namespace koma::platform {
 namespace {
 
 constexpr size_t kPage = kHugePageBytes;
@@ -105,4 +105,4 @@ TEST_F(HugePagePoolTest, ThreadsShareTheCacheSafely) {
 }
 
 }  // namespace
-}  // namespace koma
+}  // namespace koma::platform

@@ -1,5 +1,5 @@
-// The mappings behind HugePageAllocator (core/huge_page_vector.h), with a bounded cache of
-// released ones.
+// The huge-page mappings behind HugePageMemory (platform/huge_page_memory.h), with a bounded
+// cache of released ones.
 //
 // A fresh anonymous mapping costs a page fault and a kernel page clear per page on first
 // touch. On this project's VMs that first touch ran at ~1.5 GB/s: at 1M frames RetimeFast
@@ -9,12 +9,12 @@
 // pages, already resident. The cache holds at most HugePageCacheLimit() bytes (default kDefaultCacheBytes);
 // whatever does not fit is unmapped at once, so resident memory is at most the live arrays
 // plus that limit.
-#ifndef KOMA_CORE_HUGE_PAGE_POOL_H_
-#define KOMA_CORE_HUGE_PAGE_POOL_H_
+#ifndef KOMA_PLATFORM_HUGE_PAGE_POOL_H_
+#define KOMA_PLATFORM_HUGE_PAGE_POOL_H_
 
 #include <cstddef>
 
-namespace koma {
+namespace koma::platform {
 
 inline constexpr size_t kHugePageBytes = size_t{2} << 20;  // x86-64's 2 MiB pages
 
@@ -38,6 +38,6 @@ size_t HugePageCacheLimit();
 // Bytes held in the cache now (for tests and metrics).
 size_t HugePageCachedBytes();
 
-}  // namespace koma
+}  // namespace koma::platform
 
-#endif  // KOMA_CORE_HUGE_PAGE_POOL_H_
+#endif  // KOMA_PLATFORM_HUGE_PAGE_POOL_H_

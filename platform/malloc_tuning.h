@@ -1,16 +1,16 @@
 // glibc malloc settings for a server whose messages run from kilobytes to hundreds of
 // megabytes. koma_server calls this first thing in main(); so does koma_echo_server, so the
 // transport baseline it is compared with allocates the same way.
-#ifndef KOMA_SERVER_MALLOC_TUNING_H_
-#define KOMA_SERVER_MALLOC_TUNING_H_
+#ifndef KOMA_PLATFORM_MALLOC_TUNING_H_
+#define KOMA_PLATFORM_MALLOC_TUNING_H_
 
 #include <malloc.h>
 
 #include <cstdint>
 
-#include "core/huge_page_pool.h"
+#include "platform/huge_page_pool.h"
 
-namespace koma::server {
+namespace koma::platform {
 
 // glibc raises its mmap threshold (up to 32 MiB) each time a large block is freed, after
 // which blocks of a large call's size come from the heap and stay resident when freed: RSS
@@ -40,12 +40,12 @@ inline void TuneMallocForLargeMessages() {
 // Arrays of 4 MiB and more (a large call's request and response blocks, forward kinematics'
 // output, RetimeSkeletal's working arrays) are huge-page mappings; up to `megabytes` of released
 // ones stay mapped for the next large call, which then skips the page faults and the kernel's
-// page clearing (core/huge_page_pool.h). Resident memory can exceed what is in use by that
+// page clearing (platform/huge_page_pool.h). Resident memory can exceed what is in use by that
 // much. Both servers take it from --huge_page_cache_mb.
 inline void SetHugePageCache(int64_t megabytes) {
-  koma::SetHugePageCacheLimit(static_cast<size_t>(megabytes < 0 ? 0 : megabytes) << 20);
+  SetHugePageCacheLimit(static_cast<size_t>(megabytes < 0 ? 0 : megabytes) << 20);
 }
 
-}  // namespace koma::server
+}  // namespace koma::platform
 
-#endif  // KOMA_SERVER_MALLOC_TUNING_H_
+#endif  // KOMA_PLATFORM_MALLOC_TUNING_H_
