@@ -123,9 +123,7 @@ absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
   if (!args.timing_only) {
     std::vector<std::optional<CurveReplacement>> replacements;
     for (const v1::RetimedCurve& curve : response.curves()) {
-      replacements.push_back(
-          CurveReplacement{std::vector<double>(curve.values().begin(), curve.values().end()),
-                           StepsFromProto(curve.stepped())});
+      replacements.push_back(convert::ReplacementFromProto(curve));
     }
     if (replacements.size() != input.curves.curves.size()) {
       return absl::InternalError(absl::StrCat("the server answered ", replacements.size(),

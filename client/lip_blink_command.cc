@@ -91,9 +91,7 @@ absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& in
       return absl::InternalError(
           absl::StrCat("the server answered a curve \"", curve.id(), "\" the input does not have"));
     }
-    replacements[it->second] =
-        CurveReplacement{std::vector<double>(curve.values().begin(), curve.values().end()),
-                         StepsFromProto(curve.stepped())};
+    replacements[it->second] = convert::ReplacementFromProto(curve);
   }
   return WriteCurveOutput(args.output, input, replacements, CurveFormatFromFlag(args.format));
 }

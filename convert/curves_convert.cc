@@ -153,6 +153,16 @@ std::vector<CurvePoint> StepsFromProto(const v1::Curve& stepped) {
   return steps;
 }
 
+CurveReplacement ReplacementFromProto(const v1::RetimedCurve& curve) {
+  return {std::vector<double>(curve.values().begin(), curve.values().end()),
+          StepsFromProto(curve.stepped())};
+}
+
+CurveReplacement ReplacementFromProto(const v1::ConvertedCurve& curve) {
+  return {std::vector<double>(curve.values().begin(), curve.values().end()),
+          StepsFromProto(curve.stepped())};
+}
+
 DrawingTiming TimingFromProto(const v1::DrawingTiming& timing) {
   DrawingTiming out;
   out.frames_per_drawing = timing.frames_per_drawing();

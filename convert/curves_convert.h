@@ -9,6 +9,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
+#include "convert/curve_text.h"
 #include "core/curves.h"
 #include "core/koma_uchi.h"
 #include "koma/v1/motion.pb.h"
@@ -34,6 +35,11 @@ void SteppedKeyframesToProto(const std::vector<CurvePoint>& steps, v1::Curve* ou
 
 // A response curve's stepped keyframes as points (start, then each segment's end).
 std::vector<CurvePoint> StepsFromProto(const v1::Curve& stepped);
+
+// A response curve (RetimedCurve of RetimeCurves, ConvertedCurve of LipBlink) as the curve
+// writers take it (convert/curve_text.h): its per-frame values and its stepped keyframes.
+CurveReplacement ReplacementFromProto(const v1::RetimedCurve& curve);
+CurveReplacement ReplacementFromProto(const v1::ConvertedCurve& curve);
 
 // A response timing as the core type (for the drawing sheet writer).
 DrawingTiming TimingFromProto(const v1::DrawingTiming& timing);

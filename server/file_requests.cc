@@ -30,6 +30,16 @@ absl::Status CheckFileSize(const std::string& text, absl::string_view field,
                                                    limits.max_file_bytes));
 }
 
+// The written file in the response field of its format: csv_text or motion3_json.
+template <typename Response>
+void PutCurveText(bool csv, std::string text, Response* response) {
+  if (csv) {
+    response->set_csv_text(std::move(text));
+  } else {
+    response->set_motion3_json(std::move(text));
+  }
+}
+
 // A reader's error with the request field in front: "bvh_text: line 12: ...".
 absl::Status InField(const absl::Status& status, absl::string_view field) {
   return absl::Status(status.code(), absl::StrCat(field, ": ", status.message()));
@@ -173,11 +183,7 @@ absl::StatusOr<std::string> CurvesFileField(const CurveFile& file,
   absl::StatusOr<std::string> text = convert::CurveOutputText(file.input, replacements, file.csv);
   if (!text.ok()) return absl::InternalError(text.status().message());
   v1::RetimeCurvesResponse field;
-  if (file.csv) {
-    field.set_csv_text(*std::move(text));
-  } else {
-    field.set_motion3_json(*std::move(text));
-  }
+  PutCurveText(file.csv, *std::move(text), &field);
   return Serialised(field);
 }
 
@@ -194,19 +200,13 @@ absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const Reques
   for (const v1::ConvertedCurve& converted : response->curves()) {
     for (size_t i = 0; i < curves.size(); ++i) {
       if (curves[i].id != converted.id()) continue;
-      replacements[i] = convert::CurveReplacement{
-          std::vector<double>(converted.values().begin(), converted.values().end()),
-          convert::StepsFromProto(converted.stepped())};
+      replacements[i] = convert::ReplacementFromProto(converted);
       break;
     }
   }
   absl::StatusOr<std::string> text = convert::CurveOutputText(file.input, replacements, file.csv);
   if (!text.ok()) return absl::InternalError(text.status().message());
-  if (file.csv) {
-    response->set_csv_text(*std::move(text));
-  } else {
-    response->set_motion3_json(*std::move(text));
-  }
+  PutCurveText(file.csv, *std::move(text), response);
   return absl::OkStatus();
 }
 

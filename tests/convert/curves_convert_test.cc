@@ -120,5 +120,20 @@ TEST(CurvesConvertTest, SteppedKeyframesRoundTrip) {
   EXPECT_EQ(none.segments_size(), 0);
 }
 
+TEST(CurvesConvertTest, ResponseCurveAsReplacement) {
+  v1::RetimedCurve retimed;
+  for (double v : {1.0, 1.0, 4.0}) retimed.add_values(v);
+  SteppedKeyframesToProto({{0, 1}, {2, 4}}, retimed.mutable_stepped());
+  v1::ConvertedCurve converted;
+  *converted.mutable_values() = retimed.values();
+  *converted.mutable_stepped() = retimed.stepped();
+  for (const CurveReplacement& r :
+       {ReplacementFromProto(retimed), ReplacementFromProto(converted)}) {
+    EXPECT_EQ(r.values, (std::vector<double>{1, 1, 4}));
+    ASSERT_EQ(r.steps.size(), 2u);
+    ExpectSamePoint(r.steps[1], {2, 4});
+  }
+}
+
 }  // namespace
 }  // namespace koma::convert
