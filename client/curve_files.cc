@@ -8,12 +8,6 @@
 #include "client/files.h"
 
 namespace koma::client {
-namespace {
-
-std::string DisplayName(const std::string& path) { return IsStdio(path) ? "standard input" : path; }
-
-}  // namespace
-
 CurveFormat CurveFormatFromFlag(const std::string& value) {
   if (value == "motion3") return CurveFormat::kMotion3;
   if (value == "csv") return CurveFormat::kCsv;
@@ -50,7 +44,7 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
   absl::StatusOr<convert::CurveInput> parsed = convert::ParseCurveText(*text, csv, csv_fps);
   if (!parsed.ok()) {
     return absl::InvalidArgumentError(absl::StrCat(
-        DisplayName(path), csv ? " (CSV): " : " (motion3.json): ", parsed.status().message()));
+        InputName(path), csv ? " (CSV): " : " (motion3.json): ", parsed.status().message()));
   }
   CurveInput input;
   static_cast<convert::CurveInput&>(input) = *std::move(parsed);

@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "client/files.h"
 
 namespace koma::client {
 namespace {
@@ -32,16 +33,14 @@ std::string Histogram(const v1::RetimedCurve& curve) {
   return absl::StrJoin(parts, ", ");
 }
 
-std::string Name(const std::string& path, const char* stdio) { return path == "-" ? stdio : path; }
-
 }  // namespace
 
 std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
                               const v1::RetimeCurvesResponse& response) {
-  std::string text = absl::StrFormat(
-      "%s: %zu curves, %d frames at %.4g fps -> %s\n", Name(args.input, "standard input"),
-      curves.curves.size(), curves.frame_count, curves.fps,
-      args.timing_only ? std::string("(timing only)") : Name(args.output, "standard output"));
+  std::string text =
+      absl::StrFormat("%s: %zu curves, %d frames at %.4g fps -> %s\n", InputName(args.input),
+                      curves.curves.size(), curves.frame_count, curves.fps,
+                      args.timing_only ? std::string("(timing only)") : OutputName(args.output));
   absl::StrAppendFormat(&text, "  key poses (%d): %s\n", response.key_frames_size(),
                         absl::StrJoin(response.key_frames(), ", "));
   if (response.timing_fps() > 0) {
@@ -66,7 +65,7 @@ std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
                           Histogram(*members.front()), absl::StrJoin(ids, ", "));
   }
   if (!args.timing.empty()) {
-    absl::StrAppend(&text, "  drawing sheet: ", Name(args.timing, "standard output"), "\n");
+    absl::StrAppend(&text, "  drawing sheet: ", OutputName(args.timing), "\n");
   }
   return text;
 }

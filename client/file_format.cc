@@ -3,13 +3,12 @@
 #include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "client/files.h"
 
 namespace koma::client {
 namespace {
 
 constexpr absl::string_view kUtf8Bom = "\xEF\xBB\xBF";
-
-std::string DisplayName(const std::string& path) { return path == "-" ? "standard input" : path; }
 
 }  // namespace
 
@@ -51,13 +50,13 @@ absl::Status CheckInputFormat(const std::string& path, absl::string_view text,
   const bool skeletal = command == "skeletal";
   if (skeletal && (found == FileFormat::kMotion3 || found == FileFormat::kCsv)) {
     return absl::InvalidArgumentError(absl::StrCat(
-        DisplayName(path), " is a ", FormatName(found),
+        InputName(path), " is a ", FormatName(found),
         " file, not BVH: `koma skeletal` reads BVH motion capture; retime curves with `koma "
         "curves` or `koma lipblink`"));
   }
   if (!skeletal && found == FileFormat::kBvh) {
     return absl::InvalidArgumentError(absl::StrCat(
-        DisplayName(path), " is a BVH file, not motion3.json or CSV: `koma ", command,
+        InputName(path), " is a BVH file, not motion3.json or CSV: `koma ", command,
         "` reads Live2D motion3.json or per-frame CSV; retime BVH clips with `koma skeletal`"));
   }
   return absl::OkStatus();

@@ -19,9 +19,7 @@ namespace {
 constexpr int kMaxLinks = 40;  // as the kernel's own limit for a path (ELOOP)
 
 absl::Status OsError(absl::string_view action, const std::string& path, int error) {
-  const std::string name = !IsStdio(path)     ? path
-                           : action == "read" ? "standard input"
-                                              : "standard output";
+  const std::string name = action == "read" ? InputName(path) : OutputName(path);
   return absl::ErrnoToStatus(error, absl::StrCat("cannot ", action, " ", name));
 }
 
@@ -94,6 +92,14 @@ absl::Status ReplaceRegularFile(const std::string& target, const std::string& co
 }  // namespace
 
 bool IsStdio(const std::string& path) { return path == "-"; }
+
+std::string InputName(std::string_view path) {
+  return path == "-" ? "standard input" : std::string(path);
+}
+
+std::string OutputName(std::string_view path) {
+  return path == "-" ? "standard output" : std::string(path);
+}
 
 absl::Status CheckOneOnStdout(std::initializer_list<OutputFlag> outputs, bool json) {
   int on_stdout = json ? 1 : 0;

@@ -5,6 +5,7 @@
 
 #include <initializer_list>
 #include <string>
+#include <string_view>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
@@ -13,6 +14,11 @@ namespace koma::client {
 
 // True for "-": standard input or output.
 bool IsStdio(const std::string& path);
+
+// How messages, summaries and reports name a path: "standard input" (InputName, a path read)
+// or "standard output" (OutputName, a path written) for "-", else the path itself.
+std::string InputName(std::string_view path);
+std::string OutputName(std::string_view path);
 
 // An output flag and its path ({"-o", args.output}).
 struct OutputFlag {

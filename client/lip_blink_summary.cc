@@ -5,6 +5,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "client/files.h"
 #include "convert/curves_convert.h"
 
 namespace koma::client {
@@ -62,10 +63,9 @@ nlohmann::json Intervals(const google::protobuf::RepeatedPtrField<v1::FrameInter
 
 std::string LipBlinkSummaryText(const LipBlinkArgs& args, const CurveSet& curves,
                                 const v1::LipBlinkResponse& response) {
-  std::string text = absl::StrFormat(
-      "%s: %d frames at %.4g fps -> %s (seed %d, %s mouth)\n",
-      args.input == "-" ? "standard input" : args.input, curves.frame_count, curves.fps,
-      args.output == "-" ? "standard output" : args.output, response.seed(), args.mode);
+  std::string text = absl::StrFormat("%s: %d frames at %.4g fps -> %s (seed %d, %s mouth)\n",
+                                     InputName(args.input), curves.frame_count, curves.fps,
+                                     OutputName(args.output), response.seed(), args.mode);
   const Frames frames{response.timing_fps()};
   if (frames.grid_fps > 0) {
     absl::StrAppendFormat(

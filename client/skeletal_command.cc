@@ -24,8 +24,6 @@
 namespace koma::client {
 namespace {
 
-std::string InputName(const std::string& path) { return IsStdio(path) ? "standard input" : path; }
-
 // --joint-weights: "1,1,0.5,..." (one per joint, in file order) or "Hips=0,Head=2,..." (by
 // name, the others 1).
 absl::StatusOr<std::vector<double>> JointWeights(const std::vector<std::string>& entries,

@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "client/files.h"
 
 namespace koma::client {
 namespace {
@@ -60,10 +61,6 @@ double OutputFrameTime(const SkeletalArgs& args, const SkeletalClip& clip,
   if (args.output_at_timing_rate && response.timing_fps() > 0) return 1.0 / response.timing_fps();
   return clip.frame_time;
 }
-
-std::string OutputName(const std::string& path) { return path == "-" ? "standard output" : path; }
-
-std::string InputName(const std::string& path) { return path == "-" ? "standard input" : path; }
 
 }  // namespace
 

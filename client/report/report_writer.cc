@@ -28,8 +28,7 @@ nlohmann::json Header(std::string_view rpc, std::string_view input_name,
                       const nlohmann::json& options, const nlohmann::json& counts) {
   nlohmann::json header;
   header["rpc"] = rpc;
-  // "-" is how the CLI names standard input.
-  header["input"] = input_name == "-" ? std::string_view("standard input") : input_name;
+  header["input"] = InputName(input_name);
   header["options"] = options;
   header["counts"] = counts;
   header["version"] = kVersion;
