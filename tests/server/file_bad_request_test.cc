@@ -164,9 +164,7 @@ TEST_F(FileBadRequestTest, BadBvhFilesGetTheReadersErrorNamingBvhText) {
     v1::RetimeSkeletalRequest request;
     request.set_bvh_text(file.text);
     v1::RetimeSkeletalResponse response;
-    grpc::ClientContext context;
-    SetTestDeadline(context);
-    const grpc::Status status = server().stub().RetimeSkeletal(&context, request, &response);
+    const grpc::Status status = CallRpc(server().stub(), request, &response);
     EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
     ExpectReaderError(status, formats::ParseBvh(file.text).status(), "bvh_text",
                       /*with_line=*/true);
@@ -189,14 +187,10 @@ void ExpectCurveFileErrors(InProcessServer& server, const std::vector<BadFile>& 
       curves.set_motion3_json(file.text);
       lip.set_motion3_json(file.text);
     }
-    grpc::ClientContext curves_context, lip_context;
-    SetTestDeadline(curves_context);
-    SetTestDeadline(lip_context);
     v1::RetimeCurvesResponse curves_response;
     v1::LipBlinkResponse lip_response;
-    const grpc::Status curves_status =
-        server.stub().RetimeCurves(&curves_context, curves, &curves_response);
-    const grpc::Status lip_status = server.stub().LipBlink(&lip_context, lip, &lip_response);
+    const grpc::Status curves_status = CallRpc(server.stub(), curves, &curves_response);
+    const grpc::Status lip_status = CallRpc(server.stub(), lip, &lip_response);
     EXPECT_NE(curves_status.error_code(), grpc::StatusCode::OK);
     ExpectReaderError(curves_status, reader, field, /*with_line=*/csv);
     ExpectReaderError(lip_status, reader, field, /*with_line=*/csv);
@@ -213,23 +207,19 @@ TEST_F(FileBadRequestTest, BadCsvFilesGetTheReadersErrorNamingCsvText) {
 
 // The untouched bases of the tables are good files: each case breaks exactly one thing.
 TEST_F(FileBadRequestTest, TheTablesBaseFilesAreAnswered) {
-  grpc::ClientContext a, b, c;
-  SetTestDeadline(a);
-  SetTestDeadline(b);
-  SetTestDeadline(c);
   v1::RetimeSkeletalRequest skeletal;
   skeletal.set_bvh_text(kBvh);
   v1::RetimeSkeletalResponse skeletal_response;
-  EXPECT_TRUE(server().stub().RetimeSkeletal(&a, skeletal, &skeletal_response).ok());
+  EXPECT_TRUE(CallRpc(server().stub(), skeletal, &skeletal_response).ok());
   v1::LipBlinkRequest lip;
   lip.set_motion3_json(kMotion3);
   v1::LipBlinkResponse lip_response;
-  const grpc::Status lip_status = server().stub().LipBlink(&b, lip, &lip_response);
+  const grpc::Status lip_status = CallRpc(server().stub(), lip, &lip_response);
   EXPECT_TRUE(lip_status.ok()) << lip_status.error_message();
   v1::RetimeCurvesRequest curves;
   curves.set_csv_text(kCsv);
   v1::RetimeCurvesResponse curves_response;
-  const grpc::Status curves_status = server().stub().RetimeCurves(&c, curves, &curves_response);
+  const grpc::Status curves_status = CallRpc(server().stub(), curves, &curves_response);
   EXPECT_TRUE(curves_status.ok()) << curves_status.error_message();
   EXPECT_FALSE(curves_response.csv_text().empty());
 }
