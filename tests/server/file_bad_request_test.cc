@@ -11,6 +11,7 @@
 #include "formats/curve_csv.h"
 #include "formats/motion3.h"
 #include "tests/server/in_process_server.h"
+#include "tests/testing/replace_once.h"
 
 namespace koma::testing {
 namespace {
@@ -19,13 +20,6 @@ struct BadFile {
   std::string name;
   std::string text;
 };
-
-std::string Replace(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
 
 const char kBvh[] =
     "HIERARCHY\n"
@@ -54,24 +48,24 @@ std::vector<BadFile> BadBvhFiles() {
   const std::string good = kBvh;
   return {
       {"empty", ""},
-      {"no HIERARCHY", Replace(good, "HIERARCHY", "HIERARCHIE")},
-      {"unknown channel", Replace(good, "Zrotation Xrotation Yrotation\n\t\tEnd",
-                                  "Zrot Xrotation Yrotation\n\t\tEnd")},
-      {"7 channels", Replace(good, "CHANNELS 6", "CHANNELS 7")},
-      {"repeated channel", Replace(good, "CHANNELS 3 Zrotation Xrotation Yrotation",
-                                   "CHANNELS 3 Zrotation Zrotation Yrotation")},
-      {"unbalanced braces", Replace(good, "\t\t}\n\t}\n", "\t\t}\n")},
-      {"duplicate joint", Replace(good, "JOINT Chest", "JOINT Hips")},
-      {"joint without OFFSET", Replace(good, "\t\tOFFSET 0 5 0\n", "")},
-      {"End Site with channels",
-       Replace(good, "\t\t\tOFFSET 0 10 0\n", "\t\t\tOFFSET 0 10 0\n\t\t\tCHANNELS 1 Xrotation\n")},
-      {"malformed number", Replace(good, "0 91 0 1", "0 9x1 0 1")},
-      {"nan value", Replace(good, "0 91 0 1", "0 nan 0 1")},
-      {"too few values", Replace(good, "0 92 0 2 0 0 12 22 32\n", "0 92 0 2 0 0 12\n")},
+      {"no HIERARCHY", ReplaceOnce(good, "HIERARCHY", "HIERARCHIE")},
+      {"unknown channel", ReplaceOnce(good, "Zrotation Xrotation Yrotation\n\t\tEnd",
+                                      "Zrot Xrotation Yrotation\n\t\tEnd")},
+      {"7 channels", ReplaceOnce(good, "CHANNELS 6", "CHANNELS 7")},
+      {"repeated channel", ReplaceOnce(good, "CHANNELS 3 Zrotation Xrotation Yrotation",
+                                       "CHANNELS 3 Zrotation Zrotation Yrotation")},
+      {"unbalanced braces", ReplaceOnce(good, "\t\t}\n\t}\n", "\t\t}\n")},
+      {"duplicate joint", ReplaceOnce(good, "JOINT Chest", "JOINT Hips")},
+      {"joint without OFFSET", ReplaceOnce(good, "\t\tOFFSET 0 5 0\n", "")},
+      {"End Site with channels", ReplaceOnce(good, "\t\t\tOFFSET 0 10 0\n",
+                                             "\t\t\tOFFSET 0 10 0\n\t\t\tCHANNELS 1 Xrotation\n")},
+      {"malformed number", ReplaceOnce(good, "0 91 0 1", "0 9x1 0 1")},
+      {"nan value", ReplaceOnce(good, "0 91 0 1", "0 nan 0 1")},
+      {"too few values", ReplaceOnce(good, "0 92 0 2 0 0 12 22 32\n", "0 92 0 2 0 0 12\n")},
       {"too many values", good + "1 2 3\n"},
-      {"negative frames", Replace(good, "Frames: 3", "Frames: -3")},
-      {"frame time 0", Replace(good, "Frame Time: 0.0416667", "Frame Time: 0")},
-      {"no MOTION", Replace(good, "MOTION", "MOTON")},
+      {"negative frames", ReplaceOnce(good, "Frames: 3", "Frames: -3")},
+      {"frame time 0", ReplaceOnce(good, "Frame Time: 0.0416667", "Frame Time: 0")},
+      {"no MOTION", ReplaceOnce(good, "MOTION", "MOTON")},
   };
 }
 
@@ -88,19 +82,19 @@ std::vector<BadFile> BadMotion3Files() {
   const std::string good = kMotion3;
   return {
       {"empty", ""},
-      {"malformed JSON", Replace(good, "\"Version\": 3,", "\"Version\": 3")},
+      {"malformed JSON", ReplaceOnce(good, "\"Version\": 3,", "\"Version\": 3")},
       {"root is an array", "[" + good + "]"},
-      {"no Meta", Replace(good, "\"Meta\"", "\"Mesa\"")},
-      {"Fps 0", Replace(good, "\"Fps\": 30", "\"Fps\": 0")},
-      {"Fps a string", Replace(good, "\"Fps\": 30", "\"Fps\": \"30\"")},
-      {"negative Duration", Replace(good, "\"Duration\": 1", "\"Duration\": -1")},
-      {"Curves not an array", Replace(good, "\"Curves\": [", "\"Curves\": 5, \"X\": [")},
-      {"unknown Target", Replace(good, "\"Target\": \"Parameter\"", "\"Target\": \"Param\"")},
-      {"Id a number", Replace(good, "\"Id\": \"ParamMouthOpenY\"", "\"Id\": 7")},
-      {"segment value a string", Replace(good, "[0, 0, 0, 0.5", "[0, \"0\", 0, 0.5")},
-      {"unknown segment identifier", Replace(good, "[0, 0, 0, 0.5", "[0, 0, 7, 0.5")},
-      {"segment cut short", Replace(good, "0, 1, 0]}", "0, 1]}")},
-      {"UserData Time a string", Replace(good, "\"Time\": 0.5", "\"Time\": \"0.5\"")},
+      {"no Meta", ReplaceOnce(good, "\"Meta\"", "\"Mesa\"")},
+      {"Fps 0", ReplaceOnce(good, "\"Fps\": 30", "\"Fps\": 0")},
+      {"Fps a string", ReplaceOnce(good, "\"Fps\": 30", "\"Fps\": \"30\"")},
+      {"negative Duration", ReplaceOnce(good, "\"Duration\": 1", "\"Duration\": -1")},
+      {"Curves not an array", ReplaceOnce(good, "\"Curves\": [", "\"Curves\": 5, \"X\": [")},
+      {"unknown Target", ReplaceOnce(good, "\"Target\": \"Parameter\"", "\"Target\": \"Param\"")},
+      {"Id a number", ReplaceOnce(good, "\"Id\": \"ParamMouthOpenY\"", "\"Id\": 7")},
+      {"segment value a string", ReplaceOnce(good, "[0, 0, 0, 0.5", "[0, \"0\", 0, 0.5")},
+      {"unknown segment identifier", ReplaceOnce(good, "[0, 0, 0, 0.5", "[0, 0, 7, 0.5")},
+      {"segment cut short", ReplaceOnce(good, "0, 1, 0]}", "0, 1]}")},
+      {"UserData Time a string", ReplaceOnce(good, "\"Time\": 0.5", "\"Time\": \"0.5\"")},
       {"too deep", std::string(40, '[') + std::string(40, ']')},
   };
 }
@@ -116,18 +110,18 @@ std::vector<BadFile> BadCsvFiles() {
   const std::string good = kCsv;
   return {
       {"empty", ""},
-      {"header not frame", Replace(good, "frame,", "time,")},
+      {"header not frame", ReplaceOnce(good, "frame,", "time,")},
       {"no curve column", "frame\n0\n1\n"},
-      {"empty id", Replace(good, ",ParamEyeLOpen", ",")},
-      {"duplicate id", Replace(good, "ParamEyeLOpen", "ParamMouthOpenY")},
-      {"quote in id", Replace(good, "ParamEyeLOpen", "Param\"Eye")},
-      {"empty line", Replace(good, "1,0.5,1\n", "\n1,0.5,1\n")},
-      {"extra field", Replace(good, "1,0.5,1\n", "1,0.5,1,7\n")},
-      {"missing field", Replace(good, "1,0.5,1\n", "1,0.5\n")},
-      {"frame out of order", Replace(good, "2,1,0\n", "5,1,0\n")},
-      {"invalid number", Replace(good, "1,0.5,1\n", "1,x,1\n")},
-      {"nan", Replace(good, "1,0.5,1\n", "1,nan,1\n")},
-      {"space around a number", Replace(good, "1,0.5,1\n", "1, 0.5,1\n")},
+      {"empty id", ReplaceOnce(good, ",ParamEyeLOpen", ",")},
+      {"duplicate id", ReplaceOnce(good, "ParamEyeLOpen", "ParamMouthOpenY")},
+      {"quote in id", ReplaceOnce(good, "ParamEyeLOpen", "Param\"Eye")},
+      {"empty line", ReplaceOnce(good, "1,0.5,1\n", "\n1,0.5,1\n")},
+      {"extra field", ReplaceOnce(good, "1,0.5,1\n", "1,0.5,1,7\n")},
+      {"missing field", ReplaceOnce(good, "1,0.5,1\n", "1,0.5\n")},
+      {"frame out of order", ReplaceOnce(good, "2,1,0\n", "5,1,0\n")},
+      {"invalid number", ReplaceOnce(good, "1,0.5,1\n", "1,x,1\n")},
+      {"nan", ReplaceOnce(good, "1,0.5,1\n", "1,nan,1\n")},
+      {"space around a number", ReplaceOnce(good, "1,0.5,1\n", "1, 0.5,1\n")},
       {"no rows", "frame,ParamMouthOpenY\n"},
   };
 }
