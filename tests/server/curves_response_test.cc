@@ -18,30 +18,13 @@
 #include "server/curves_request.h"
 #include "server/request_limits.h"
 #include "tests/server/curves_request_builder.h"
+#include "tests/server/curves_response_bytes.h"
 
 namespace koma::server {
 namespace {
 
-// The encoder's bytes, written into a buffer with guard bytes after size() to catch a write
-// past the end.
-std::string Encoded(const CurveSet& set, const KomaUchiResult& result) {
-  const CurvesResponseEncoder encoder(set, result);
-  constexpr size_t kGuard = 64;
-  std::string buffer(encoder.size() + kGuard, '\x5a');
-  encoder.WriteTo(reinterpret_cast<uint8_t*>(buffer.data()));
-  EXPECT_EQ(buffer.substr(encoder.size()), std::string(kGuard, '\x5a')) << "wrote past size()";
-  buffer.resize(encoder.size());
-  return buffer;
-}
-
-// The reference: the response as messages, serialised by protobuf.
-std::string Serialised(const CurveSet& set, const KomaUchiResult& result) {
-  v1::RetimeCurvesResponse response;
-  FillCurvesResponse(set, result, &response);
-  std::string bytes;
-  EXPECT_TRUE(response.SerializeToString(&bytes));
-  return bytes;
-}
+using ::koma::testing::Encoded;
+using ::koma::testing::Serialised;
 
 // An int32 drawn among the values whose encodings differ: 0, small, multi-byte varints,
 // negatives (ten bytes) and the extremes.
