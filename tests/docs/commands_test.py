@@ -16,11 +16,12 @@ no command was found.
 import os
 import re
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
-import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "testing"))
+from koma_server import KomaServer  # noqa: E402  (tests/testing/koma_server.py)
 
 COMMAND_TIMEOUT_S = 60
 
@@ -45,31 +46,17 @@ def commands(markdown_path):
     return found
 
 
-def start_server(server, work):
-    port_file = os.path.join(work, "port")
-    log = open(os.path.join(work, "server.log"), "w")
-    process = subprocess.Popen([server, "--address=127.0.0.1:0", f"--port_file={port_file}",
-                                "--log_level=warn"], stdout=log, stderr=log)
-    deadline = time.monotonic() + 20
-    while time.monotonic() < deadline:
-        if os.path.exists(port_file) and open(port_file).read().strip():
-            return process, "127.0.0.1:" + open(port_file).read().strip()
-        if process.poll() is not None:
-            break
-        time.sleep(0.05)
-    process.kill()
-    process.wait(timeout=10)
-    raise SystemExit(f"koma_server did not start; see {log.name}")
-
-
 def main():
     root, server, client = sys.argv[1:4]
     documents = sys.argv[4:] or ["README.md"]
     work = tempfile.mkdtemp(prefix="koma-docs-")
     os.symlink(os.path.join(os.path.abspath(root), "samples"), os.path.join(work, "samples"))
     os.mkdir(os.path.join(work, "out"))
-    process, address = start_server(server, work)
-    env = dict(os.environ, KOMA_SERVER=address,
+    try:
+        koma_server = KomaServer(server, work, "--log_level=warn")
+    except RuntimeError as error:
+        raise SystemExit(str(error))
+    env = dict(os.environ, KOMA_SERVER=koma_server.address,
                PATH=os.path.dirname(os.path.abspath(client)) + os.pathsep + os.environ["PATH"])
     failures, ran = [], 0
     try:
@@ -90,11 +77,8 @@ def main():
                                     f"{expected}" + (f" and {message!r}" if message else "") +
                                     f"; its output:\n{output}")
     finally:
-        process.send_signal(signal.SIGTERM)
-        try:
-            server_code = process.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            process.kill()
+        server_code = koma_server.stop(timeout_s=30)
+        if server_code is None:
             server_code = "killed after 30 s"
     if server_code != 0:
         failures.append(f"koma_server exited {server_code} after SIGTERM")
