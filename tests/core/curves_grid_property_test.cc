@@ -36,6 +36,7 @@
 #include "core/film_grid.h"
 #include "core/koma_uchi.h"
 #include "core/split_mix64.h"
+#include "tests/testing/grid_rates.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma {
@@ -45,59 +46,19 @@ using ::koma::testing::IsOk;
 
 constexpr int kClipsPerRate = 500;
 
-// A source rate num / den frames per second, and the grid's ratio p / q source frames per grid
-// frame (within 1e-4 of num / (24 den)).
-struct Rate {
-  int64_t num;
-  int64_t den;
-  int64_t p;
-  int64_t q;
-  int64_t t = 24;  // the grid, timing_fps
-  double fps() const { return static_cast<double>(num) / static_cast<double>(den); }
-  double ratio() const { return static_cast<double>(p) / static_cast<double>(q); }
-  // |(p / q) / (R / 24) - 1|: 0 for the integer rates.
-  double ratio_error() const {
-    return std::fabs(static_cast<double>(p * t * den - q * num)) / static_cast<double>(q * num);
-  }
-  friend void PrintTo(const Rate& r, std::ostream* os) {
-    *os << r.num << "/" << r.den << " fps on " << r.t;
-  }
-};
+using Rate = ::koma::testing::GridRate;
+using ::koma::testing::GridFramesOf;
+using ::koma::testing::NearestGridFrame;
 
-// Beyond the brief's rates: sources slower than the grid (12, 15 and 23.976 fps), where a
-// drawing may fall between two source frames and show in none.
-const Rate kRates[] = {{25, 1, 25, 24},        {30, 1, 5, 4},   {50, 1, 25, 12},
-                       {60, 1, 5, 2},          {100, 1, 25, 6}, {120, 1, 5, 1},
-                       {240, 1, 10, 1},        {2997, 100, 246, 197}, {12, 1, 1, 2},
-                       {15, 1, 5, 8},          {24000, 1001, 1000, 1001},
-                       // Other grids: 60 on 30, 50 and 30 on 12, 24 on 8, 25 on 1000.
-                       {60, 1, 2, 1, 30},      {50, 1, 25, 6, 12}, {30, 1, 5, 2, 12},
-                       {24, 1, 3, 1, 8},       {25, 1, 1, 40, 1000}};
+// The shared rates, and a grid finer than the source: 25 fps on 1000.
+std::vector<Rate> Rates() {
+  std::vector<Rate> rates = ::koma::testing::GridRates();
+  rates.push_back({25, 1, 1, 40, 1000});
+  return rates;
+}
 
 // Grid frames at or before the last source frame (n - 1) * q / p.
 int RefGridCount(const Rate& r, int n) { return static_cast<int>(((n - 1) * r.q) / r.p) + 1; }
-
-// The grid frame nearest source frame k (k * q / p grid frames), ties to the earlier.
-int RefNearestGrid(const Rate& r, int64_t k) {
-  const int64_t g = (k * r.q) / r.p;
-  const int64_t twice_past = 2 * (k * r.q - g * r.p);  // 2 (x - g), times p
-  return static_cast<int>(twice_past > r.p ? g + 1 : g);
-}
-
-// The grid frames source frame k may show: floor(k * 24 / R), and its neighbour when
-// k * 24 / R lies within the ratio's error of the boundary between them; within [0, last].
-std::vector<int> RefGridFramesOf(const Rate& r, int64_t k, int last) {
-  const int64_t num = k * r.t * r.den;
-  const int64_t g = num / r.num;
-  const double frac = static_cast<double>(num - g * r.num) / static_cast<double>(r.num);
-  const double tol = r.ratio_error() * static_cast<double>(num) / static_cast<double>(r.num);
-  std::vector<int> out;
-  if (frac < tol && g >= 1) out.push_back(static_cast<int>(g - 1));
-  out.push_back(static_cast<int>(g));
-  if (1.0 - frac < tol) out.push_back(static_cast<int>(g + 1));
-  for (int& f : out) f = std::min(f, last);
-  return out;
-}
 
 bool Near(double got, double want, double rel = 1e-9) {
   return std::fabs(got - want) <= rel * std::max(1.0, std::fabs(want));
@@ -162,7 +123,7 @@ std::vector<int> RefGridKeys(const Rate& r, const CurveSet& source, const std::v
   }
   std::set<int> grid;
   for (int k : keys) {
-    const int g = RefNearestGrid(r, k);
+    const int g = NearestGridFrame(r, k);
     if (k != last && g < grid_frames - 1) grid.insert(g);
   }
   grid.insert(grid_frames - 1);
@@ -274,7 +235,7 @@ std::string CompareTiming(const Rate& r, const Clip& clip, const DrawingTiming& 
   }
   std::vector<int> first_frame(drawings, -1);
   for (int k = 0; k < n; ++k) {
-    const std::vector<int> gs = RefGridFramesOf(r, k, last_grid);
+    const std::vector<int> gs = GridFramesOf(r, k, last_grid);
     const auto g = std::find_if(gs.begin(), gs.end(), [&](int f) {
       return want.drawing_of_frame[f] == got.drawing_of_frame[k];
     });
@@ -382,7 +343,7 @@ TEST_P(CurvesGridPropertyTest, GridRetimingEqualsRetimingAt24FpsExpanded) {
     if (why.empty() && got.key_grid_frames != want.key_frames) why = "key_grid_frames";
     if (why.empty() && got.key_frames.size() != got.key_grid_frames.size()) why = "key_frames";
     for (size_t i = 0; why.empty() && i + 1 < got.key_frames.size(); ++i) {
-      if (RefNearestGrid(r, got.key_frames[i]) != got.key_grid_frames[i]) {
+      if (NearestGridFrame(r, got.key_frames[i]) != got.key_grid_frames[i]) {
         why = "key_frames[" + std::to_string(i) + "] is not at its grid frame";
       }
     }
@@ -483,12 +444,8 @@ TEST_P(CurvesGridPropertyTest, DrawingsLastOneToNGridFramesAndStepsGiveBackTheVa
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Rates, CurvesGridPropertyTest, ::testing::ValuesIn(kRates), [](const auto& param_info) {
-      const Rate& r = param_info.param;
-      return "Fps" + std::to_string(r.num) + (r.den == 1 ? "" : "_" + std::to_string(r.den)) +
-             (r.t == 24 ? "" : "_On" + std::to_string(r.t));
-    });
+INSTANTIATE_TEST_SUITE_P(Rates, CurvesGridPropertyTest, ::testing::ValuesIn(Rates()),
+                         ::koma::testing::GridRateName());
 
 // 24 fps input is not on a grid: timing_fps 24 (and 24 +- 1e-4 relative) answers exactly as
 // timing_fps 0.

@@ -23,11 +23,12 @@ Xrotation misspelt Xrot, for the error examples.
 import os
 import re
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
-import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "testing"))
+from koma_server import KomaServer  # noqa: E402  (tests/testing/koma_server.py)
 
 from code_blocks import SHELL, block_lines
 
@@ -88,23 +89,6 @@ def run_python(document, program, address, work, python_path):
     return failures
 
 
-def start_server(server, work):
-    port_file = os.path.join(work, "port")
-    log = open(os.path.join(work, "server.log"), "w")
-    process = subprocess.Popen([server, "--address=127.0.0.1:0", f"--port_file={port_file}",
-                                "--log_level=warn"], stdout=log, stderr=log)
-    deadline = time.monotonic() + 20
-    while time.monotonic() < deadline:
-        if os.path.exists(port_file) and open(port_file).read().strip():
-            return process, "127.0.0.1:" + open(port_file).read().strip()
-        if process.poll() is not None:
-            break
-        time.sleep(0.05)
-    process.kill()
-    process.wait(timeout=10)
-    raise SystemExit(f"koma_server did not start; see {log.name}")
-
-
 def main():
     root, server, client = sys.argv[1:4]
     documents = sys.argv[4:] or ["README.md"]
@@ -117,8 +101,11 @@ def main():
         f.write(broken)
     python_path = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(client))),
                                "python")
-    process, address = start_server(server, work)
-    env = dict(os.environ, KOMA_SERVER=address,
+    try:
+        koma_server = KomaServer(server, work, "--log_level=warn")
+    except RuntimeError as error:
+        raise SystemExit(str(error))
+    env = dict(os.environ, KOMA_SERVER=koma_server.address,
                PATH=os.path.dirname(os.path.abspath(client)) + os.pathsep + os.environ["PATH"])
     failures, ran = [], 0
     try:
@@ -141,13 +128,11 @@ def main():
             program = python_program(os.path.join(root, document))
             if program[1].strip():
                 ran += 1
-                failures += run_python(document, program, address, work, python_path)
+                failures += run_python(document, program, koma_server.address, work,
+                                       python_path)
     finally:
-        process.send_signal(signal.SIGTERM)
-        try:
-            server_code = process.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            process.kill()
+        server_code = koma_server.stop(timeout_s=30)
+        if server_code is None:
             server_code = "killed after 30 s"
     if server_code != 0:
         failures.append(f"koma_server exited {server_code} after SIGTERM")

@@ -5,27 +5,20 @@
 # a rerun sends no call (the servers' Prometheus counters), a touched input or new options
 # redo exactly what they should; @lists, LipBlink and usage errors.
 # Usage: batch_e2e_test.sh KOMA_SERVER KOMA PYTHON3
+# shellcheck disable=SC2154  # pid_NAME, port_NAME and target_NAME are set by start_named
 set -euo pipefail
 server_bin=$1 client_bin=$2 python=$3
 here=$(cd "$(dirname "$0")" && pwd)
 
-source "$here/lib.sh"
-source "$here/batch_lib.sh"
+# shellcheck source=batch_lib.sh
+source "$here/batch_lib.sh"  # and lib.sh
 
 "$python" "$here/batch_make_clips.py" "$work/clips" 700 200 150 7
 start_named a --worker_threads=1
 start_named b --worker_threads=1
 servers="$target_a,$target_b"
 
-expect_exit() {  # expect_exit CODE LOG COMMAND...: runs COMMAND, stderr to LOG
-  local want=$1 log=$2
-  shift 2
-  local code=0
-  timeout 120 "$@" 2>"$log" || code=$?
-  [ "$code" = "$want" ] || { cat "$log" >&2; fail "$* exited $code, want $want"; }
-}
 started() { echo $(($(rpcs_started a) + $(rpcs_started b))); }
-summary_field() { "$python" -c 'import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$@"; }
 
 # 1. The skeletal batch (703 BVH, 3 bad: two the client cannot parse, one the server refuses)
 #    and the curves batch (350 motion3.json and CSV, 2 bad), both spread over two servers.
@@ -154,7 +147,7 @@ expect_exit 0 "$work/busy.err" "$client_bin" batch skeletal "$work/clips/bvh/g06
   -o "$work/busy" --server "$target_c" --jobs 8 --retries 60 --summary "$work/busy.json"
 [ "$(summary_field "$work/busy.json" retried)" -gt 0 ] || fail "RESOURCE_EXHAUSTED never happened"
 [ "$(summary_field "$work/busy.json" ok)" = 70 ] || fail "busy server: $(tail -2 "$work/busy.err")"
-stop_named c
+stop_server_as c
 timeout 60 "$client_bin" batch skeletal "$work/few" -o "$work/few/out" --server "$servers" \
   --json >"$work/in1.json" 2>"$work/in1.err" || fail "--json: $(cat "$work/in1.err")"
 [ "$(summary_field "$work/in1.json" ok)" = 4 ] || fail "--json on stdout: $(cat "$work/in1.json")"
@@ -168,6 +161,6 @@ timeout 60 script -qec "$client_bin batch skeletal $work/few -o $work/tty --serv
 grep -q $'\r\033\[K\[=*' "$work/tty.txt" || fail "no live bar on a terminal: $(od -c "$work/tty.txt" | head)"
 grep -q "4 clips: 4 done" "$work/tty.txt" || fail "no summary on a terminal"
 
-stop_named a
-stop_named b
+stop_server_as a
+stop_server_as b
 echo "PASS: batch e2e"

@@ -7,12 +7,13 @@
 # 2. SIGINT mid-batch: exit 130, only whole outputs, the summary lists the rest as not done;
 #    the rerun sends exactly one call per clip not done (the servers' metrics) and exits 0.
 # Usage: batch_fault_e2e_test.sh KOMA_SERVER KOMA PYTHON3 PITCH_BVH
+# shellcheck disable=SC2154  # pid_NAME, port_NAME and target_NAME are set by start_named
 set -euo pipefail
 server_bin=$1 client_bin=$2 python=$3 pitch=$4
 here=$(cd "$(dirname "$0")" && pwd)
 
-source "$here/lib.sh"
-source "$here/batch_lib.sh"
+# shellcheck source=batch_lib.sh
+source "$here/batch_lib.sh"  # and lib.sh
 
 clips=1000
 mkdir -p "$work/clips/x" "$work/clips/y"
@@ -62,7 +63,6 @@ if missing:
 print(f"{out}: {len(ok)} outputs and {len(ok_timing)} timing sheets whole and as the single command's")
 PY
 }
-summary_field() { "$python" -c 'import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$@"; }
 
 # 1. SIGKILL and restart of server a mid-batch.
 "$client_bin" batch skeletal "$work/clips" -o "$work/out" --server "$target_a,$target_b" \
@@ -70,12 +70,11 @@ summary_field() { "$python" -c 'import json,sys; print(json.load(open(sys.argv[1
 batch_pid=$!
 wait_written "$work/fault.err" 100 "$batch_pid"
 calls_a=$(rpcs_started a)
-kill -KILL "$pid_a"
-wait "$pid_a" 2>/dev/null || true
+kill_server_as a
 kill -0 "$batch_pid" 2>/dev/null || fail "the batch finished before the kill: make it longer"
 killed_at=$(written_count "$work/fault.err")
 sleep 0.3
-start_named a --worker_threads=1  # on its old port ($port_a)
+on_port=$port_a start_named a --worker_threads=1
 running_at_restart=no
 kill -0 "$batch_pid" 2>/dev/null && running_at_restart=yes
 code=0
@@ -124,6 +123,6 @@ bad_not_done=$((2 - failed))
 [ "$(summary_field "$work/rerun.json" up_to_date)" = "$ok" ] || fail "rerun: up to date != $ok"
 check_outputs "$work/out2" "$work/rerun.json"
 echo "interrupt: $ok written, $not_done not done; the rerun sent $((after - before)) calls"
-stop_named a
-stop_named b
+stop_server_as a
+stop_server_as b
 echo "PASS: batch fault e2e"

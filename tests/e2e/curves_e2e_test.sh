@@ -61,33 +61,19 @@ sed -n 2,4p "$work/out.csv" | cut -d, -f2 | tr '\n' ' ' | grep -q "^0 0 " \
   || fail "CSV output is not on twos: $(sed -n 2,4p "$work/out.csv")"
 
 # A bad parameter: the server's code and message, exit 1, no output written.
-set +e
-"$client_bin" curves "$sample" -o "$work/bad.motion3.json" --keys 0,30,20 --server "$target" \
-  2>"$work/err.txt"
-code=$?
-set -e
-[ "$code" = 1 ] || fail "--keys 0,30,20 exited $code, want 1"
-grep -q "INVALID_ARGUMENT: key_frames\[2\]: 20" "$work/err.txt" || fail "error text: $(cat "$work/err.txt")"
+expect_error 1 "INVALID_ARGUMENT: key_frames\[2\]: 20" \
+  "$client_bin" curves "$sample" -o "$work/bad.motion3.json" --keys 0,30,20 --server "$target"
 [ ! -e "$work/bad.motion3.json" ] || fail "a failed call wrote an output file"
 
 # A drawing sheet that cannot be written is refused before the call (the server given cannot
 # be reached), and the motion3.json is not written either.
-set +e
-"$client_bin" curves "$sample" -o "$work/early.motion3.json" --timing "$work/missing/s.csv" \
-  --server 127.0.0.1:1 2>"$work/err.txt"
-code=$?
-set -e
-[ "$code" = 1 ] && grep -q "^koma: cannot write $work/missing/s.csv" "$work/err.txt" \
-  || fail "unwritable --timing: exit $code, $(cat "$work/err.txt")"
+expect_error 1 "^koma: cannot write $work/missing/s.csv" "$client_bin" curves "$sample" \
+  -o "$work/early.motion3.json" --timing "$work/missing/s.csv" --server 127.0.0.1:1
 [ ! -e "$work/early.motion3.json" ] || fail "an unwritable --timing still wrote the curves"
 
 # A malformed --curve-on: usage error, exit 2.
-set +e
-"$client_bin" curves "$sample" -o "$work/x.motion3.json" --curve-on ParamArmRA --server "$target" \
-  2>/dev/null
-code=$?
-set -e
-[ "$code" = 2 ] || fail "--curve-on without =N exited $code, want 2"
+expect_exit 2 "$work/err.txt" \
+  "$client_bin" curves "$sample" -o "$work/x.motion3.json" --curve-on ParamArmRA --server "$target"
 
 stop_server
 echo "PASS: curves end to end"

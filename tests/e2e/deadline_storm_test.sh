@@ -7,14 +7,9 @@
 # calls with a long deadline, and a call still succeeds. Prints the figures.
 #   deadline_storm_test.sh KOMA_SERVER KOMA_LOAD PITCH_BVH
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-server_bin=$1
-load_bin=$2
-pitch=$3
-# shellcheck source=lib.sh
-. "$here/lib.sh"
+server_bin=$1 load_bin=$2 pitch=$3
 # shellcheck source=fault_lib.sh
-. "$here/fault_lib.sh"
+. "$(dirname "$0")/fault_lib.sh"
 
 calls() {  # calls COUNT DEADLINE_S JSON
   "$load_bin" --rpc skeletal --frames 6500 --joints 31 --concurrency 16 --channels 4 \
@@ -23,8 +18,7 @@ calls() {  # calls COUNT DEADLINE_S JSON
 }
 
 start_server "$server_bin" --max_memory_mb=512 --log_level=warn --idle_trim_ms=500 \
-  --metrics_address=127.0.0.1:0 --metrics_port_file="$work/metrics_port"
-find_metrics
+  "${with_metrics[@]}"
 calls 64 60 "$work/warmup.json"
 [ "$(report "$work/warmup.json" ok)" = 64 ] || fail "warm-up: $(report "$work/warmup.json" errors)"
 sleep 2  # the idle trim gives the warm-up's heap back
@@ -42,16 +36,9 @@ echo "storm: $count calls with 1 ms deadlines: $ok OK, $expired DEADLINE_EXCEEDE
   fail "calls ended with other codes: $(report "$work/storm.json" errors)"
 
 # Calls the server still runs finish (or are cancelled) shortly after their clients gave up.
-for _ in $(seq 100); do
-  [ "$(metric koma_requests_in_flight)" = 0.0 ] && break
-  sleep 0.1
-done
-[ "$(metric koma_requests_in_flight)" = 0.0 ] || fail "calls still in flight 10 s after the storm"
-[ "$(metric koma_memory_budget_in_use_bytes)" = 0.0 ] ||
-  fail "the memory budget still holds $(metric koma_memory_budget_in_use_bytes) bytes"
+check_released "after the storm"
 wait_rss_at_most "$server_pid" $((rest_mb + 24)) 15
 echo "server RSS after the warm-up ${rest_mb} MiB, after the storm $(rss_mib "$server_pid") MiB"
-"$load_bin" --rpc skeletal --input "$pitch" --count 3 --server "$target" --fail-on-error --quiet \
-  >"$work/after.out" 2>&1 || fail "a call after the storm failed: $(cat "$work/after.out")"
+check_still_serves "after the storm" "$load_bin" "$pitch"
 stop_server
 echo "PASS"

@@ -7,20 +7,13 @@
 # still succeeds. Prints the figures.
 #   disconnect_test.sh KOMA_SERVER KOMA_LOAD PITCH_BVH
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-server_bin=$1
-load_bin=$2
-pitch=$3
-# shellcheck source=lib.sh
-. "$here/lib.sh"
+server_bin=$1 load_bin=$2 pitch=$3
 # shellcheck source=fault_lib.sh
-. "$here/fault_lib.sh"
+. "$(dirname "$0")/fault_lib.sh"
 
 start_server "$server_bin" --max_memory_mb=1024 --log_format=json --idle_trim_ms=500 \
-  --metrics_address=127.0.0.1:0 --metrics_port_file="$work/metrics_port"
-find_metrics
-"$load_bin" --rpc skeletal --input "$pitch" --count 3 --server "$target" --fail-on-error --quiet \
-  >"$work/warm.out" 2>&1 || fail "a first call failed: $(cat "$work/warm.out")"
+  "${with_metrics[@]}"
+check_still_serves "before the disconnects" "$load_bin" "$pitch"
 rest_mb=$(rss_mib "$server_pid")
 
 rounds=()
@@ -31,11 +24,7 @@ for round in 1 2 3 4 5; do
     --count 16 --deadline 60 --max-duration 60 --server "$target" --quiet \
     >"$work/load.out" 2>&1 &
   load_pid=$!
-  for _ in $(seq 500); do
-    [ "$(rss_mib "$server_pid")" -gt $((rest_mb + 64)) ] && break
-    sleep 0.02
-  done
-  [ "$(rss_mib "$server_pid")" -gt $((rest_mb + 64)) ] ||
+  poll_interval=0.02 wait_until 10 rss_above "$server_pid" $((rest_mb + 64)) ||
     fail "round $round: the server's RSS never grew: no upload reached it in 10 s"
   kill -KILL "$load_pid" 2>/dev/null || true
   wait "$load_pid" 2>/dev/null || true
@@ -47,13 +36,7 @@ echo "server RSS before each round and after the last: ${rounds[*]} MiB"
 [ "${rounds[5]}" -le $((rounds[2] + 24)) ] ||
   fail "RSS grew from ${rounds[2]} MiB (after round 2) to ${rounds[5]} MiB (after round 5)"
 
-for _ in $(seq 100); do
-  [ "$(metric koma_requests_in_flight)" = 0.0 ] && break
-  sleep 0.1
-done
-[ "$(metric koma_requests_in_flight)" = 0.0 ] || fail "calls still in flight 10 s after the last kill"
-[ "$(metric koma_memory_budget_in_use_bytes)" = 0.0 ] ||
-  fail "the memory budget still holds $(metric koma_memory_budget_in_use_bytes) bytes"
+check_released "after the last kill"
 "$load_bin" --rpc skeletal --frames 6500 --joints 31 --count 4 --server "$target" \
   --fail-on-error --quiet >"$work/after.out" 2>&1 ||
   fail "5 MB calls after the disconnects failed: $(cat "$work/after.out")"
@@ -62,7 +45,6 @@ ran=$(grep -c '"bytes_in":49922386' "$work/server.log" || true)
 echo "5 rounds of 16 x 50 MB uploads cut by SIGKILL: $ran calls reached the service" \
   "(the rest died mid-upload); server peak RSS $(peak_rss_mib "$server_pid") MiB," \
   "RSS at rest ${rest_mb} MiB, after $(rss_mib "$server_pid") MiB"
-"$load_bin" --rpc skeletal --input "$pitch" --count 3 --server "$target" --fail-on-error --quiet \
-  >"$work/after.out" 2>&1 || fail "a call after the disconnects failed: $(cat "$work/after.out")"
+check_still_serves "after the disconnects" "$load_bin" "$pitch"
 stop_server
 echo "PASS"

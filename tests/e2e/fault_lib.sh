@@ -1,43 +1,34 @@
 # shellcheck shell=bash
-# Shared by the fault tests (sourced after lib.sh): the server's memory and metrics, and
-# koma_load's report.
+# Shared by the fault tests (sourced; it sources lib.sh): the server's memory and metrics,
+# koma_load's report, and the checks every fault test ends with. Start the server with
+#   start_server SERVER ... "${with_metrics[@]}"
 #   rss_mib PID / peak_rss_mib PID    VmRSS / VmHWM (peak) of a process, MiB
-#   metric NAME                       a series' value from $metrics_target's /metrics
-#   report FILE KEY                   a field of koma_load's JSON report (errors.CODE for one code)
 #   wait_rss_at_most PID MIB SECONDS  polls until RSS <= MIB; fails after SECONDS
+#   metric NAME                       the server's series NAME (its Prometheus endpoint)
+#   report FILE KEY                   a field of koma_load's JSON report (errors.CODE for one code)
+#   check_released WHEN               within 10 s no call is in flight; then the memory budget
+#                                     holds nothing
+#   check_still_serves WHEN LOAD PITCH  three small calls (koma_load LOAD on PITCH) succeed
 
-# lib.sh's fail, with the server log's last lines only (a flood logs hundreds of calls).
-fail() {
-  echo "FAIL: $*" >&2
-  echo "--- server log (last 20 lines)" >&2
-  tail -n 20 "$work/server.log" >&2 || true
-  exit 1
-}
+# shellcheck source=lib.sh
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+
+fail_log_lines=20  # a flood logs hundreds of calls
+# shellcheck disable=SC2034  # used by the scripts that source this file
+with_metrics=(--metrics_address=127.0.0.1:0 --metrics_port_file="$work/server.mport")
 
 rss_mib() { awk '/^VmRSS:/ {printf "%d", $2 / 1024}' "/proc/$1/status"; }
 peak_rss_mib() { awk '/^VmHWM:/ {printf "%d", $2 / 1024}' "/proc/$1/status"; }
+rss_at_most() { [ "$(rss_mib "$1")" -le "$2" ]; }
+rss_above() { [ "$(rss_mib "$1")" -gt "$2" ]; }
 
-# The server's metrics endpoint: start_server with --metrics_address=127.0.0.1:0
-# --metrics_port_file="$work/metrics_port", then call this.
-metrics_target=""
-find_metrics() {
-  for _ in $(seq 50); do [ -s "$work/metrics_port" ] && break; sleep 0.1; done
-  [ -s "$work/metrics_port" ] || fail "server did not write its metrics port"
-  metrics_target="127.0.0.1:$(cat "$work/metrics_port")"
+wait_rss_at_most() {
+  wait_until "$3" rss_at_most "$1" "$2" ||
+    fail "server RSS $(rss_mib "$1") MiB still above $2 MiB after $3 s"
 }
 
-metric() {
-  /usr/bin/python3 - "$metrics_target" "$1" <<'PY'
-import sys, urllib.request
-target, name = sys.argv[1:]
-text = urllib.request.urlopen("http://%s/metrics" % target, timeout=10).read().decode()
-for line in text.splitlines():
-    if line.startswith(name + " ") or line.startswith(name + "{}"):
-        print(float(line.split()[-1]))
-        sys.exit(0)
-sys.exit("metric %s not found" % name)
-PY
-}
+metric() { metric_sum server "$1"; }
+metric_is() { [ "$(metric "$1")" = "$2" ]; }
 
 report() {
   /usr/bin/python3 - "$1" "$2" <<'PY'
@@ -49,11 +40,14 @@ print(value)
 PY
 }
 
-wait_rss_at_most() {
-  local pid=$1 mib=$2 seconds=$3
-  for _ in $(seq $((seconds * 10))); do
-    [ "$(rss_mib "$pid")" -le "$mib" ] && return 0
-    sleep 0.1
-  done
-  fail "server RSS $(rss_mib "$pid") MiB still above $mib MiB after $seconds s"
+check_released() {
+  wait_until 10 metric_is koma_requests_in_flight 0.0 ||
+    fail "calls still in flight 10 s $1"
+  metric_is koma_memory_budget_in_use_bytes 0.0 ||
+    fail "the memory budget still holds $(metric koma_memory_budget_in_use_bytes) bytes $1"
+}
+
+check_still_serves() {
+  "$2" --rpc skeletal --input "$3" --count 3 --server "$target" --fail-on-error --quiet \
+    >"$work/after.out" 2>&1 || fail "a call $1 failed: $(cat "$work/after.out")"
 }

@@ -83,14 +83,8 @@ cut -d, -f3 "$work/out.csv" | tail -n +2 | tr '\n' ' ' | grep -q "^0 1 2 3 4 5 "
   || fail "the other CSV curve changed"
 
 # A bad parameter: the server's code and message, exit 1.
-set +e
-"$client_bin" lipblink "$sample" -o "$work/bad.motion3.json" --mouth ParamMouth \
-  --server "$target" 2>"$work/err.txt"
-code=$?
-set -e
-[ "$code" = 1 ] || fail "--mouth ParamMouth exited $code, want 1"
-grep -q 'INVALID_ARGUMENT: mouth.ids\[0\]: "ParamMouth" is not a curve' "$work/err.txt" \
-  || fail "error text: $(cat "$work/err.txt")"
+expect_error 1 'INVALID_ARGUMENT: mouth.ids\[0\]: "ParamMouth" is not a curve' \
+  "$client_bin" lipblink "$sample" -o "$work/bad.motion3.json" --mouth ParamMouth --server "$target"
 
 stop_server
 echo "PASS: lipblink end to end"

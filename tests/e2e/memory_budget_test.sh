@@ -9,14 +9,9 @@
 # prints that peak (about 3 GiB: not for CI machines).
 #   memory_budget_test.sh KOMA_SERVER KOMA_LOAD PITCH_BVH
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-server_bin=$1
-load_bin=$2
-pitch=$3
-# shellcheck source=lib.sh
-. "$here/lib.sh"
+server_bin=$1 load_bin=$2 pitch=$3
 # shellcheck source=fault_lib.sh
-. "$here/fault_lib.sh"
+. "$(dirname "$0")/fault_lib.sh"
 
 budget_mb=512
 overhead_mb=64
@@ -27,9 +22,7 @@ flood() {
     >"$work/load.out" 2>&1 || fail "koma_load: $(cat "$work/load.out")"
 }
 
-start_server "$server_bin" --max_memory_mb=$budget_mb --log_format=json \
-  --metrics_address=127.0.0.1:0 --metrics_port_file="$work/metrics_port"
-find_metrics
+start_server "$server_bin" --max_memory_mb=$budget_mb --log_format=json "${with_metrics[@]}"
 rest_mb=$(rss_mib "$server_pid")
 flood "$work/flood.json"
 kill -0 "$server_pid" 2>/dev/null || fail "the server died under the flood"
@@ -53,11 +46,9 @@ koma_refused=$(grep -c '"code":"RESOURCE_EXHAUSTED".*memory budget (--max_memory
 echo "refused by koma's admission (message names --max_memory_mb): $koma_refused;" \
   "by gRPC's ResourceQuota: $((exhausted - koma_refused))"
 
-in_use=$(metric koma_memory_budget_in_use_bytes)
-[ "$in_use" = 0.0 ] || fail "koma_memory_budget_in_use_bytes is $in_use after the flood, want 0"
+check_released "after the flood"
 wait_rss_at_most "$server_pid" $((rest_mb + 48)) 10
-"$load_bin" --rpc skeletal --input "$pitch" --count 3 --server "$target" --fail-on-error --quiet \
-  >"$work/after.out" 2>&1 || fail "a small call after the flood failed: $(cat "$work/after.out")"
+check_still_serves "after the flood" "$load_bin" "$pitch"
 stop_server
 
 if [ "${KOMA_FAULT_COMPARE:-0}" = 1 ]; then

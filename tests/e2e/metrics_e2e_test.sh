@@ -29,15 +29,10 @@ metrics_url="http://127.0.0.1:$metrics_port/metrics"
 check_refused "--metrics_address: could not listen on 127.0.0.1:$metrics_port" "$server_bin" \
   --metrics_address="127.0.0.1:$metrics_port"
 
-expect_code() {  # expect_code CODE COMMAND...: the client fails with CODE
+expect_code() {  # expect_code CODE COMMAND...: the client fails with gRPC code CODE
   local want=$1
   shift
-  set +e
-  "$@" >/dev/null 2>"$work/err.txt"
-  local code=$?
-  set -e
-  [ "$code" = 1 ] && grep -q "koma: $want: " "$work/err.txt" \
-    || fail "$* exited $code: $(cat "$work/err.txt"), want $want"
+  expect_error 1 "koma: $want: " "$@" >/dev/null
 }
 
 # RetimeSkeletal: 3 OK, 1 OUT_OF_RANGE, 1 RESOURCE_EXHAUSTED.

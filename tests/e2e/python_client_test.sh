@@ -6,7 +6,7 @@ set -euo pipefail
 server_bin=$1 protoc_bin=$2 proto_dir=$3 python=$4
 here=$(cd "$(dirname "$0")" && pwd)
 
-# shellcheck source=tests/e2e/lib.sh
+# shellcheck source=lib.sh
 source "$here/lib.sh"
 
 mkdir -p "$work/gen"
@@ -14,6 +14,6 @@ mkdir -p "$work/gen"
 
 start_server "$server_bin"
 
-timeout 60 "$python" "$here/python_client.py" "$(cat "$work/port")" "$work/gen"
+timeout 60 "$python" "$here/python_client.py" "${target##*:}" "$work/gen"
 
 stop_server

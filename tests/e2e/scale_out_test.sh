@@ -11,6 +11,7 @@
 # backends answered calls before the SIGTERM and b after it (their JSON logs). Prints the
 # calls per backend.
 #   scale_out_test.sh KOMA_SERVER KOMA_LOAD KOMA NGINX_CONF PITCH_BVH
+# shellcheck disable=SC2154  # pid_NAME, port_NAME and target_NAME are set by start_server_as
 set -euo pipefail
 server_bin=$1
 load_bin=$2
@@ -18,83 +19,34 @@ koma_bin=$3
 nginx_conf=$4
 pitch=$5
 
-work=$(mktemp -d)
-pids=()        # every process this script started that may still run
-nginx_pid=""   # the nginx master; its workers are its children
-a_port="" b_port=""  # set by start_backend (with a_pid, b_pid)
-cleanup() {
-  # nginx first, gracefully: its workers outlive a master killed with SIGKILL.
-  if [ -n "$nginx_pid" ] && kill -0 "$nginx_pid" 2>/dev/null; then
+# shellcheck source=lib.sh
+source "$(dirname "$0")/lib.sh"
+fail_log_lines=10
+nginx_pid=""  # the nginx master; its workers are its children
+# nginx first, gracefully: its workers outlive a master killed with SIGKILL.
+stop_nginx_on_exit() {
+  if [ -n "$nginx_pid" ] && running "$nginx_pid"; then
     local workers
     workers=$(pgrep -P "$nginx_pid" || true)
     kill -TERM "$nginx_pid" 2>/dev/null || true
-    for _ in $(seq 50); do kill -0 "$nginx_pid" 2>/dev/null || break; sleep 0.1; done
+    wait_until 5 not_running "$nginx_pid" || true
     for pid in $workers; do kill -KILL "$pid" 2>/dev/null || true; done
   fi
-  for pid in "${pids[@]}"; do
-    if kill -0 "$pid" 2>/dev/null; then kill -KILL "$pid" 2>/dev/null || true; fi
-  done
-  rm -rf "$work"
-  return 0
 }
-trap cleanup EXIT
-
-fail() {
-  for log in "$work"/*.log "$work"/*.out "$work"/nginx/logs/error.log; do
-    [ -f "$log" ] || continue
-    echo "--- $log (last 10 lines)" >&2
-    tail -n 10 "$log" >&2
-  done
-  echo "FAIL: $*" >&2
-  exit 1
-}
-
-# A free loopback TCP port (bound and released: nginx needs a number before it starts).
-free_port() {
-  python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
-}
-
-# start_backend NAME: koma_server on a free loopback port with JSON logs in $work/NAME.log;
-# sets ${NAME}_pid and ${NAME}_port.
-start_backend() {
-  local name=$1
-  rm -f "$work/$name.port"
-  "$server_bin" --address=127.0.0.1:0 --port_file="$work/$name.port" --log_format=json \
-    2>"$work/$name.log" &
-  local pid=$!
-  pids+=("$pid")
-  for _ in $(seq 100); do [ -s "$work/$name.port" ] && break; sleep 0.1; done
-  [ -s "$work/$name.port" ] || fail "backend $name did not write its port within 10 s"
-  printf -v "${name}_pid" '%s' "$pid"
-  printf -v "${name}_port" '%s' "$(cat "$work/$name.port")"
-}
+trap 'stop_nginx_on_exit; cleanup' EXIT
 
 # stop_backend NAME: SIGTERM; fails unless it exits 0 within 15 s (its --shutdown_delay_ms
 # of 1 s plus --shutdown_grace_ms of 10 s, with room).
 stop_backend() {
-  local name=$1 pid_var="${1}_pid"
-  local pid=${!pid_var}
-  local start_ns
-  start_ns=$(date +%s%N)
-  kill -TERM "$pid"
-  for _ in $(seq 150); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-  kill -0 "$pid" 2>/dev/null && fail "backend $name still runs 15 s after SIGTERM"
-  local code=0
-  wait "$pid" || code=$?
-  [ "$code" = 0 ] || fail "backend $name exited $code after SIGTERM"
-  echo "backend $name exited 0 $((($(date +%s%N) - start_ns) / 1000000)) ms after SIGTERM"
-}
-
-# RetimeSkeletal calls answered OK in NAME's JSON log so far (a cheap poll).
-answered() {
-  grep -c '"code":"OK".*"method":"RetimeSkeletal"' "$work/$1.log" || true
+  stop_server_as "$1" 15
+  echo "backend $1 exited 0 $stopped_ms ms after SIGTERM"
 }
 
 # check_part LABEL [NGINX_PORT]: koma_load's report has every call OK; a answered calls before its
 # SIGTERM, b before and after it (by the logs' ISO 8601 UTC timestamps, which sort as
 # text). Prints the calls per backend from the logs and as koma_load saw them.
 check_part() {
-  python3 - "$1" "$work/$1.json" "$work/a.log" "$work/b.log" "$a_port" "$b_port" "${2:-}" <<'PY'
+  python3 - "$1" "$work/$1.json" "$work/a.log" "$work/b.log" "$port_a" "$port_b" "${2:-}" <<'PY'
 import json, sys
 label, report_path, a_log, b_log, a_port, b_port, nginx_port = sys.argv[1:]
 
@@ -148,22 +100,19 @@ run_part() {
   local label=$1 target=$2 nginx_port=${3:-}
   "$load_bin" --rpc skeletal --input "$pitch" --concurrency 4 --duration 4 --count 50000 \
     --max-duration 20 --deadline 10 --server "$target" --json "$work/$label.json" --quiet \
-    >"$work/$label-load.out" 2>&1 &
+    >"$work/$label-load.log" 2>&1 &
   local load_pid=$!
-  pids+=("$load_pid")
+  pids_to_kill+=("$load_pid")
 
   # About 1 s in, and once both backends have answered calls, stop backend a.
   sleep 1
-  for _ in $(seq 50); do
-    if [ "$(answered a)" -ge 5 ] && [ "$(answered b)" -ge 5 ]; then break; fi
-    sleep 0.1
-  done
-  kill -0 "$load_pid" 2>/dev/null || fail "$label: koma_load ended before the SIGTERM"
+  wait_until 5 both_answered 5 || true
+  running "$load_pid" || fail "$label: koma_load ended before the SIGTERM"
   stop_backend a
 
   local code=0
-  wait "$load_pid" || code=$?
-  [ "$code" = 0 ] || fail "$label: koma_load exited $code: $(cat "$work/$label-load.out")"
+  reap "$load_pid" || code=$?
+  [ "$code" = 0 ] || fail "$label: koma_load exited $code: $(cat "$work/$label-load.log")"
   check_part "$label" "$nginx_port" >"$work/$label-check.out" ||
     fail "$(cat "$work/$label-check.out")"
   cat "$work/$label-check.out"
@@ -174,14 +123,14 @@ run_part() {
 
 # --- Part 1: nginx with the shipped deploy/nginx/koma.conf in front of a and b.
 command -v nginx >/dev/null || fail "nginx is not installed (scripts/install-deps.sh installs it)"
-start_backend a
-start_backend b
+start_server_as a "$server_bin" --log_format=json
+start_server_as b "$server_bin" --log_format=json
 prefix="$work/nginx"
 mkdir -p "$prefix/logs" "$prefix/temp"
 nginx_port=$(free_port)
 # The shipped file with only its three addresses changed; each must have been there.
-sed -e "s/server 127\.0\.0\.1:50051;/server 127.0.0.1:$a_port;/" \
-    -e "s/server 127\.0\.0\.1:50052;/server 127.0.0.1:$b_port;/" \
+sed -e "s/server 127\.0\.0\.1:50051;/server 127.0.0.1:$port_a;/" \
+    -e "s/server 127\.0\.0\.1:50052;/server 127.0.0.1:$port_b;/" \
     -e "s/listen 127\.0\.0\.1:8080 /listen 127.0.0.1:$nginx_port /" \
     "$nginx_conf" >"$prefix/koma.conf"
 [ "$(diff "$nginx_conf" "$prefix/koma.conf" | grep -c '^>')" = 3 ] ||
@@ -195,7 +144,7 @@ sed -e "s/server 127\.0\.0\.1:50051;/server 127.0.0.1:$a_port;/" \
   cat <<EOF
 worker_processes 1;
 pid $prefix/nginx.pid;
-error_log $prefix/logs/error.log notice;
+error_log $work/nginx-error.log notice;
 events { worker_connections 256; }
 http {
     log_format koma '\$status|\$upstream_addr|\$upstream_status|\$sent_trailer_grpc_status|'
@@ -210,17 +159,17 @@ http {
 }
 EOF
 } >"$prefix/nginx.conf"
-nginx_args=(-p "$prefix" -e "$prefix/logs/error.log" -c "$prefix/nginx.conf")
+nginx_args=(-p "$prefix" -e "$work/nginx-error.log" -c "$prefix/nginx.conf")
 nginx -t "${nginx_args[@]}" >"$work/nginx-t.out" 2>&1 ||
   fail "nginx -t rejects $nginx_conf: $(cat "$work/nginx-t.out")"
 echo "nginx -t: $nginx_conf (in a minimal main config) is valid"
-nginx "${nginx_args[@]}" -g 'daemon off;' >"$work/nginx.out" 2>&1 &
+nginx "${nginx_args[@]}" -g 'daemon off;' >"$work/nginx.log" 2>&1 &
 nginx_pid=$!
-pids+=("$nginx_pid")
+pids_to_kill+=("$nginx_pid")
 # Ready when the health service answers SERVING through it.
 for _ in $(seq 50); do
   "$koma_bin" health --server "127.0.0.1:$nginx_port" --deadline 1 >/dev/null 2>&1 && break
-  kill -0 "$nginx_pid" 2>/dev/null || fail "nginx exited at start"
+  running "$nginx_pid" || fail "nginx exited at start"
   sleep 0.1
 done
 "$koma_bin" health --server "127.0.0.1:$nginx_port" --deadline 2 >/dev/null ||
@@ -228,7 +177,7 @@ done
 run_part nginx "127.0.0.1:$nginx_port" "$nginx_port"
 kill -QUIT "$nginx_pid"  # graceful stop
 code=0
-wait "$nginx_pid" || code=$?
+reap "$nginx_pid" || code=$?
 [ "$code" = 0 ] || fail "nginx exited $code"
 nginx_pid=""
 # What nginx saw: calls it moved to the other backend before sending them, and calls a
@@ -248,7 +197,7 @@ print("nginx: %d calls; %d moved to the other backend by nginx (connection refus
 PY
 
 # --- Part 2: no proxy; the client balances over fresh a and b.
-start_backend a
-start_backend b
-run_part round_robin "127.0.0.1:$a_port,127.0.0.1:$b_port"
+start_server_as a "$server_bin" --log_format=json
+start_server_as b "$server_bin" --log_format=json
+run_part round_robin "$target_a,$target_b"
 echo "PASS"

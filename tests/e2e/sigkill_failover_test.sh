@@ -6,44 +6,30 @@
 # calls in flight cut. Checks: every call succeeds (a cut call fails UNAVAILABLE and its retry
 # goes to b), and b answered calls after a died. Prints the calls per backend.
 #   sigkill_failover_test.sh KOMA_SERVER KOMA_LOAD PITCH_BVH
+# shellcheck disable=SC2154  # pid_NAME, port_NAME and target_NAME are set by start_server_as
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-server_bin=$1
-load_bin=$2
-pitch=$3
-# shellcheck source=lib.sh
-. "$here/lib.sh"
+server_bin=$1 load_bin=$2 pitch=$3
 # shellcheck source=fault_lib.sh
-. "$here/fault_lib.sh"
+. "$(dirname "$0")/fault_lib.sh"
 
-start_server "$server_bin" --log_format=json
-a_pid=$server_pid a_target=$target
-mv "$work/server.log" "$work/a.log"
-# lib.sh's cleanup kills $server_pid only: a is killed here or by this trap.
-trap 'kill -KILL "$a_pid" 2>/dev/null || true; cleanup' EXIT
-start_server "$server_bin" --log_format=json
-b_target=$target
-
-answered() { grep -c '"code":"OK".*"method":"RetimeSkeletal"' "$1" || true; }
+start_server_as a "$server_bin" --log_format=json
+start_server_as b "$server_bin" --log_format=json
 
 "$load_bin" --rpc skeletal --input "$pitch" --concurrency 8 --duration 4 --count 100000 \
-  --max-duration 30 --deadline 10 --server "$a_target,$b_target" --json "$work/load.json" \
+  --max-duration 30 --deadline 10 --server "$target_a,$target_b" --json "$work/load.json" \
   --quiet >"$work/load.out" 2>&1 &
 load_pid=$!
+pids_to_kill+=("$load_pid")
 sleep 1
-for _ in $(seq 50); do
-  if [ "$(answered "$work/a.log")" -ge 5 ] && [ "$(answered "$work/server.log")" -ge 5 ]; then break; fi
-  sleep 0.1
-done
-kill -0 "$load_pid" 2>/dev/null || fail "koma_load ended before the SIGKILL: $(cat "$work/load.out")"
-a_before=$(answered "$work/a.log")
-b_before=$(answered "$work/server.log")
-kill -KILL "$a_pid"
-wait "$a_pid" 2>/dev/null || true
+wait_until 5 both_answered 5 || true
+running "$load_pid" || fail "koma_load ended before the SIGKILL: $(cat "$work/load.out")"
+a_before=$(answered_ok "$work/a.log")
+b_before=$(answered_ok "$work/b.log")
+kill_server_as a
 code=0
-wait "$load_pid" || code=$?
+reap "$load_pid" || code=$?
 [ "$code" = 0 ] || fail "koma_load exited $code: $(cat "$work/load.out")"
-b_after=$(($(answered "$work/server.log") - b_before))
+b_after=$(($(answered_ok "$work/b.log") - b_before))
 
 count=$(report "$work/load.json" count)
 ok=$(report "$work/load.json" ok)
@@ -52,5 +38,5 @@ echo "$count calls, $ok OK, errors $(report "$work/load.json" errors); a answere
 [ "$count" -gt 0 ] && [ "$ok" = "$count" ] || fail "calls failed: $(report "$work/load.json" errors)"
 [ "$a_before" -ge 1 ] || fail "backend a answered no call before its SIGKILL"
 [ "$b_after" -ge 1 ] || fail "backend b answered no call after a's SIGKILL"
-stop_server
+stop_server_as b
 echo "PASS"

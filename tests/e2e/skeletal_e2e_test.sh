@@ -30,56 +30,34 @@ grep -q ",DUPLICATE," "$work/timing.csv" || fail "no DUPLICATE frame in the timi
   || fail "the written BVH does not read back"
 
 # Several endpoints, round_robin: a dead one in the list is skipped.
-dead=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+dead=$(free_port)
 "$client_bin" skeletal "$sample" -o "$work/rr.bvh" --server "127.0.0.1:$dead,$target" \
   --deadline 20 >/dev/null || fail "a list with a dead endpoint failed"
 cmp -s "$work/out.bvh" "$work/rr.bvh" || fail "the round_robin answer differs"
-set +e
-"$client_bin" health --server "127.0.0.1:1,localhost:2" >/dev/null 2>"$work/err.txt"
-code=$?
-set -e
-[ "$code" = 2 ] && grep -q "server list: must be all IPv4" "$work/err.txt" \
-  || fail "a mixed --server list: exit $code, $(cat "$work/err.txt")"
+expect_error 2 "server list: must be all IPv4" \
+  "$client_bin" health --server "127.0.0.1:1,localhost:2" >/dev/null
 
 # A bad parameter: the server's code and message, exit 1.
-set +e
-"$client_bin" skeletal "$sample" -o "$work/bad.bvh" --omit 500 --server "$target" \
-  2>"$work/err.txt"
-code=$?
-set -e
-[ "$code" = 1 ] || fail "--omit 500 exited $code, want 1"
-grep -q "OUT_OF_RANGE: omissions: 500" "$work/err.txt" || fail "error text: $(cat "$work/err.txt")"
+expect_error 1 "OUT_OF_RANGE: omissions: 500" \
+  "$client_bin" skeletal "$sample" -o "$work/bad.bvh" --omit 500 --server "$target"
 [ ! -e "$work/bad.bvh" ] || fail "a failed call wrote an output file"
 
 # Outputs that cannot be written are refused before the call (the server given cannot be
 # reached, so an RPC would fail with UNAVAILABLE instead), and nothing is written.
 for outputs in "-o $work/missing/out.bvh" "-o $work/early.bvh --timing $work" \
   "-o $work/early.bvh --timing $work/missing/t.csv"; do
-  set +e
   # shellcheck disable=SC2086  # $outputs is a word list
-  "$client_bin" skeletal "$sample" $outputs --server 127.0.0.1:1 2>"$work/err.txt"
-  code=$?
-  set -e
-  [ "$code" = 1 ] && grep -q "^koma: cannot write $work" "$work/err.txt" \
-    || fail "unwritable output ($outputs): exit $code, $(cat "$work/err.txt")"
+  expect_error 1 "^koma: cannot write $work" \
+    "$client_bin" skeletal "$sample" $outputs --server 127.0.0.1:1
   [ ! -e "$work/early.bvh" ] || fail "an unwritable --timing still wrote the BVH"
 done
 
 # A usage error: exit 2.
-set +e
-"$client_bin" skeletal >/dev/null 2>&1
-code=$?
-set -e
-[ "$code" = 2 ] || fail "missing arguments exited $code, want 2"
+expect_exit 2 "$work/err.txt" "$client_bin" skeletal >/dev/null
 
 # A malformed BVH: exit 1 with the line number.
 printf 'HIERARCHY\nROOT Hips\n{\n OFFSET 0 0\n' >"$work/broken.bvh"
-set +e
-"$client_bin" skeletal "$work/broken.bvh" -o "$work/x.bvh" --server "$target" 2>"$work/err.txt"
-code=$?
-set -e
-[ "$code" = 1 ] || fail "broken BVH exited $code, want 1"
-grep -q "line" "$work/err.txt" || fail "broken BVH error names no line: $(cat "$work/err.txt")"
+expect_error 1 "line" "$client_bin" skeletal "$work/broken.bvh" -o "$work/x.bvh" --server "$target"
 
 # Graceful stop: SIGTERM, exit 0.
 stop_server

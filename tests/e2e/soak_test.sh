@@ -8,21 +8,11 @@
 #   soak_test.sh KOMA_SERVER KOMA_LOAD PITCH_BVH ARM_HEAD_MOTION3 TALK_BLINK_MOTION3 SECONDS
 # ctest runs it for 30 s (e2e.soak_smoke); scripts/soak.sh runs it for minutes.
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-server_bin=$1
-load_bin=$2
-pitch=$3
-arm_head=$4
-talk_blink=$5
-seconds=$6
-# shellcheck source=lib.sh
-. "$here/lib.sh"
+server_bin=$1 load_bin=$2 pitch=$3 arm_head=$4 talk_blink=$5 seconds=$6
 # shellcheck source=fault_lib.sh
-. "$here/fault_lib.sh"
+. "$(dirname "$0")/fault_lib.sh"
 
-start_server "$server_bin" --max_memory_mb=512 --log_level=warn \
-  --metrics_address=127.0.0.1:0 --metrics_port_file="$work/metrics_port"
-find_metrics
+start_server "$server_bin" --max_memory_mb=512 --log_level=warn "${with_metrics[@]}"
 loads=()
 load() {  # load NAME RPC INPUT
   "$load_bin" --rpc "$2" --input "$3" --concurrency 2 --duration "$seconds" --count 100000000 \
@@ -61,7 +51,6 @@ print("RSS samples (MiB, one per second): %d, first %d, largest of the middle th
       "of the last third %d (allowed %d)" % (len(samples), samples[0], middle, last, allowed))
 sys.exit(0 if last <= allowed else 1)
 PY
-[ "$(metric koma_memory_budget_in_use_bytes)" = 0.0 ] ||
-  fail "the memory budget still holds $(metric koma_memory_budget_in_use_bytes) bytes"
+check_released "after the soak"
 stop_server
 echo "PASS"

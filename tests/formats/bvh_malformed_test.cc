@@ -6,6 +6,7 @@
 #include <string>
 
 #include "formats/bvh.h"
+#include "tests/testing/replace_once.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma::formats {
@@ -40,12 +41,7 @@ constexpr char kValid[] =
 
 // kValid with the only occurrence of `from` replaced by `to`.
 std::string Edit(const std::string& from, const std::string& to) {
-  std::string text = kValid;
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  EXPECT_EQ(text.find(from, at + 1), std::string::npos) << from << " is not unique";
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
+  return ::koma::testing::ReplaceOnce(kValid, from, to);
 }
 
 struct MalformedCase {

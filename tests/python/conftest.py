@@ -7,11 +7,13 @@ PYTHONPATH (the built package); run by hand the same way:
     KOMA_SOURCE_DIR=. PYTHONPATH=build/python /usr/bin/python3 -m pytest tests/python
 """
 import os
-import signal
 import subprocess
-import time
+import sys
 
 import pytest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "testing"))
+from koma_server import KomaServer  # noqa: E402  (tests/testing/koma_server.py)
 
 SOURCE_DIR = os.environ.get("KOMA_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
 SERVER_BIN = os.environ.get("KOMA_SERVER_BIN", os.path.join(SOURCE_DIR, "build/server/koma_server"))
@@ -22,35 +24,12 @@ def source_path(*parts):
     return os.path.join(SOURCE_DIR, *parts)
 
 
-class Server:
-    """koma_server on 127.0.0.1 with a free port, stopped with SIGTERM."""
+class Server(KomaServer):
+    """koma_server on 127.0.0.1 with a free port (tests/testing/koma_server.py), stopped with
+    SIGTERM."""
 
     def __init__(self, workdir, *flags):
-        self.port_file = os.path.join(workdir, f"port-{time.monotonic_ns()}")
-        self.log = open(os.path.join(workdir, "server.log"), "ab")
-        self.process = subprocess.Popen(
-            [SERVER_BIN, "--address=127.0.0.1:0", f"--port_file={self.port_file}",
-             "--log_level=warn", "--shutdown_delay_ms=0", *flags],
-            stdout=self.log, stderr=self.log)
-        deadline = time.monotonic() + 20
-        while not (os.path.exists(self.port_file) and open(self.port_file).read().strip()):
-            if self.process.poll() is not None:
-                raise RuntimeError(f"koma_server exited with {self.process.returncode}")
-            if time.monotonic() > deadline:
-                self.stop()
-                raise RuntimeError("koma_server did not write its port within 20 s")
-            time.sleep(0.02)
-        self.address = f"127.0.0.1:{open(self.port_file).read().strip()}"
-
-    def stop(self):
-        if self.process.poll() is None:
-            self.process.send_signal(signal.SIGTERM)
-            try:
-                self.process.wait(timeout=20)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait(timeout=5)
-        self.log.close()
+        super().__init__(SERVER_BIN, workdir, "--log_level=warn", "--shutdown_delay_ms=0", *flags)
 
 
 @pytest.fixture(scope="session")

@@ -111,17 +111,29 @@ def test_tables_have_ten_cases_per_format_and_good_bases(client):
     assert client.retime_curves(CSV, format="csv").output is not None
 
 
-@pytest.mark.parametrize("name", sorted(BAD_BVH))
-def test_bad_bvh_gets_the_cli_message_with_field_and_line(server, client, tmp_path, name):
-    path = tmp_path / "bad.bvh"
-    path.write_text(BAD_BVH[name])
-    expected = cli_message("skeletal", path, tmp_path / "out.bvh", server)
+def refused_as_the_cli_says(server, client, tmp_path, rpc, text, suffix, field):
+    """Sends `text` as a file (bad.SUFFIX) through `rpc` ("skeletal", "curves", "lipblink"):
+    the call must fail INVALID_ARGUMENT with the message `koma RPC` prints for the same file,
+    prefixed with `field` (the request field that carried the file). Returns the error and the
+    CLI's message."""
+    path = tmp_path / ("bad" + suffix)
+    path.write_text(text)
+    expected = cli_message(rpc, path, tmp_path / ("out" + suffix), server)
+    call = {"skeletal": client.retime_skeletal, "curves": client.retime_curves,
+            "lipblink": client.lip_blink}[rpc]
     with pytest.raises(koma.KomaError) as caught:
-        client.retime_skeletal(str(path))
+        call(str(path))
     error = caught.value
     assert error.code.name == "INVALID_ARGUMENT"
-    assert error.message == "bvh_text: " + expected
-    assert error.field == "bvh_text"
+    assert error.message == field + ": " + expected
+    assert error.field == field
+    return error, expected
+
+
+@pytest.mark.parametrize("name", sorted(BAD_BVH))
+def test_bad_bvh_gets_the_cli_message_with_field_and_line(server, client, tmp_path, name):
+    error, expected = refused_as_the_cli_says(server, client, tmp_path, "skeletal", BAD_BVH[name],
+                                              ".bvh", "bvh_text")
     assert error.line is not None and error.line >= 1
     assert f"line {error.line}" in expected
 
@@ -129,30 +141,16 @@ def test_bad_bvh_gets_the_cli_message_with_field_and_line(server, client, tmp_pa
 @pytest.mark.parametrize("name", sorted(BAD_MOTION3))
 @pytest.mark.parametrize("rpc", ["curves", "lipblink"])
 def test_bad_motion3_gets_the_cli_message(server, client, tmp_path, name, rpc):
-    path = tmp_path / "bad.motion3.json"
-    path.write_text(BAD_MOTION3[name])
-    expected = cli_message(rpc, path, tmp_path / "out.motion3.json", server)
-    call = client.retime_curves if rpc == "curves" else client.lip_blink
-    with pytest.raises(koma.KomaError) as caught:
-        call(str(path))
-    assert caught.value.code.name == "INVALID_ARGUMENT"
-    assert caught.value.message == "motion3_json: " + expected
-    assert caught.value.field == "motion3_json"
+    refused_as_the_cli_says(server, client, tmp_path, rpc, BAD_MOTION3[name], ".motion3.json",
+                            "motion3_json")
 
 
 @pytest.mark.parametrize("name", sorted(BAD_CSV))
 @pytest.mark.parametrize("rpc", ["curves", "lipblink"])
 def test_bad_csv_gets_the_cli_message_with_field_and_line(server, client, tmp_path, name, rpc):
-    path = tmp_path / "bad.csv"
-    path.write_text(BAD_CSV[name])
-    expected = cli_message(rpc, path, tmp_path / "out.csv", server)
-    call = client.retime_curves if rpc == "curves" else client.lip_blink
-    with pytest.raises(koma.KomaError) as caught:
-        call(str(path))
-    assert caught.value.code.name == "INVALID_ARGUMENT"
-    assert caught.value.message == "csv_text: " + expected
-    assert caught.value.field == "csv_text"
-    assert caught.value.line is not None
+    error, _ = refused_as_the_cli_says(server, client, tmp_path, rpc, BAD_CSV[name], ".csv",
+                                       "csv_text")
+    assert error.line is not None
 
 
 def test_python_m_koma_prints_the_code_and_message(server, tmp_path):

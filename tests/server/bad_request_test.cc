@@ -3,12 +3,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <functional>
 #include <limits>
-#include <string>
+#include <vector>
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
+#include "tests/server/bad_request_table.h"
 #include "tests/server/in_process_server.h"
 #include "tests/server/request_builder.h"
 
@@ -16,22 +16,10 @@ namespace koma::server {
 namespace {
 
 using ::koma::testing::InProcessServer;
-using ::koma::testing::SetTestDeadline;
-using ::koma::testing::SharedServerTest;
-using ::testing::HasSubstr;
-using Mutation = std::function<void(v1::RetimeSkeletalRequest&)>;
+using BadRequest = ::koma::testing::BadRequest<v1::RetimeSkeletalRequest>;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-struct BadRequest {
-  std::string name;
-  Mutation mutate;
-  grpc::StatusCode code;
-  std::string message;
-
-  friend void PrintTo(const BadRequest& bad, std::ostream* os) { *os << bad.name; }
-};
 
 v1::Joint& JointOf(v1::RetimeSkeletalRequest& r, int i) {
   return *r.mutable_motion()->mutable_skeleton()->mutable_joints(i);
@@ -129,32 +117,18 @@ std::vector<BadRequest> BadRequests() {
   };
 }
 
-class BadRequestTest : public SharedServerTest<BadRequestTest, BadRequest> {
+class BadRequestTest
+    : public koma::testing::BadRequestSuite<BadRequestTest, v1::RetimeSkeletalRequest> {
  public:
   static server::ServerConfig SuiteConfig() {
     server::ServerConfig config = InProcessServer::Config(2, 50'000);
     config.limits.max_joints = 32;
     return config;
   }
+  static v1::RetimeSkeletalRequest ValidRequest() { return koma::testing::MakeSkeletalRequest(10); }
 };
 
-TEST_P(BadRequestTest, AnswersCodeAndNamesTheField) {
-  const BadRequest& bad = GetParam();
-  v1::RetimeSkeletalRequest request = koma::testing::MakeSkeletalRequest(10);
-  bad.mutate(request);
-  grpc::ClientContext context;
-  SetTestDeadline(context);
-  v1::RetimeSkeletalResponse response;
-  const grpc::Status status = stub().RetimeSkeletal(&context, request, &response);
-  EXPECT_EQ(status.error_code(), bad.code) << status.error_message();
-  EXPECT_THAT(status.error_message(), HasSubstr(bad.message));
-  EXPECT_EQ(response.source_frames_size(), 0) << "a failed call carries no partial answer";
-}
-
-INSTANTIATE_TEST_SUITE_P(Table, BadRequestTest, ::testing::ValuesIn(BadRequests()),
-                         [](const auto& param_info) { return param_info.param.name; });
-
-TEST(BadRequestTableTest, HasAtLeastTwentyRows) { EXPECT_GE(BadRequests().size(), 20u); }
+KOMA_BAD_REQUEST_TABLE(BadRequestTest, BadRequestTableTest, BadRequests)
 
 }  // namespace
 }  // namespace koma::server

@@ -3,35 +3,23 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <functional>
 #include <limits>
-#include <ostream>
-#include <string>
+#include <vector>
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
-#include "tests/server/in_process_server.h"
+#include "tests/server/bad_request_table.h"
 #include "tests/server/curves_request_builder.h"
+#include "tests/server/in_process_server.h"
 
 namespace koma::server {
 namespace {
 
 using ::koma::testing::InProcessServer;
-using ::koma::testing::SetTestDeadline;
-using ::koma::testing::SharedServerTest;
-using ::testing::HasSubstr;
+using BadCurves = ::koma::testing::BadRequest<v1::RetimeCurvesRequest>;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-struct BadCurves {
-  std::string name;
-  std::function<void(v1::RetimeCurvesRequest&)> mutate;
-  grpc::StatusCode code;
-  std::string message;
-
-  friend void PrintTo(const BadCurves& bad, std::ostream* os) { *os << bad.name; }
-};
 
 v1::Curve& CurveOf(v1::RetimeCurvesRequest& r, int i) {
   return *r.mutable_curves()->mutable_curves(i);
@@ -149,37 +137,14 @@ std::vector<BadCurves> BadRequests() {
   };
 }
 
-class CurvesBadRequestTest : public SharedServerTest<CurvesBadRequestTest, BadCurves> {
+class CurvesBadRequestTest
+    : public koma::testing::BadRequestSuite<CurvesBadRequestTest, v1::RetimeCurvesRequest> {
  public:
   static server::ServerConfig SuiteConfig() { return InProcessServer::Config(1, 50'000); }
+  static v1::RetimeCurvesRequest ValidRequest() { return koma::testing::MakeCurvesRequest(); }
 };
 
-TEST_P(CurvesBadRequestTest, AnswersCodeAndNamesTheField) {
-  const BadCurves& bad = GetParam();
-  v1::RetimeCurvesRequest request = koma::testing::MakeCurvesRequest();
-  bad.mutate(request);
-  grpc::ClientContext context;
-  SetTestDeadline(context);
-  v1::RetimeCurvesResponse response;
-  const grpc::Status status = stub().RetimeCurves(&context, request, &response);
-  EXPECT_EQ(status.error_code(), bad.code) << status.error_message();
-  EXPECT_THAT(status.error_message(), HasSubstr(bad.message));
-  EXPECT_EQ(response.curves_size(), 0) << "a failed call carries no partial answer";
-}
-
-TEST(CurvesBadRequestTableTest, TheValidRequestIsAccepted) {
-  InProcessServer server;
-  grpc::ClientContext context;
-  SetTestDeadline(context);
-  v1::RetimeCurvesResponse response;
-  const grpc::Status status =
-      server.stub().RetimeCurves(&context, koma::testing::MakeCurvesRequest(), &response);
-  EXPECT_TRUE(status.ok()) << status.error_message();
-  EXPECT_GE(BadRequests().size(), 20u);
-}
-
-INSTANTIATE_TEST_SUITE_P(Table, CurvesBadRequestTest, ::testing::ValuesIn(BadRequests()),
-                         [](const auto& param_info) { return param_info.param.name; });
+KOMA_BAD_REQUEST_TABLE(CurvesBadRequestTest, CurvesBadRequestTableTest, BadRequests)
 
 }  // namespace
 }  // namespace koma::server

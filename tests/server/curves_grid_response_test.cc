@@ -18,27 +18,14 @@
 #include "server/curves_response.h"
 #include "server/request_limits.h"
 #include "tests/server/curves_request_builder.h"
+#include "tests/server/curves_response_bytes.h"
 #include "tests/server/in_process_server.h"
 
 namespace koma::server {
 namespace {
 
-std::string Written(const CurveSet& set, const KomaUchiResult& result) {
-  const CurvesResponseEncoder encoder(set, result);
-  std::string buffer(encoder.size() + 32, '\x77');
-  encoder.WriteTo(reinterpret_cast<uint8_t*>(buffer.data()));
-  EXPECT_EQ(buffer.substr(encoder.size()), std::string(32, '\x77')) << "wrote past size()";
-  buffer.resize(encoder.size());
-  return buffer;
-}
-
-std::string Serialised(const CurveSet& set, const KomaUchiResult& result) {
-  v1::RetimeCurvesResponse response;
-  FillCurvesResponse(set, result, &response);
-  std::string bytes;
-  EXPECT_TRUE(response.SerializeToString(&bytes));
-  return bytes;
-}
+using ::koma::testing::Encoded;
+using ::koma::testing::Serialised;
 
 // EncodeInSlices on a copy of `result` at `slice_bytes`, joined.
 std::string Sliced(const CurveSet& set, const KomaUchiResult& result, size_t slice_bytes,
@@ -57,7 +44,7 @@ std::string Sliced(const CurveSet& set, const KomaUchiResult& result, size_t sli
 void ExpectAllEncodingsEqual(const CurveSet& set, const KomaUchiResult& result,
                              const std::string& context) {
   const std::string want = Serialised(set, result);
-  ASSERT_EQ(Written(set, result), want) << context;
+  ASSERT_EQ(Encoded(set, result), want) << context;
   for (size_t slice_bytes : {size_t{0}, size_t{1}, size_t{2}, size_t{7}, size_t{40}, size_t{300},
                              size_t{1} << 20}) {
     size_t slices = 0;
@@ -131,7 +118,7 @@ TEST(CurvesGridResponseTest, TailComesAfterTheCurves) {
   result.curves.emplace_back();
   result.timing_fps = 24.0;
   result.key_grid_frames = {0, 24};
-  const std::string bytes = Written(set, result);
+  const std::string bytes = Encoded(set, result);
   // curves (field 3): "\x1a" len; timing_fps (4, fixed64): "\x21" + 8 bytes; key_grid_frames
   // (5, packed): "\x2a\x02\x00\x18".
   ASSERT_GE(bytes.size(), 13u);
@@ -183,7 +170,7 @@ TEST(CurvesGridResponseTest, GridAnswersEncodeAsTheMessages) {
     if (HasFatalFailure()) return;
     v1::RetimeCurvesResponse response;
     ASSERT_TRUE(HandleRetimeCurves(request, limits, &response).ok());
-    ASSERT_EQ(Written(answer.set, answer.result), response.SerializeAsString()) << i;
+    ASSERT_EQ(Encoded(answer.set, answer.result), response.SerializeAsString()) << i;
     ASSERT_EQ(response.key_grid_frames_size(), response.key_frames_size()) << i;
   }
   EXPECT_EQ(with_grid_starts, 150);

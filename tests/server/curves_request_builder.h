@@ -42,6 +42,36 @@ inline void AddRandomKeyframes(SplitMix64& rng, int frames, int min_step, int ma
   }
 }
 
+// Random options for a RetimeCurvesRequest whose curves are set: half the time key poses
+// (frames 0 and the last, and each other frame one time in `key_one_in`), then
+// frames_per_drawing, tame, tsume and per-curve frames_per_drawing, each present or not.
+// Returns the number of key poses given (0: the request keeps the default ones). The draws
+// are made in this order; the tests' random requests depend on it.
+inline int AddRandomCurvesOptions(SplitMix64& rng, int key_one_in,
+                                  v1::RetimeCurvesRequest* request) {
+  const v1::CurveSet& set = request->curves();
+  const int frames = set.frame_count();
+  int key_poses = 0;
+  if (rng.OneIn(2)) {
+    for (int f = 0; f < frames; ++f) {
+      if (f == 0 || f == frames - 1 || rng.OneIn(key_one_in)) {
+        request->add_key_frames(f);
+        ++key_poses;
+      }
+    }
+  }
+  if (rng.OneIn(2)) request->set_frames_per_drawing(rng.Int(1, 5));
+  if (rng.OneIn(3)) request->set_tame(1.0 + rng.Unit());
+  if (rng.OneIn(3)) request->set_tsume(1.0 + rng.Unit());
+  for (const v1::Curve& curve : set.curves()) {
+    if (!rng.OneIn(4)) continue;
+    v1::CurveOverride* own = request->add_curve_overrides();
+    own->set_curve_id(curve.id());
+    own->set_frames_per_drawing(rng.Int(1, 6));
+  }
+  return key_poses;
+}
+
 // 31 frames at 30 fps: "ParamAngleX" linear 0 -> 30 over frames 0-10, a Bezier back to 0 at
 // frame 30; "ParamArm" dense samples 0, 1, 2, ...
 inline v1::RetimeCurvesRequest MakeCurvesRequest() {

@@ -18,30 +18,13 @@
 #include "server/curves_request.h"
 #include "server/request_limits.h"
 #include "tests/server/curves_request_builder.h"
+#include "tests/server/curves_response_bytes.h"
 
 namespace koma::server {
 namespace {
 
-// The encoder's bytes, written into a buffer with guard bytes after size() to catch a write
-// past the end.
-std::string Encoded(const CurveSet& set, const KomaUchiResult& result) {
-  const CurvesResponseEncoder encoder(set, result);
-  constexpr size_t kGuard = 64;
-  std::string buffer(encoder.size() + kGuard, '\x5a');
-  encoder.WriteTo(reinterpret_cast<uint8_t*>(buffer.data()));
-  EXPECT_EQ(buffer.substr(encoder.size()), std::string(kGuard, '\x5a')) << "wrote past size()";
-  buffer.resize(encoder.size());
-  return buffer;
-}
-
-// The reference: the response as messages, serialised by protobuf.
-std::string Serialised(const CurveSet& set, const KomaUchiResult& result) {
-  v1::RetimeCurvesResponse response;
-  FillCurvesResponse(set, result, &response);
-  std::string bytes;
-  EXPECT_TRUE(response.SerializeToString(&bytes));
-  return bytes;
-}
+using ::koma::testing::Encoded;
+using ::koma::testing::Serialised;
 
 // An int32 drawn among the values whose encodings differ: 0, small, multi-byte varints,
 // negatives (ten bytes) and the extremes.
@@ -240,24 +223,8 @@ v1::RetimeCurvesRequest RandomRequest(SplitMix64& rng) {
       ::koma::testing::AddRandomKeyframes(rng, frames, 1, 20, 4, curve);
     }
   }
-  int key_poses = 0;  // 0: the default key poses (at least frames 0 and frames - 1)
-  if (rng.OneIn(2)) {
-    for (int f = 0; f < frames; ++f) {
-      if (f == 0 || f == frames - 1 || rng.OneIn(15)) {
-        request.add_key_frames(f);
-        ++key_poses;
-      }
-    }
-  }
-  if (rng.OneIn(2)) request.set_frames_per_drawing(rng.Int(1, 5));
-  if (rng.OneIn(3)) request.set_tame(1.0 + rng.Unit());
-  if (rng.OneIn(3)) request.set_tsume(1.0 + rng.Unit());
-  for (int c = 0; c < curves; ++c) {
-    if (!rng.OneIn(4)) continue;
-    v1::CurveOverride* own = request.add_curve_overrides();
-    own->set_curve_id(set->curves(c).id());
-    own->set_frames_per_drawing(rng.Int(1, 6));
-  }
+  // 0: the default key poses (at least frames 0 and frames - 1).
+  const int key_poses = ::koma::testing::AddRandomCurvesOptions(rng, 15, &request);
   // At 30 fps, half the time on the default 24 fps film grid, where key poses may merge as
   // they snap: then only segment 0 (always there) is overridden. Otherwise counted in source
   // frames (timing_fps 0).

@@ -7,6 +7,7 @@
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
+#include "tests/server/in_process_server.h"
 #include "tests/server/curves_request_builder.h"
 
 namespace koma::server {
@@ -24,9 +25,7 @@ class CurvesServiceTest : public ::testing::Test {
     stub_ = v1::Retime::NewStub(server_->InProcessChannel());
   }
   grpc::Status Call(const v1::RetimeCurvesRequest& request, v1::RetimeCurvesResponse* response) {
-    grpc::ClientContext context;
-    context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
-    return stub_->RetimeCurves(&context, request, response);
+    return koma::testing::CallRpc(*stub_, request, response);
   }
   std::unique_ptr<KomaServer> server_;
   std::unique_ptr<v1::Retime::Stub> stub_;

@@ -11,6 +11,7 @@
 #include "formats/curve_csv.h"
 #include "formats/motion3.h"
 #include "tests/server/in_process_server.h"
+#include "tests/testing/replace_once.h"
 
 namespace koma::testing {
 namespace {
@@ -19,13 +20,6 @@ struct BadFile {
   std::string name;
   std::string text;
 };
-
-std::string Replace(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
 
 const char kBvh[] =
     "HIERARCHY\n"
@@ -54,24 +48,24 @@ std::vector<BadFile> BadBvhFiles() {
   const std::string good = kBvh;
   return {
       {"empty", ""},
-      {"no HIERARCHY", Replace(good, "HIERARCHY", "HIERARCHIE")},
-      {"unknown channel", Replace(good, "Zrotation Xrotation Yrotation\n\t\tEnd",
-                                  "Zrot Xrotation Yrotation\n\t\tEnd")},
-      {"7 channels", Replace(good, "CHANNELS 6", "CHANNELS 7")},
-      {"repeated channel", Replace(good, "CHANNELS 3 Zrotation Xrotation Yrotation",
-                                   "CHANNELS 3 Zrotation Zrotation Yrotation")},
-      {"unbalanced braces", Replace(good, "\t\t}\n\t}\n", "\t\t}\n")},
-      {"duplicate joint", Replace(good, "JOINT Chest", "JOINT Hips")},
-      {"joint without OFFSET", Replace(good, "\t\tOFFSET 0 5 0\n", "")},
-      {"End Site with channels",
-       Replace(good, "\t\t\tOFFSET 0 10 0\n", "\t\t\tOFFSET 0 10 0\n\t\t\tCHANNELS 1 Xrotation\n")},
-      {"malformed number", Replace(good, "0 91 0 1", "0 9x1 0 1")},
-      {"nan value", Replace(good, "0 91 0 1", "0 nan 0 1")},
-      {"too few values", Replace(good, "0 92 0 2 0 0 12 22 32\n", "0 92 0 2 0 0 12\n")},
+      {"no HIERARCHY", ReplaceOnce(good, "HIERARCHY", "HIERARCHIE")},
+      {"unknown channel", ReplaceOnce(good, "Zrotation Xrotation Yrotation\n\t\tEnd",
+                                      "Zrot Xrotation Yrotation\n\t\tEnd")},
+      {"7 channels", ReplaceOnce(good, "CHANNELS 6", "CHANNELS 7")},
+      {"repeated channel", ReplaceOnce(good, "CHANNELS 3 Zrotation Xrotation Yrotation",
+                                       "CHANNELS 3 Zrotation Zrotation Yrotation")},
+      {"unbalanced braces", ReplaceOnce(good, "\t\t}\n\t}\n", "\t\t}\n")},
+      {"duplicate joint", ReplaceOnce(good, "JOINT Chest", "JOINT Hips")},
+      {"joint without OFFSET", ReplaceOnce(good, "\t\tOFFSET 0 5 0\n", "")},
+      {"End Site with channels", ReplaceOnce(good, "\t\t\tOFFSET 0 10 0\n",
+                                             "\t\t\tOFFSET 0 10 0\n\t\t\tCHANNELS 1 Xrotation\n")},
+      {"malformed number", ReplaceOnce(good, "0 91 0 1", "0 9x1 0 1")},
+      {"nan value", ReplaceOnce(good, "0 91 0 1", "0 nan 0 1")},
+      {"too few values", ReplaceOnce(good, "0 92 0 2 0 0 12 22 32\n", "0 92 0 2 0 0 12\n")},
       {"too many values", good + "1 2 3\n"},
-      {"negative frames", Replace(good, "Frames: 3", "Frames: -3")},
-      {"frame time 0", Replace(good, "Frame Time: 0.0416667", "Frame Time: 0")},
-      {"no MOTION", Replace(good, "MOTION", "MOTON")},
+      {"negative frames", ReplaceOnce(good, "Frames: 3", "Frames: -3")},
+      {"frame time 0", ReplaceOnce(good, "Frame Time: 0.0416667", "Frame Time: 0")},
+      {"no MOTION", ReplaceOnce(good, "MOTION", "MOTON")},
   };
 }
 
@@ -88,19 +82,19 @@ std::vector<BadFile> BadMotion3Files() {
   const std::string good = kMotion3;
   return {
       {"empty", ""},
-      {"malformed JSON", Replace(good, "\"Version\": 3,", "\"Version\": 3")},
+      {"malformed JSON", ReplaceOnce(good, "\"Version\": 3,", "\"Version\": 3")},
       {"root is an array", "[" + good + "]"},
-      {"no Meta", Replace(good, "\"Meta\"", "\"Mesa\"")},
-      {"Fps 0", Replace(good, "\"Fps\": 30", "\"Fps\": 0")},
-      {"Fps a string", Replace(good, "\"Fps\": 30", "\"Fps\": \"30\"")},
-      {"negative Duration", Replace(good, "\"Duration\": 1", "\"Duration\": -1")},
-      {"Curves not an array", Replace(good, "\"Curves\": [", "\"Curves\": 5, \"X\": [")},
-      {"unknown Target", Replace(good, "\"Target\": \"Parameter\"", "\"Target\": \"Param\"")},
-      {"Id a number", Replace(good, "\"Id\": \"ParamMouthOpenY\"", "\"Id\": 7")},
-      {"segment value a string", Replace(good, "[0, 0, 0, 0.5", "[0, \"0\", 0, 0.5")},
-      {"unknown segment identifier", Replace(good, "[0, 0, 0, 0.5", "[0, 0, 7, 0.5")},
-      {"segment cut short", Replace(good, "0, 1, 0]}", "0, 1]}")},
-      {"UserData Time a string", Replace(good, "\"Time\": 0.5", "\"Time\": \"0.5\"")},
+      {"no Meta", ReplaceOnce(good, "\"Meta\"", "\"Mesa\"")},
+      {"Fps 0", ReplaceOnce(good, "\"Fps\": 30", "\"Fps\": 0")},
+      {"Fps a string", ReplaceOnce(good, "\"Fps\": 30", "\"Fps\": \"30\"")},
+      {"negative Duration", ReplaceOnce(good, "\"Duration\": 1", "\"Duration\": -1")},
+      {"Curves not an array", ReplaceOnce(good, "\"Curves\": [", "\"Curves\": 5, \"X\": [")},
+      {"unknown Target", ReplaceOnce(good, "\"Target\": \"Parameter\"", "\"Target\": \"Param\"")},
+      {"Id a number", ReplaceOnce(good, "\"Id\": \"ParamMouthOpenY\"", "\"Id\": 7")},
+      {"segment value a string", ReplaceOnce(good, "[0, 0, 0, 0.5", "[0, \"0\", 0, 0.5")},
+      {"unknown segment identifier", ReplaceOnce(good, "[0, 0, 0, 0.5", "[0, 0, 7, 0.5")},
+      {"segment cut short", ReplaceOnce(good, "0, 1, 0]}", "0, 1]}")},
+      {"UserData Time a string", ReplaceOnce(good, "\"Time\": 0.5", "\"Time\": \"0.5\"")},
       {"too deep", std::string(40, '[') + std::string(40, ']')},
   };
 }
@@ -116,18 +110,18 @@ std::vector<BadFile> BadCsvFiles() {
   const std::string good = kCsv;
   return {
       {"empty", ""},
-      {"header not frame", Replace(good, "frame,", "time,")},
+      {"header not frame", ReplaceOnce(good, "frame,", "time,")},
       {"no curve column", "frame\n0\n1\n"},
-      {"empty id", Replace(good, ",ParamEyeLOpen", ",")},
-      {"duplicate id", Replace(good, "ParamEyeLOpen", "ParamMouthOpenY")},
-      {"quote in id", Replace(good, "ParamEyeLOpen", "Param\"Eye")},
-      {"empty line", Replace(good, "1,0.5,1\n", "\n1,0.5,1\n")},
-      {"extra field", Replace(good, "1,0.5,1\n", "1,0.5,1,7\n")},
-      {"missing field", Replace(good, "1,0.5,1\n", "1,0.5\n")},
-      {"frame out of order", Replace(good, "2,1,0\n", "5,1,0\n")},
-      {"invalid number", Replace(good, "1,0.5,1\n", "1,x,1\n")},
-      {"nan", Replace(good, "1,0.5,1\n", "1,nan,1\n")},
-      {"space around a number", Replace(good, "1,0.5,1\n", "1, 0.5,1\n")},
+      {"empty id", ReplaceOnce(good, ",ParamEyeLOpen", ",")},
+      {"duplicate id", ReplaceOnce(good, "ParamEyeLOpen", "ParamMouthOpenY")},
+      {"quote in id", ReplaceOnce(good, "ParamEyeLOpen", "Param\"Eye")},
+      {"empty line", ReplaceOnce(good, "1,0.5,1\n", "\n1,0.5,1\n")},
+      {"extra field", ReplaceOnce(good, "1,0.5,1\n", "1,0.5,1,7\n")},
+      {"missing field", ReplaceOnce(good, "1,0.5,1\n", "1,0.5\n")},
+      {"frame out of order", ReplaceOnce(good, "2,1,0\n", "5,1,0\n")},
+      {"invalid number", ReplaceOnce(good, "1,0.5,1\n", "1,x,1\n")},
+      {"nan", ReplaceOnce(good, "1,0.5,1\n", "1,nan,1\n")},
+      {"space around a number", ReplaceOnce(good, "1,0.5,1\n", "1, 0.5,1\n")},
       {"no rows", "frame,ParamMouthOpenY\n"},
   };
 }
@@ -164,9 +158,7 @@ TEST_F(FileBadRequestTest, BadBvhFilesGetTheReadersErrorNamingBvhText) {
     v1::RetimeSkeletalRequest request;
     request.set_bvh_text(file.text);
     v1::RetimeSkeletalResponse response;
-    grpc::ClientContext context;
-    SetTestDeadline(context);
-    const grpc::Status status = server().stub().RetimeSkeletal(&context, request, &response);
+    const grpc::Status status = CallRpc(server().stub(), request, &response);
     EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
     ExpectReaderError(status, formats::ParseBvh(file.text).status(), "bvh_text",
                       /*with_line=*/true);
@@ -189,14 +181,10 @@ void ExpectCurveFileErrors(InProcessServer& server, const std::vector<BadFile>& 
       curves.set_motion3_json(file.text);
       lip.set_motion3_json(file.text);
     }
-    grpc::ClientContext curves_context, lip_context;
-    SetTestDeadline(curves_context);
-    SetTestDeadline(lip_context);
     v1::RetimeCurvesResponse curves_response;
     v1::LipBlinkResponse lip_response;
-    const grpc::Status curves_status =
-        server.stub().RetimeCurves(&curves_context, curves, &curves_response);
-    const grpc::Status lip_status = server.stub().LipBlink(&lip_context, lip, &lip_response);
+    const grpc::Status curves_status = CallRpc(server.stub(), curves, &curves_response);
+    const grpc::Status lip_status = CallRpc(server.stub(), lip, &lip_response);
     EXPECT_NE(curves_status.error_code(), grpc::StatusCode::OK);
     ExpectReaderError(curves_status, reader, field, /*with_line=*/csv);
     ExpectReaderError(lip_status, reader, field, /*with_line=*/csv);
@@ -213,23 +201,19 @@ TEST_F(FileBadRequestTest, BadCsvFilesGetTheReadersErrorNamingCsvText) {
 
 // The untouched bases of the tables are good files: each case breaks exactly one thing.
 TEST_F(FileBadRequestTest, TheTablesBaseFilesAreAnswered) {
-  grpc::ClientContext a, b, c;
-  SetTestDeadline(a);
-  SetTestDeadline(b);
-  SetTestDeadline(c);
   v1::RetimeSkeletalRequest skeletal;
   skeletal.set_bvh_text(kBvh);
   v1::RetimeSkeletalResponse skeletal_response;
-  EXPECT_TRUE(server().stub().RetimeSkeletal(&a, skeletal, &skeletal_response).ok());
+  EXPECT_TRUE(CallRpc(server().stub(), skeletal, &skeletal_response).ok());
   v1::LipBlinkRequest lip;
   lip.set_motion3_json(kMotion3);
   v1::LipBlinkResponse lip_response;
-  const grpc::Status lip_status = server().stub().LipBlink(&b, lip, &lip_response);
+  const grpc::Status lip_status = CallRpc(server().stub(), lip, &lip_response);
   EXPECT_TRUE(lip_status.ok()) << lip_status.error_message();
   v1::RetimeCurvesRequest curves;
   curves.set_csv_text(kCsv);
   v1::RetimeCurvesResponse curves_response;
-  const grpc::Status curves_status = server().stub().RetimeCurves(&c, curves, &curves_response);
+  const grpc::Status curves_status = CallRpc(server().stub(), curves, &curves_response);
   EXPECT_TRUE(curves_status.ok()) << curves_status.error_message();
   EXPECT_FALSE(curves_response.csv_text().empty());
 }

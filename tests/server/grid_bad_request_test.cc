@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "koma/v1/retime.grpc.pb.h"
+#include "tests/server/bad_request_table.h"
 #include "tests/server/curves_request_builder.h"
 #include "tests/server/in_process_server.h"
 #include "tests/server/lip_blink_request_builder.h"
@@ -21,8 +22,10 @@
 namespace koma::server {
 namespace {
 
+using ::koma::testing::CallRpc;
+using ::koma::testing::ExpectRefused;
 using ::koma::testing::InProcessServer;
-using ::koma::testing::SetTestDeadline;
+using ::koma::testing::RowName;
 using ::koma::testing::SharedServerTest;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
@@ -92,23 +95,12 @@ class GridBadRequestTest : public SharedServerTest<GridBadRequestTest, BadGrid> 
   static server::ServerConfig SuiteConfig() { return InProcessServer::Config(1, kMaxValues); }
 };
 
-void ExpectStatus(const grpc::Status& status, const BadGrid& bad, const std::string& rpc) {
-  EXPECT_EQ(status.error_code(), bad.code) << rpc << ": " << status.error_message();
-  for (const std::string& part : bad.message) {
-    EXPECT_THAT(status.error_message(), HasSubstr(part)) << rpc;
-  }
-}
-
 TEST_P(GridBadRequestTest, RetimeCurvesAnswersCodeAndNamesTheFieldAndValue) {
   const BadGrid& bad = GetParam();
   v1::RetimeCurvesRequest request = koma::testing::MakeCurvesRequest();
   bad.set(*request.mutable_curves());
   if (bad.timing_fps) request.set_timing_fps(*bad.timing_fps);
-  grpc::ClientContext context;
-  SetTestDeadline(context);
-  v1::RetimeCurvesResponse response;
-  ExpectStatus(stub().RetimeCurves(&context, request, &response), bad, "RetimeCurves");
-  EXPECT_EQ(response.curves_size(), 0);
+  ExpectRefused(stub(), request, bad.code, bad.message, "RetimeCurves");
 }
 
 TEST_P(GridBadRequestTest, LipBlinkAnswersCodeAndNamesTheFieldAndValue) {
@@ -116,15 +108,11 @@ TEST_P(GridBadRequestTest, LipBlinkAnswersCodeAndNamesTheFieldAndValue) {
   v1::LipBlinkRequest request = koma::testing::MakeLipBlinkRequest();
   bad.set(*request.mutable_curves());
   if (bad.timing_fps) request.set_timing_fps(*bad.timing_fps);
-  grpc::ClientContext context;
-  SetTestDeadline(context);
-  v1::LipBlinkResponse response;
-  ExpectStatus(stub().LipBlink(&context, request, &response), bad, "LipBlink");
-  EXPECT_EQ(response.curves_size(), 0);
+  ExpectRefused(stub(), request, bad.code, bad.message, "LipBlink");
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, GridBadRequestTest, ::testing::ValuesIn(BadRequests()),
-                         [](const auto& param_info) { return param_info.param.name; });
+                         RowName());
 
 // The same clips are fine where the grid is not in the way: counted in source frames, or a
 // grid finer than the clip within the limit.
@@ -142,10 +130,8 @@ TEST(GridBadRequestTableTest, TheSameClipsAnswerWithoutTheGridOrWithinTheLimit) 
     v1::RetimeCurvesRequest curves = koma::testing::MakeCurvesRequest();
     cases[i].set(*curves.mutable_curves());
     curves.set_timing_fps(cases[i].timing_fps);
-    grpc::ClientContext context;
-    SetTestDeadline(context);
     v1::RetimeCurvesResponse response;
-    const grpc::Status status = server.stub().RetimeCurves(&context, curves, &response);
+    const grpc::Status status = CallRpc(server.stub(), curves, &response);
     ASSERT_TRUE(status.ok()) << "case " << i << ": " << status.error_message();
     if (cases[i].grid_frames == 0) {
       EXPECT_EQ(response.key_grid_frames_size(), 0) << i;
@@ -159,10 +145,8 @@ TEST(GridBadRequestTableTest, TheSameClipsAnswerWithoutTheGridOrWithinTheLimit) 
     v1::LipBlinkRequest lip = koma::testing::MakeLipBlinkRequest();
     cases[i].set(*lip.mutable_curves());
     lip.set_timing_fps(cases[i].timing_fps);
-    grpc::ClientContext lip_context;
-    SetTestDeadline(lip_context);
     v1::LipBlinkResponse lip_response;
-    const grpc::Status lip_status = server.stub().LipBlink(&lip_context, lip, &lip_response);
+    const grpc::Status lip_status = CallRpc(server.stub(), lip, &lip_response);
     ASSERT_TRUE(lip_status.ok()) << "case " << i << ": " << lip_status.error_message();
     EXPECT_EQ(lip_response.curves(0).values_size(), lip.curves().frame_count()) << i;
   }
@@ -175,24 +159,18 @@ TEST(GridBadRequestTableTest, SegmentOverrideOfAMergedSegmentIsInvalid) {
   v1::RetimeCurvesRequest request = koma::testing::MakeCurvesRequest();
   for (int f = 0; f <= 30; ++f) request.add_key_frames(f);
   request.add_segment_overrides()->set_segment(29);
-  grpc::ClientContext context;
-  SetTestDeadline(context);
   v1::RetimeCurvesResponse response;
-  grpc::Status status = server.stub().RetimeCurves(&context, request, &response);
+  grpc::Status status = CallRpc(server.stub(), request, &response);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
   EXPECT_THAT(status.error_message(),
               AllOf(HasSubstr("segment_overrides[0].segment: 29 is outside [0, 24)"),
                     HasSubstr("25 key poses")));
   // Counted in source frames the same override is valid; on the grid segment 23 is the last.
   request.set_timing_fps(0.0);
-  grpc::ClientContext source_context;
-  SetTestDeadline(source_context);
-  EXPECT_TRUE(server.stub().RetimeCurves(&source_context, request, &response).ok());
+  EXPECT_TRUE(CallRpc(server.stub(), request, &response).ok());
   request.clear_timing_fps();
   request.mutable_segment_overrides(0)->set_segment(23);
-  grpc::ClientContext last_context;
-  SetTestDeadline(last_context);
-  status = server.stub().RetimeCurves(&last_context, request, &response);
+  status = CallRpc(server.stub(), request, &response);
   ASSERT_TRUE(status.ok()) << status.error_message();
   EXPECT_EQ(response.key_grid_frames_size(), 25);
   EXPECT_EQ(response.key_frames_size(), 25);
@@ -213,10 +191,8 @@ TEST(GridBadRequestTableTest, SpeechThatVanishesOnTheGridDoesNotCrash) {
     speech->set_begin(begin);
     speech->set_end(begin + (begin == 11 ? 2 : 1));
   }
-  grpc::ClientContext context;
-  SetTestDeadline(context);
   v1::LipBlinkResponse response;
-  grpc::Status status = server.stub().LipBlink(&context, request, &response);
+  grpc::Status status = CallRpc(server.stub(), request, &response);
   ASSERT_TRUE(status.ok()) << status.error_message();
   ASSERT_EQ(response.mouths_size(), 1);
   ASSERT_EQ(response.mouths(0).speech_size(), 1);
@@ -227,9 +203,7 @@ TEST(GridBadRequestTableTest, SpeechThatVanishesOnTheGridDoesNotCrash) {
   // Every interval gone: still an answer, with no speech (the intervals were given, so none is
   // detected in their place) and the mouth as it came in.
   request.mutable_mouth()->mutable_speech(0)->set_end(12);  // [11, 12) -> [2, 2)
-  grpc::ClientContext gone_context;
-  SetTestDeadline(gone_context);
-  status = server.stub().LipBlink(&gone_context, request, &response);
+  status = CallRpc(server.stub(), request, &response);
   ASSERT_TRUE(status.ok()) << status.error_message();
   ASSERT_EQ(response.mouths_size(), 1);
   EXPECT_EQ(response.mouths(0).speech_size(), 0);

@@ -40,24 +40,7 @@ v1::RetimeCurvesRequest RandomCurvesRequest(SplitMix64& rng, double fps) {
       ::koma::testing::AddRandomKeyframes(rng, frames, 1, 12, 4, curve);
     }
   }
-  int keys = 0;
-  if (rng.OneIn(2)) {
-    for (int f = 0; f < frames; ++f) {
-      if (f == 0 || f == frames - 1 || rng.OneIn(7)) {
-        request.add_key_frames(f);
-        ++keys;
-      }
-    }
-  }
-  if (rng.OneIn(2)) request.set_frames_per_drawing(rng.Int(1, 5));
-  if (rng.OneIn(3)) request.set_tame(1.0 + rng.Unit());
-  if (rng.OneIn(3)) request.set_tsume(1.0 + rng.Unit());
-  for (int c = 0; c < curves; ++c) {
-    if (!rng.OneIn(4)) continue;
-    v1::CurveOverride* own = request.add_curve_overrides();
-    own->set_curve_id("P" + std::to_string(c));
-    own->set_frames_per_drawing(rng.Int(1, 6));
-  }
+  const int keys = ::koma::testing::AddRandomCurvesOptions(rng, 7, &request);
   for (int s = 0; s < std::max(1, keys - 1); ++s) {
     if (!rng.OneIn(3)) continue;
     v1::SegmentOverride* o = request.add_segment_overrides();

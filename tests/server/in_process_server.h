@@ -65,6 +65,44 @@ inline void SetTestDeadline(grpc::ClientContext& context, int seconds = 30) {
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(seconds));
 }
 
+// The answer type of each RPC, by its request type.
+template <typename Request>
+struct ResponseOfRpc;
+template <>
+struct ResponseOfRpc<v1::RetimeSkeletalRequest> {
+  using type = v1::RetimeSkeletalResponse;
+};
+template <>
+struct ResponseOfRpc<v1::RetimeCurvesRequest> {
+  using type = v1::RetimeCurvesResponse;
+};
+template <>
+struct ResponseOfRpc<v1::LipBlinkRequest> {
+  using type = v1::LipBlinkResponse;
+};
+template <typename Request>
+using ResponseOf = typename ResponseOfRpc<Request>::type;
+
+// One call of the RPC that takes `request`, with the test deadline.
+inline grpc::Status CallRpc(v1::Retime::Stub& stub, const v1::RetimeSkeletalRequest& request,
+                            v1::RetimeSkeletalResponse* response) {
+  grpc::ClientContext context;
+  SetTestDeadline(context);
+  return stub.RetimeSkeletal(&context, request, response);
+}
+inline grpc::Status CallRpc(v1::Retime::Stub& stub, const v1::RetimeCurvesRequest& request,
+                            v1::RetimeCurvesResponse* response) {
+  grpc::ClientContext context;
+  SetTestDeadline(context);
+  return stub.RetimeCurves(&context, request, response);
+}
+inline grpc::Status CallRpc(v1::Retime::Stub& stub, const v1::LipBlinkRequest& request,
+                            v1::LipBlinkResponse* response) {
+  grpc::ClientContext context;
+  SetTestDeadline(context);
+  return stub.LipBlink(&context, request, response);
+}
+
 // Sends `request_bytes` to `method` ("/koma.v1.Retime/RetimeCurves") as they are, through a
 // generic stub (nothing parsed or serialised on the client), and returns the call's status;
 // the raw bytes of the answer go to `answer` (empty unless OK).

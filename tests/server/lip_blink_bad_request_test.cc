@@ -3,13 +3,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <functional>
 #include <limits>
-#include <ostream>
 #include <string>
+#include <vector>
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
+#include "tests/server/bad_request_table.h"
 #include "tests/server/in_process_server.h"
 #include "tests/server/lip_blink_request_builder.h"
 
@@ -17,20 +17,9 @@ namespace koma::server {
 namespace {
 
 using ::koma::testing::InProcessServer;
-using ::koma::testing::SetTestDeadline;
-using ::koma::testing::SharedServerTest;
-using ::testing::HasSubstr;
+using BadLipBlink = ::koma::testing::BadRequest<v1::LipBlinkRequest>;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-struct BadLipBlink {
-  std::string name;
-  std::function<void(v1::LipBlinkRequest&)> mutate;
-  grpc::StatusCode code;
-  std::string message;
-
-  friend void PrintTo(const BadLipBlink& bad, std::ostream* os) { *os << bad.name; }
-};
 
 void AddInterval(google::protobuf::RepeatedPtrField<v1::FrameInterval>* list, int begin,
                  int end) {
@@ -146,28 +135,14 @@ std::vector<BadLipBlink> BadRequests() {
   };
 }
 
-class LipBlinkBadRequestTest : public SharedServerTest<LipBlinkBadRequestTest, BadLipBlink> {
+class LipBlinkBadRequestTest
+    : public koma::testing::BadRequestSuite<LipBlinkBadRequestTest, v1::LipBlinkRequest> {
  public:
   static server::ServerConfig SuiteConfig() { return InProcessServer::Config(1, 50'000); }
+  static v1::LipBlinkRequest ValidRequest() { return koma::testing::MakeLipBlinkRequest(); }
 };
 
-TEST_P(LipBlinkBadRequestTest, AnswersCodeAndNamesTheField) {
-  const BadLipBlink& bad = GetParam();
-  v1::LipBlinkRequest request = koma::testing::MakeLipBlinkRequest();
-  bad.mutate(request);
-  grpc::ClientContext context;
-  SetTestDeadline(context);
-  v1::LipBlinkResponse response;
-  const grpc::Status status = stub().LipBlink(&context, request, &response);
-  EXPECT_EQ(status.error_code(), bad.code) << status.error_message();
-  EXPECT_THAT(status.error_message(), HasSubstr(bad.message));
-  EXPECT_EQ(response.curves_size(), 0) << "a failed call carries no partial answer";
-}
-
-TEST(LipBlinkBadRequestTableTest, HasAtLeastTwentyRows) { EXPECT_GE(BadRequests().size(), 20u); }
-
-INSTANTIATE_TEST_SUITE_P(Table, LipBlinkBadRequestTest, ::testing::ValuesIn(BadRequests()),
-                         [](const auto& param_info) { return param_info.param.name; });
+KOMA_BAD_REQUEST_TABLE(LipBlinkBadRequestTest, LipBlinkBadRequestTableTest, BadRequests)
 
 }  // namespace
 }  // namespace koma::server

@@ -30,60 +30,16 @@
 #include "server/curve_convert.h"
 #include "server/lip_blink_request.h"
 #include "server/request_limits.h"
+#include "tests/testing/grid_rates.h"
 
 namespace koma::server {
 namespace {
 
 constexpr int kRequestsPerRate = 500;
 
-struct Rate {
-  int64_t num;
-  int64_t den;
-  int64_t p;  // source frames per grid frame = p / q
-  int64_t q;
-  int64_t t = 24;  // the grid, timing_fps (24: left unset in the request)
-  double fps() const { return static_cast<double>(num) / static_cast<double>(den); }
-  double ratio_error() const {
-    return std::fabs(static_cast<double>(p * t * den - q * num)) / static_cast<double>(q * num);
-  }
-  // Grid frame (or fractional time) g in source frames, as the grid computes it.
-  double SourceTime(double g) const {
-    return g * static_cast<double>(p) / static_cast<double>(q);
-  }
-  friend void PrintTo(const Rate& r, std::ostream* os) {
-    *os << r.num << "/" << r.den << " fps on " << r.t;
-  }
-};
-
-// And sources slower than the grid (12, 15, 23.976 fps): repainted grid frames may fall
-// between source frames.
-const Rate kRates[] = {{25, 1, 25, 24},  {30, 1, 5, 4},   {50, 1, 25, 12},
-                       {60, 1, 5, 2},    {100, 1, 25, 6}, {120, 1, 5, 1},
-                       {240, 1, 10, 1},  {2997, 100, 246, 197}, {12, 1, 1, 2},
-                       {15, 1, 5, 8},    {24000, 1001, 1000, 1001},
-                       // Other grids: 60 on 30, 50 and 30 on 12, 24 on 8.
-                       {60, 1, 2, 1, 30}, {50, 1, 25, 6, 12}, {30, 1, 5, 2, 12},
-                       {24, 1, 3, 1, 8}};
-
-// The grid frame nearest source frame k, ties to the earlier.
-int NearestGrid(const Rate& r, int64_t k) {
-  const int64_t g = (k * r.q) / r.p;
-  return static_cast<int>(2 * (k * r.q - g * r.p) > r.p ? g + 1 : g);
-}
-
-// floor(k * 24 / R), and its neighbour within the ratio's error of the boundary; <= last.
-std::vector<int> GridFramesOf(const Rate& r, int64_t k, int last) {
-  const int64_t num = k * r.t * r.den;
-  const int64_t g = num / r.num;
-  const double frac = static_cast<double>(num - g * r.num) / static_cast<double>(r.num);
-  const double tol = r.ratio_error() * static_cast<double>(num) / static_cast<double>(r.num);
-  std::vector<int> out;
-  if (frac < tol && g >= 1) out.push_back(static_cast<int>(g - 1));
-  out.push_back(static_cast<int>(g));
-  if (1.0 - frac < tol) out.push_back(static_cast<int>(g + 1));
-  for (int& f : out) f = std::min(f, last);
-  return out;
-}
+using Rate = ::koma::testing::GridRate;
+using ::koma::testing::GridFramesOf;
+using ::koma::testing::NearestGridFrame;
 
 // Disjoint sorted intervals within [0, frames]: some long, some a frame or two (which may
 // vanish on the grid).
@@ -230,7 +186,8 @@ Pair RandomPair(SplitMix64& rng, const Rate& r) {
   const auto snap = [&r, g](google::protobuf::RepeatedPtrField<v1::FrameInterval>* in) {
     google::protobuf::RepeatedPtrField<v1::FrameInterval> out;
     for (const v1::FrameInterval& i : *in) {
-      const int b = std::min(NearestGrid(r, i.begin()), g), e = std::min(NearestGrid(r, i.end()), g);
+      const int b = std::min(NearestGridFrame(r, i.begin()), g);
+      const int e = std::min(NearestGridFrame(r, i.end()), g);
       if (e <= b) continue;
       v1::FrameInterval* o = out.Add();
       o->set_begin(b);
@@ -396,12 +353,9 @@ TEST_P(LipBlinkGridPropertyTest, ConvertingAtRateEqualsConvertingTheGridSamplesE
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Rates, LipBlinkGridPropertyTest, ::testing::ValuesIn(kRates), [](const auto& param_info) {
-      const Rate& r = param_info.param;
-      return "Fps" + std::to_string(r.num) + (r.den == 1 ? "" : "_" + std::to_string(r.den)) +
-             (r.t == 24 ? "" : "_On" + std::to_string(r.t));
-    });
+INSTANTIATE_TEST_SUITE_P(Rates, LipBlinkGridPropertyTest,
+                         ::testing::ValuesIn(::koma::testing::GridRates()),
+                         ::koma::testing::GridRateName());
 
 }  // namespace
 }  // namespace koma::server

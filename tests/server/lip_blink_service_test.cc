@@ -20,20 +20,15 @@
 namespace koma::server {
 namespace {
 
-using ::koma::testing::Fnv1a64;
+using ::koma::testing::CallRpc;
 
-grpc::Status Call(v1::Retime::Stub& stub, const v1::LipBlinkRequest& request,
-                  v1::LipBlinkResponse* response) {
-  grpc::ClientContext context;
-  koma::testing::SetTestDeadline(context);
-  return stub.LipBlink(&context, request, response);
-}
+using ::koma::testing::Fnv1a64;
 
 TEST(LipBlinkServiceTest, ConvertsMouthAndLinkedEyesAndLeavesOtherCurvesOut) {
   koma::testing::InProcessServer server;
   v1::Retime::Stub& stub = server.stub();
   v1::LipBlinkResponse response;
-  ASSERT_TRUE(Call(stub, koma::testing::MakeLipBlinkRequest(), &response).ok());
+  ASSERT_TRUE(CallRpc(stub, koma::testing::MakeLipBlinkRequest(), &response).ok());
 
   ASSERT_EQ(response.mouths_size(), 1);
   ASSERT_EQ(response.eyes_size(), 2);
@@ -82,7 +77,7 @@ TEST(LipBlinkServiceTest, SameSeedSameBytesAcrossRunsAndThreadCounts) {
     for (size_t i = 0; i < bytes.size(); ++i) {
       clients.emplace_back([&, i] {
         v1::LipBlinkResponse response;
-        if (Call(stub, request, &response).ok()) bytes[i] = response.SerializeAsString();
+        if (CallRpc(stub, request, &response).ok()) bytes[i] = response.SerializeAsString();
       });
     }
     for (std::thread& client : clients) client.join();
@@ -106,16 +101,16 @@ TEST(LipBlinkServiceTest, FilmGridAnswersArePinned) {
   request.mutable_eyes()->mutable_auto_blink()->set_enabled(true);
   request.mutable_eyes()->mutable_auto_blink()->set_mean_interval_s(0.5);
   v1::LipBlinkResponse grid;
-  ASSERT_TRUE(Call(stub, request, &grid).ok());
+  ASSERT_TRUE(CallRpc(stub, request, &grid).ok());
   EXPECT_EQ(grid.timing_fps(), 24.0);
   EXPECT_EQ(Fnv1a64(grid.SerializeAsString()), 0xc7235ecc3e5e0ccfULL)
       << std::hex << Fnv1a64(grid.SerializeAsString());
   request.mutable_curves()->set_fps(24.0);
   v1::LipBlinkResponse at24;
-  ASSERT_TRUE(Call(stub, request, &at24).ok());
+  ASSERT_TRUE(CallRpc(stub, request, &at24).ok());
   request.set_timing_fps(0.0);
   v1::LipBlinkResponse no_grid;
-  ASSERT_TRUE(Call(stub, request, &no_grid).ok());
+  ASSERT_TRUE(CallRpc(stub, request, &no_grid).ok());
   EXPECT_EQ(at24.timing_fps(), 0.0);
   EXPECT_EQ(at24.SerializeAsString(), no_grid.SerializeAsString());
 }
@@ -128,7 +123,7 @@ TEST(LipBlinkServiceTest, AnotherSeedGivesAnotherMouth) {
     v1::LipBlinkRequest request = koma::testing::MakeLipBlinkRequest();
     request.set_seed(seed);
     v1::LipBlinkResponse response;
-    ASSERT_TRUE(Call(stub, request, &response).ok());
+    ASSERT_TRUE(CallRpc(stub, request, &response).ok());
     std::string sequence;
     for (const v1::MouthHold& hold : response.mouths(0).holds())
       sequence += char('0' + hold.shape());

@@ -8,7 +8,6 @@
 #include <prometheus/registry.h>
 #include <prometheus/text_serializer.h>
 
-#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -17,10 +16,13 @@
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/metrics_endpoint.h"
 #include "server/server.h"
+#include "tests/server/in_process_server.h"
 #include "tests/server/request_builder.h"
 
 namespace koma::server {
 namespace {
+
+using ::koma::testing::CallRpc;
 
 using ::testing::HasSubstr;
 using ::testing::SizeIs;
@@ -180,13 +182,6 @@ std::unique_ptr<KomaServer> StartInProcess(std::shared_ptr<prometheus::Registry>
   return KomaServer::Start(config).value();
 }
 
-grpc::Status Call(v1::Retime::Stub& stub, const v1::RetimeSkeletalRequest& request,
-                  v1::RetimeSkeletalResponse* response) {
-  grpc::ClientContext context;
-  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
-  return stub.RetimeSkeletal(&context, request, response);
-}
-
 TEST(ServiceMetricsTest, CountsEveryCallOfTheService) {
   auto registry = std::make_shared<prometheus::Registry>();
   auto server = StartInProcess(registry);
@@ -197,11 +192,11 @@ TEST(ServiceMetricsTest, CountsEveryCallOfTheService) {
   double response_bytes = 0;
   for (int i = 0; i < 2; ++i) {
     v1::RetimeSkeletalResponse response;
-    ASSERT_TRUE(Call(*stub, good, &response).ok());
+    ASSERT_TRUE(CallRpc(*stub, good, &response).ok());
     response_bytes += static_cast<double>(response.ByteSizeLong());
   }
   v1::RetimeSkeletalResponse response;
-  EXPECT_EQ(Call(*stub, bad, &response).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(CallRpc(*stub, bad, &response).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
 
   // The metrics are updated before Finish, so they are complete when the client returns.
   const std::map<std::string, std::string> skeletal = {{"grpc_method", "RetimeSkeletal"}};
@@ -226,8 +221,8 @@ TEST(ServiceMetricsTest, MetricsDoNotChangeTheResponseBytes) {
   auto without = StartInProcess(nullptr);
   const v1::RetimeSkeletalRequest request = koma::testing::MakeSkeletalRequest(40);
   v1::RetimeSkeletalResponse a, b;
-  ASSERT_TRUE(Call(*v1::Retime::NewStub(with->InProcessChannel()), request, &a).ok());
-  ASSERT_TRUE(Call(*v1::Retime::NewStub(without->InProcessChannel()), request, &b).ok());
+  ASSERT_TRUE(CallRpc(*v1::Retime::NewStub(with->InProcessChannel()), request, &a).ok());
+  ASSERT_TRUE(CallRpc(*v1::Retime::NewStub(without->InProcessChannel()), request, &b).ok());
   EXPECT_EQ(a.SerializeAsString(), b.SerializeAsString());
 }
 

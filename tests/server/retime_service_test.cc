@@ -10,10 +10,13 @@
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
+#include "tests/server/in_process_server.h"
 #include "tests/server/request_builder.h"
 
 namespace koma::server {
 namespace {
+
+using ::koma::testing::CallRpc;
 
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
@@ -26,19 +29,12 @@ std::unique_ptr<KomaServer> StartInProcess(int worker_threads, int max_message_b
   return KomaServer::Start(config).value();
 }
 
-grpc::Status Call(v1::Retime::Stub& stub, const v1::RetimeSkeletalRequest& request,
-                  v1::RetimeSkeletalResponse* response) {
-  grpc::ClientContext context;
-  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
-  return stub.RetimeSkeletal(&context, request, response);
-}
-
 TEST(RetimeServiceTest, RetimesAndCopiesSourceFramesVerbatim) {
   auto server = StartInProcess(2);
   auto stub = v1::Retime::NewStub(server->InProcessChannel());
   const v1::RetimeSkeletalRequest request = koma::testing::MakeSkeletalRequest(30);
   v1::RetimeSkeletalResponse response;
-  ASSERT_TRUE(Call(*stub, request, &response).ok());
+  ASSERT_TRUE(CallRpc(*stub, request, &response).ok());
 
   ASSERT_EQ(response.source_frames_size(), 30);  // keep_length by default
   EXPECT_EQ(response.source_frames(0), 0);
@@ -73,7 +69,7 @@ TEST(RetimeServiceTest, ExplicitParametersAndNoMotion) {
   request.set_keep_length(false);
   request.set_return_motion(false);
   v1::RetimeSkeletalResponse response;
-  ASSERT_TRUE(Call(*stub, request, &response).ok());
+  ASSERT_TRUE(CallRpc(*stub, request, &response).ok());
   EXPECT_EQ(response.source_frames_size(), 10);  // 12 - 2 omissions
   EXPECT_EQ(response.deleted_frames_size(), 2);
   EXPECT_EQ(response.holds_applied(), 0);
@@ -93,7 +89,7 @@ TEST(RetimeServiceTest, PositionsFormAnswersInPositionsForm) {
   request.set_omissions(1);
   request.set_holds(0);
   v1::RetimeSkeletalResponse response;
-  ASSERT_TRUE(Call(*stub, request, &response).ok());
+  ASSERT_TRUE(CallRpc(*stub, request, &response).ok());
   // The fastest inner frame is the last inner one (speed grows with f): frame 6 goes.
   EXPECT_THAT(response.deleted_frames(), ElementsAre(6));
   ASSERT_TRUE(response.motion().has_positions());
@@ -111,7 +107,7 @@ TEST(RetimeServiceTest, SameRequestSameBytesWhateverTheThreadCount) {
     for (size_t i = 0; i < bytes.size(); ++i) {
       clients.emplace_back([&, i] {
         v1::RetimeSkeletalResponse response;
-        if (Call(*stub, request, &response).ok()) bytes[i] = response.SerializeAsString();
+        if (CallRpc(*stub, request, &response).ok()) bytes[i] = response.SerializeAsString();
       });
     }
     for (std::thread& client : clients) client.join();
@@ -158,7 +154,7 @@ TEST(RetimeServiceTest, RequestOverMaxMessageBytesIsResourceExhausted) {
   auto stub = v1::Retime::NewStub(server->InProcessChannel());
   const v1::RetimeSkeletalRequest request = koma::testing::MakeSkeletalRequest(1000);  // ~96 KB
   v1::RetimeSkeletalResponse response;
-  EXPECT_EQ(Call(*stub, request, &response).error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_EQ(CallRpc(*stub, request, &response).error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
 }
 
 TEST(RetimeServiceTest, HealthIsServingOverLoopbackThenGoneAfterShutdown) {

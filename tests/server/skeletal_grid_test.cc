@@ -12,6 +12,7 @@
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
+#include "tests/server/bad_request_table.h"
 #include "tests/server/in_process_server.h"
 #include "tests/server/request_builder.h"
 
@@ -110,17 +111,11 @@ TEST_P(BadGridRequestTest, AnswersCodeAndNamesTheField) {
   const BadGridRequest& bad = GetParam();
   v1::RetimeSkeletalRequest request = MakeRequestAt(120.0, bad.frames);
   bad.mutate(request);
-  grpc::ClientContext context;
-  SetTestDeadline(context);
-  v1::RetimeSkeletalResponse response;
-  const grpc::Status status = stub().RetimeSkeletal(&context, request, &response);
-  EXPECT_EQ(status.error_code(), bad.code) << status.error_message();
-  EXPECT_THAT(status.error_message(), HasSubstr(bad.message));
-  EXPECT_EQ(response.source_frames_size(), 0) << "a failed call carries no partial answer";
+  koma::testing::ExpectRefused(stub(), request, bad.code, {bad.message});
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, BadGridRequestTest, ::testing::ValuesIn(BadGridRequests()),
-                         [](const auto& param_info) { return param_info.param.name; });
+                         koma::testing::RowName());
 
 TEST(SkeletalGridLimitTest, VastUpsamplingIsRefusedByTheValueLimitNotWrapped) {
   // 100000 frames 1000 s apart are 2.4e9 grid frames, more than an int holds: the count
