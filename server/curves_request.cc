@@ -64,13 +64,8 @@ KomaUchiOptions ConvertOptions(const v1::RetimeCurvesRequest& request) {
 absl::Status CheckGridSize(const CurveSet& set, double timing_fps, const RequestLimits& limits) {
   const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, timing_fps);
   if (!grid) return absl::OkStatus();
-  const int64_t grid_frames = grid->GridFrameCount(set.frame_count);
-  const int64_t work = grid_frames * static_cast<int64_t>(set.curves.size());
-  if (work <= limits.max_values) return absl::OkStatus();
-  return absl::ResourceExhaustedError(
-      absl::StrCat("curves: ", grid_frames, " frames on the ", timing_fps,
-                   " fps grid (timing_fps) x ", set.curves.size(), " curves = ", work,
-                   " exceeds the server limit --max_values=", limits.max_values));
+  return CheckGridValues("curves", grid->GridFrameCount(set.frame_count), timing_fps,
+                         static_cast<int64_t>(set.curves.size()), "curves", limits);
 }
 
 void FillTiming(const DrawingTiming& timing, v1::DrawingTiming* out) {

@@ -124,14 +124,9 @@ absl::Status ConvertGrid(const v1::LipBlinkRequest& request, const RequestLimits
                      " fps film grid (timing_fps); send "
                      "a longer clip, or timing_fps: 0 to count in source frames"));
   }
-  const int64_t work = static_cast<int64_t>(frames) *
-                       static_cast<int64_t>(job->mouth_curves.size() + job->eye_curves.size());
-  if (work > limits.max_values) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat("curves: ", frames, " frames on the ", timing_fps, " fps grid (timing_fps) x ",
-                     job->mouth_curves.size() + job->eye_curves.size(), " curves = ", work,
-                     " exceeds the server limit --max_values=", limits.max_values));
-  }
+  KOMA_RETURN_IF_ERROR(CheckGridValues(
+      "curves", frames, timing_fps,
+      static_cast<int64_t>(job->mouth_curves.size() + job->eye_curves.size()), "curves", limits));
   job->grid_frames = frames;
   job->mouth.speech = IntervalsOnGrid(job->mouth.speech, *job->grid, frames);
   job->eyes.auto_blink.keep = IntervalsOnGrid(job->eyes.auto_blink.keep, *job->grid, frames);

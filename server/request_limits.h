@@ -4,6 +4,10 @@
 
 #include <cstdint>
 
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/string_view.h"
+
 namespace koma::server {
 
 struct RequestLimits {
@@ -21,6 +25,21 @@ struct RequestLimits {
   // 2 x kFramesPerFkThread frames, core/forward_kinematics.h); 1 = the calling thread only.
   int threads_per_call = 1;
 };
+
+// With a film grid, the work is counted in grid frames: RESOURCE_EXHAUSTED when `grid_frames`
+// x `per_frame` (`unit`: "curves", "values per frame") is over --max_values, naming the
+// request part `subject` ("curves: 300 frames on the 24 fps grid (timing_fps) x 3 curves = 900
+// exceeds the server limit --max_values=500"). One check for the three RPCs.
+inline absl::Status CheckGridValues(absl::string_view subject, int64_t grid_frames,
+                                    double timing_fps, int64_t per_frame, absl::string_view unit,
+                                    const RequestLimits& limits) {
+  const int64_t work = grid_frames * per_frame;
+  if (work <= limits.max_values) return absl::OkStatus();
+  return absl::ResourceExhaustedError(
+      absl::StrCat(subject, ": ", grid_frames, " frames on the ", timing_fps,
+                   " fps grid (timing_fps) x ", per_frame, " ", unit, " = ", work,
+                   " exceeds the server limit --max_values=", limits.max_values));
+}
 
 }  // namespace koma::server
 

@@ -183,14 +183,8 @@ absl::Status ConvertGrid(const v1::RetimeSkeletalRequest& request, int64_t work_
         " fps film grid (timing_fps); send a longer clip, or timing_fps: 0 to count "
         "in source frames"));
   }
-  const int64_t work = static_cast<int64_t>(grid_frames) * work_per_frame;
-  if (work > limits.max_values) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat("motion: ", grid_frames, " frames on the ", timing_fps,
-                     " fps grid (timing_fps) x ", work_per_frame, " values per frame = ", work,
-                     " exceeds the server limit --max_values=", limits.max_values));
-  }
-  return absl::OkStatus();
+  return CheckGridValues("motion", grid_frames, timing_fps, work_per_frame, "values per frame",
+                         limits);
 }
 
 absl::StatusOr<RetimeOptions> ConvertRetimeOptions(const v1::RetimeSkeletalRequest& request,
