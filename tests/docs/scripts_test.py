@@ -7,8 +7,8 @@ that starts with `./scripts/` is either
 - a line of .ci/run, which CI runs on a fresh clone after every session (the README's test
   command: running it here would run this test again), checked to be there word for word; or
 - run as written from REPO_ROOT through bash, with KOMA_BUILD_DIR=BUILD_DIR (the build this
-  test belongs to: the scripts' build step then finds nothing to do) and KOMA_OUT_DIR in a
-  scratch folder, bounded by COMMAND_TIMEOUT_S. It must exit 0; for run-sample.sh every file it
+  test belongs to: the scripts' build step then finds nothing to do), KOMA_OUT_DIR in a
+  scratch folder and KOMA_NO_PTH=1 (the user's Python site is left alone), bounded by COMMAND_TIMEOUT_S. It must exit 0; for run-sample.sh every file it
   says it writes must exist and be non-empty, and the server must have stopped cleanly.
 Fails (exit 1) on any command that fails, or when no command was found.
 
@@ -70,7 +70,9 @@ def main():
                     print(f"{where}: run by .ci/run (CI)")
                     continue
                 out = os.path.join(scratch, f"out{ran}")
-                env = dict(os.environ, KOMA_BUILD_DIR=build, KOMA_OUT_DIR=out)
+                # KOMA_NO_PTH: the build step leaves the user's Python site alone (a test
+                # must not repoint koma.pth at whatever build folder it runs in).
+                env = dict(os.environ, KOMA_BUILD_DIR=build, KOMA_OUT_DIR=out, KOMA_NO_PTH="1")
                 try:
                     result = subprocess.run(["bash", "-o", "pipefail", "-c", command], cwd=root,
                                             env=env, stdout=subprocess.PIPE,
