@@ -2,11 +2,9 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <set>
 
 #include "absl/strings/match.h"
@@ -15,6 +13,7 @@
 #include "client/cli_options.h"
 #include "client/command_flags.h"
 #include "client/command_output.h"
+#include "client/config_file.h"
 #include "client/flag_values.h"
 #include "koma/version.h"
 
@@ -45,69 +44,6 @@ void AddGlobalOptions(CLI::App& app, TlsFiles& tls) {
       ->type_name("FILE");
   app.set_version_flag("--version", std::string("koma ") + kVersion,
                        "print the version (koma MAJOR.MINOR.PATCH) and exit");
-}
-
-// "--name" for every long name of `cmd`'s options (with the negated forms).
-std::vector<std::string> LongNames(const CLI::App* cmd) {
-  std::vector<std::string> names;
-  for (const CLI::Option* option : cmd->get_options()) {
-    for (const std::string& name : option->get_lnames()) names.push_back("--" + name);
-    for (const std::string& name : option->get_fnames()) {
-      if (!absl::StartsWith(name, "--") && name.size() > 1) continue;
-      names.push_back(absl::StartsWith(name, "--") ? name : "--" + name);
-    }
-  }
-  std::sort(names.begin(), names.end());
-  names.erase(std::unique(names.begin(), names.end()), names.end());
-  return names;
-}
-
-std::string DidYouMean(const std::string& typed, const std::vector<std::string>& candidates) {
-  const std::string close = ClosestMatch(typed, candidates);
-  return close.empty() ? "" : absl::StrCat("; did you mean ", close, "?");
-}
-
-// The --config file (or $KOMA_CONFIG): readable, and every key an option of its section's
-// command (CLI11 would ignore a misspelt key in a command's section). -1 when fine, else the
-// exit code after printing.
-int CheckConfigFile(const CLI::App& app, const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
-    return PrintUsageError("koma",
-                           absl::StrCat("--config ", path, ": cannot read: ", std::strerror(errno)),
-                           "koma --help");
-  }
-  std::vector<CLI::ConfigItem> items;
-  try {
-    items = CLI::ConfigTOML().from_config(in);
-  } catch (const CLI::ParseError& e) {
-    return PrintUsageError("koma", absl::StrCat("--config ", path, ": ", e.what()), "koma --help");
-  }
-  for (const CLI::ConfigItem& item : items) {
-    if (item.name == "++" || item.name == "--") continue;
-    const CLI::App* owner = &app;
-    std::string section = "top level";
-    if (!item.parents.empty()) {
-      section = "[" + item.parents[0] + "]";
-      if (std::find(CommandNames().begin(), CommandNames().end(), item.parents[0]) ==
-          CommandNames().end()) {
-        return PrintUsageError("koma",
-                               absl::StrCat("--config ", path, ": unknown section ", section,
-                                            DidYouMean(item.parents[0], CommandNames())),
-                               "koma --help");
-      }
-      owner = app.get_subcommand(item.parents[0]);
-    }
-    std::vector<std::string> keys;
-    for (const std::string& name : LongNames(owner)) keys.push_back(name.substr(2));
-    if (item.parents.size() > 1 || std::find(keys.begin(), keys.end(), item.name) == keys.end()) {
-      return PrintUsageError("koma",
-                             absl::StrCat("--config ", path, ": ", section, " ", item.name,
-                                          ": unknown option", DidYouMean(item.name, keys)),
-                             "koma --help");
-    }
-  }
-  return -1;
 }
 
 // koma's checks before CLI11's: a missing or unknown command, an unknown option. Returns -1
@@ -170,13 +106,8 @@ int PreCheck(const CLI::App& app, const std::vector<std::string>& args, std::str
   }
   *command = typed;
   *command_index = i;
-  std::string config;
-  for (size_t j = 1; j < args.size(); ++j) {
-    if (args[j] == "--config" && j + 1 < args.size()) config = args[j + 1];
-    if (absl::StartsWith(args[j], "--config=")) config = args[j].substr(9);
-  }
-  if (!config.empty()) {
-    if (int code = CheckConfigFile(app, config); code >= 0) return code;
+  if (const std::string config = ConfigFilePath(args); !config.empty()) {
+    if (int code = CheckConfigFile(app, app, config, "koma"); code >= 0) return code;
   }
   const CLI::App* sub = app.get_subcommand(typed);
   std::vector<std::string> known = LongNames(sub);

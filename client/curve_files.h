@@ -42,8 +42,7 @@ struct CurveInput : convert::CurveInput {
 // motion3.json). A BVH file is refused as such ("x.bvh is a BVH file, ..."), naming
 // `command`. Errors name the file ("standard input" for "-").
 absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps,
-                                          CurveFormat format = CurveFormat::kAuto,
-                                          absl::string_view command = "curves");
+                                          CurveFormat format, absl::string_view command);
 
 // The format `path` is written in: `format` when not kAuto, else *.csv is CSV, "-" the
 // input's format and any other name motion3.json. INVALID_ARGUMENT naming the flag when that

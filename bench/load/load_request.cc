@@ -88,7 +88,7 @@ absl::StatusOr<LoadRequest> FromFile(const LoadOptions& o) {
                                        clip->skeleton.joints.size(), " joints)");
     return request;
   }
-  auto input = client::ReadCurveInput(o.input, o.csv_fps);
+  auto input = client::ReadCurveInput(o.input, o.csv_fps, client::CurveFormat::kAuto, o.rpc);
   if (!input.ok()) return input.status();
   request.description = absl::StrCat(o.input, " (", input->curves.curves.size(), " curves x ",
                                      input->curves.frame_count, " frames)");

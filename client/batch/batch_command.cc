@@ -30,6 +30,7 @@
 #include "client/channel.h"
 #include "client/cli_options.h"
 #include "client/command_flags.h"
+#include "client/config_file.h"
 #include "client/files.h"
 
 namespace koma::client::batch {
@@ -307,11 +308,39 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
 
 }  // namespace
 
-int ParseBatchCommandLine(const std::vector<std::string>& argv, BatchCommandLine* out) {
+// The --config file's [skeletal] section is `koma batch skeletal`'s as it is `koma
+// skeletal`'s: CLI11 looks a section up among the subcommands of the app that reads the
+// file, which here sit under "batch".
+class BatchConfig final : public CLI::ConfigTOML {
+ public:
+  std::vector<CLI::ConfigItem> from_config(std::istream& in) const override {
+    std::vector<CLI::ConfigItem> read = CLI::ConfigTOML::from_config(in);
+    for (CLI::ConfigItem& item : read) {
+      if (!item.parents.empty()) item.parents.insert(item.parents.begin(), "batch");
+    }
+    return read;
+  }
+};
+
+int ParseBatchCommandLine(const std::vector<std::string>& command_line, BatchCommandLine* out) {
   BatchCommandArgs& args = out->args;
   CLI::App app{"koma batch: retime many clips over every server given", "koma"};
   app.fallthrough();  // the TLS options may stand anywhere
   AddTlsFlags(app, args.tls);
+  // Studio defaults, as for the single-file commands (client/config_file.h): $KOMA_CONFIG
+  // unless the line names a file; flags on the line win.
+  std::vector<std::string> argv = command_line;
+  const std::string config = ConfigFilePath(argv);
+  if (!config.empty() && std::find_if(argv.begin(), argv.end(), [](const std::string& a) {
+                           return a == "--config" || absl::StartsWith(a, "--config=");
+                         }) == argv.end()) {
+    argv.insert(argv.begin() + 1, {"--config", config});
+  }
+  app.set_config("--config", "",
+                 "TOML file of defaults: the [skeletal], [curves] and [lipblink] sections of "
+                 "koma's --config (also $KOMA_CONFIG); command-line flags win")
+      ->type_name("FILE");
+  app.config_formatter(std::make_shared<BatchConfig>());
   CLI::App* batch = app.add_subcommand(
       "batch",
       "Retime many clips: files, folders (searched by extension) or @LIST files, outputs "
@@ -320,9 +349,15 @@ int ParseBatchCommandLine(const std::vector<std::string>& argv, BatchCommandLine
   batch->require_subcommand(1);
   args.skeletal.server = args.curves.server = args.lip_blink.server = DefaultServer();
   std::map<std::string, std::pair<CLI::App*, std::set<const CLI::Option*>>> commands;
-  for (CLI::App* cmd : {AddSkeletalCommand(*batch, args.skeletal),
-                        AddCurvesCommand(*batch, args.curves),
-                        AddLipBlinkCommand(*batch, args.lip_blink)}) {
+  const std::vector<CLI::App*> rpcs{AddSkeletalCommand(*batch, args.skeletal),
+                                    AddCurvesCommand(*batch, args.curves),
+                                    AddLipBlinkCommand(*batch, args.lip_blink)};
+  // Checked before the batch options join: the file's keys are the single-file commands'
+  // options, so a file koma batch accepts, koma skeletal accepts too.
+  if (!config.empty()) {
+    if (const int code = CheckConfigFile(app, *batch, config, "koma batch"); code >= 0) return code;
+  }
+  for (CLI::App* cmd : rpcs) {
     cmd->fallthrough();
     commands[cmd->get_name()] = {cmd, AddBatchOptions(cmd, args)};
   }
@@ -368,7 +403,7 @@ int RunIfBatch(int argc, char** argv) {
   int i = 1;
   while (i < argc && argv[i][0] == '-') {
     const std::string arg = argv[i];
-    if (arg == "--tls-ca" || arg == "--tls-cert" || arg == "--tls-key") ++i;
+    if (arg == "--tls-ca" || arg == "--tls-cert" || arg == "--tls-key" || arg == "--config") ++i;
     ++i;
   }
   if (i >= argc || std::string(argv[i]) != "batch") return -1;

@@ -110,7 +110,8 @@ class CurvesRpc final : public Rpc {
   explicit CurvesRpc(const CurvesArgs& args) : args_(args) {}
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
-    absl::StatusOr<CurveInput> input = ReadCurveInput(item.input, args_.csv_fps);
+    absl::StatusOr<CurveInput> input =
+        ReadCurveInput(item.input, args_.csv_fps, CurveFormat::kAuto, "curves");
     if (!input.ok()) return input.status();
     absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args_, input->curves);
     if (!request.ok()) return WithPath(item, request.status());
@@ -154,7 +155,8 @@ class LipBlinkRpc final : public Rpc {
   explicit LipBlinkRpc(const LipBlinkArgs& args) : args_(args) {}
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
-    absl::StatusOr<CurveInput> input = ReadCurveInput(item.input, args_.csv_fps);
+    absl::StatusOr<CurveInput> input =
+        ReadCurveInput(item.input, args_.csv_fps, CurveFormat::kAuto, "lipblink");
     if (!input.ok()) return input.status();
     return std::make_unique<LipBlinkClipCall>(args_, *std::move(input));
   }

@@ -238,13 +238,15 @@ absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(const std::string&
     return std::unique_ptr<Message>(new v1::RetimeSkeletalRequest(*r));
   }
   if (line.command == "curves") {
-    absl::StatusOr<CurveInput> file = ReadCurveInput(line.curves.input, line.curves.csv_fps);
+    absl::StatusOr<CurveInput> file = ReadCurveInput(line.curves.input, line.curves.csv_fps,
+                                                     CurveFormat::kAuto, "curves");
     if (!file.ok()) return file.status();
     absl::StatusOr<v1::RetimeCurvesRequest> r = BuildCurvesFileRequest(line.curves, *file);
     if (!r.ok()) return r.status();
     return std::unique_ptr<Message>(new v1::RetimeCurvesRequest(*r));
   }
-  absl::StatusOr<CurveInput> file = ReadCurveInput(line.lip_blink.input, line.lip_blink.csv_fps);
+  absl::StatusOr<CurveInput> file = ReadCurveInput(line.lip_blink.input, line.lip_blink.csv_fps,
+                                                   CurveFormat::kAuto, "lipblink");
   if (!file.ok()) return file.status();
   return std::unique_ptr<Message>(
       new v1::LipBlinkRequest(BuildLipBlinkFileRequest(line.lip_blink, *file)));

@@ -163,6 +163,13 @@ MISUSE = [
      "koma: --config {W}/section.toml: unknown section [skeletl]; did you mean skeletal?"),
     (["--config", "{W}/none.toml", "skeletal", BVH, "-o", "{W}/o.bvh"], 2,
      "koma: --config {W}/none.toml: cannot read: No such file or directory"),
+    (["--config", "{W}/typo.toml", "batch", "skeletal", BVH, "-o", "{W}/b"], 2,
+     "koma batch: --config {W}/typo.toml: [skeletal] omisions: unknown option; did you mean "
+     "omissions?"),
+    (["batch", "curves", ARM, "-o", "{W}/b", "--config", "{W}/section.toml"], 2,
+     "koma batch: --config {W}/section.toml: unknown section [skeletl]; did you mean skeletal?"),
+    (["batch", "skeletal", BVH, "-o", "{W}/b", "--config={W}/none.toml"], 2,
+     "koma batch: --config {W}/none.toml: cannot read: No such file or directory"),
     (["--tls-cert", "{W}/none.pem", "health"], 2,
      "koma: --tls-cert and --tls-key: give both or neither"),
 ]
@@ -338,6 +345,30 @@ check(settings(base + ["--server", target, "--preset", "snappy"], env=env) == (6
 check(settings(base + ["--server", target, "--preset", "snappy", "--max-hold", "2"], env=env)
       == (6, 2), "flags over preset")
 check(settings(base + ["--preset=subtle", "--server", target]) == (2, 2), "subtle")
+
+# koma batch reads the same file: its [skeletal] section is `koma batch skeletal`'s, flags on
+# the line win, and each output is the single command's with those values.
+def same_bytes(a, b):
+    with open(a, "rb") as fa, open(b, "rb") as fb:
+        return fa.read() == fb.read()
+for omit, hold in ((5, 1), (5, 2)):
+    code, _, err = run(["skeletal", BVH, "-o", w(f"ref{omit}{hold}.bvh"), "--omit", str(omit),
+                        "--max-hold", str(hold), "--server", target])
+    check(code == 0, err)
+for name, args, env, ref in (
+        ("batch --config", ["--config", w("koma.toml")], None, "ref51.bvh"),
+        ("batch $KOMA_CONFIG", [], dict(os.environ, KOMA_CONFIG=w("koma.toml")), "ref51.bvh"),
+        ("batch flags over config", ["--max-hold", "2", "--config", w("koma.toml")], None,
+         "ref52.bvh")):
+    out_dir = w(name.replace(" ", "_").replace("$", ""))
+    code, _, err = run(["batch", "skeletal", BVH, "-o", out_dir, "--server", target, "--quiet"]
+                       + args, env=env)
+    check(code == 0, f"{name}: {err}")
+    check(same_bytes(os.path.join(out_dir, "pitch.bvh"), w(ref)), f"{name}: not {ref}'s bytes")
+# A BVH given to batch lipblink is named as lipblink's mistake, not curves'.
+code, _, err = run(["batch", "lipblink", BVH, "-o", w("bl"), "--server", target])
+check(code == 1 and "is a BVH file, not motion3.json or CSV: `koma lipblink` reads" in err,
+      f"batch lipblink on BVH: {code} {err}")
 
 # health
 h, _ = summary(["health", "--server", target])
