@@ -3,7 +3,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <set>
 
@@ -224,14 +223,7 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
                      "progress, retries and skipping of finished work (koma batch --help)");
 
   // $KOMA_CONFIG: as --config, unless the line has one.
-  std::vector<std::string> line = args;
-  const char* config_from_env = std::getenv("KOMA_CONFIG");
-  const bool has_config = std::any_of(args.begin(), args.end(), [](const std::string& a) {
-    return a == "--config" || absl::StartsWith(a, "--config=");
-  });
-  if (config_from_env != nullptr && *config_from_env != '\0' && !has_config && !line.empty()) {
-    line.insert(line.begin() + 1, {"--config", config_from_env});
-  }
+  std::vector<std::string> line = WithEnvironmentConfig(args);
   std::string command;
   size_t command_index = 0;
   if (int code = PreCheck(app, line, &command, &command_index); code >= 0) return code;

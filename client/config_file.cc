@@ -21,9 +21,15 @@ std::string ConfigFilePath(const std::vector<std::string>& args) {
     if (args[j] == "--config" && j + 1 < args.size()) path = args[j + 1];
     if (absl::StartsWith(args[j], "--config=")) path = args[j].substr(9);
   }
-  if (!path.empty()) return path;
+  return path;
+}
+
+std::vector<std::string> WithEnvironmentConfig(std::vector<std::string> args) {
   const char* from_env = std::getenv("KOMA_CONFIG");
-  return from_env != nullptr ? from_env : "";
+  if (from_env != nullptr && *from_env != '\0' && !args.empty() && ConfigFilePath(args).empty()) {
+    args.insert(args.begin() + 1, {"--config", from_env});
+  }
+  return args;
 }
 
 std::vector<std::string> LongNames(const CLI::App* cmd) {

@@ -11,8 +11,11 @@
 
 namespace koma::client {
 
-// The file `args` names with --config FILE or --config=FILE (the last one), else
-// $KOMA_CONFIG, else "".
+// `args` with "--config $KOMA_CONFIG" after the program name when that variable is set and
+// the line names no --config: CLI11 then reads the file as if it had been typed.
+std::vector<std::string> WithEnvironmentConfig(std::vector<std::string> args);
+
+// The file `args` names with --config FILE or --config=FILE (the last one before "--"), else "".
 std::string ConfigFilePath(const std::vector<std::string>& args);
 
 // "--name" for every long name of `cmd`'s options (with the negated forms), sorted.

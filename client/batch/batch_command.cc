@@ -329,13 +329,8 @@ int ParseBatchCommandLine(const std::vector<std::string>& command_line, BatchCom
   AddTlsFlags(app, args.tls);
   // Studio defaults, as for the single-file commands (client/config_file.h): $KOMA_CONFIG
   // unless the line names a file; flags on the line win.
-  std::vector<std::string> argv = command_line;
+  const std::vector<std::string> argv = WithEnvironmentConfig(command_line);
   const std::string config = ConfigFilePath(argv);
-  if (!config.empty() && std::find_if(argv.begin(), argv.end(), [](const std::string& a) {
-                           return a == "--config" || absl::StartsWith(a, "--config=");
-                         }) == argv.end()) {
-    argv.insert(argv.begin() + 1, {"--config", config});
-  }
   app.set_config("--config", "",
                  "TOML file of defaults: the [skeletal], [curves] and [lipblink] sections of "
                  "koma's --config (also $KOMA_CONFIG); command-line flags win")

@@ -1,4 +1,4 @@
-"""The lines of a Markdown page's fenced code blocks, for the tests that run the docs."""
+"""The lines of a Markdown page's fenced code blocks, and the verdict, for the docs tests."""
 
 SHELL = ("sh", "bash", "shell")
 
@@ -16,3 +16,14 @@ def block_lines(markdown_path, languages):
             if inside:
                 found.append((number, line.rstrip("\n")))
     return found
+
+
+def verdict(problems, ok_message):
+    """Prints every problem and a FAIL count, or `ok_message`; the exit code (1 or 0)."""
+    for problem in problems:
+        print(problem)
+    if problems:
+        print(f"FAIL: {len(problems)} problem(s)")
+        return 1
+    print(ok_message)
+    return 0

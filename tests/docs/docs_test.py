@@ -19,6 +19,8 @@ import re
 import subprocess
 import sys
 
+from code_blocks import verdict
+
 README_MAX_LINES = 250
 BENCHMARKS_MAX_LINES = 300
 # Built from parts so this file does not match its own check.
@@ -207,13 +209,7 @@ def main():
     check_no_outside_references(root, problems)
     check_server_flags(root, server, problems)
     check_proto_fields(root, problems)
-    for problem in problems:
-        print(problem)
-    if problems:
-        print(f"FAIL: {len(problems)} problem(s)")
-        return 1
-    print("docs OK")
-    return 0
+    return verdict(problems, "docs OK")
 
 
 if __name__ == "__main__":

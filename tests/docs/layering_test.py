@@ -17,6 +17,8 @@ import os
 import re
 import sys
 
+from code_blocks import verdict
+
 KOMA_FOLDERS = {"core", "platform", "formats", "convert", "server", "client"}
 # The koma folders each layer may include (the proto's generated headers are koma/...).
 MAY_INCLUDE = {
@@ -77,13 +79,7 @@ def main():
     problems = []
     check_core_link_line(root, problems)
     check_includes(root, problems)
-    for problem in problems:
-        print(problem)
-    if problems:
-        print(f"FAIL: {len(problems)} problem(s)")
-        return 1
-    print("layering OK")
-    return 0
+    return verdict(problems, "layering OK")
 
 
 if __name__ == "__main__":

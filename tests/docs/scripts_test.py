@@ -20,7 +20,7 @@ import subprocess
 import sys
 import tempfile
 
-from code_blocks import SHELL, block_lines
+from code_blocks import SHELL, block_lines, verdict
 
 COMMAND_TIMEOUT_S = 600
 # What run-sample.sh writes into its out folder (README "Two commands").
@@ -92,13 +92,7 @@ def main():
         shutil.rmtree(scratch, ignore_errors=True)
     if ran + by_ci == 0:
         problems.append("no ./scripts/ command found")
-    for problem in problems:
-        print(problem)
-    if problems:
-        print(f"FAIL: {len(problems)} problem(s)")
-        return 1
-    print(f"scripts OK: {ran} run here, {by_ci} run by CI")
-    return 0
+    return verdict(problems, f"scripts OK: {ran} run here, {by_ci} run by CI")
 
 
 if __name__ == "__main__":
