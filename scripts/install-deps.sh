@@ -67,5 +67,7 @@ remove_policy() {
 }
 trap remove_policy EXIT
 
-"${sudo_cmd[@]}" apt-get update -qq
-"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# Two builds installing at once (two clones, or a build beside the test run) would race for
+# dpkg's lock: the second waits for the first instead of failing.
+"${sudo_cmd[@]}" flock /tmp/koma-install-deps.lock sh -c \
+  'apt-get update -qq && apt-get install -y -qq --no-install-recommends "$@"' sh "${missing[@]}"
