@@ -9,6 +9,7 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
+#include "formats/json_text.h"
 #include "formats/motion3.h"
 #include "formats/motion3_internal.h"
 #include "formats/number_format.h"
@@ -27,57 +28,6 @@ using motion3_internal::RequireArray;
 using motion3_internal::RequireMember;
 using motion3_internal::RequireObject;
 using motion3_internal::StringAt;
-
-// Refuses nesting deeper than kMaxMotion3Depth with one pass over the bytes (brackets inside
-// strings do not count), before nlohmann builds anything.
-absl::Status CheckDepth(std::string_view text) {
-  int depth = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\') {
-        ++i;  // skip the escaped character (it may be a quote)
-      } else if (c == '"') {
-        in_string = false;
-      }
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxMotion3Depth) {
-        return absl::InvalidArgumentError(
-            absl::StrCat("JSON nested deeper than ", kMaxMotion3Depth, " levels at byte ", i));
-      }
-    } else if (c == ']' || c == '}') {
-      --depth;  // unbalanced brackets are nlohmann's to report
-    }
-  }
-  return absl::OkStatus();
-}
-
-// nlohmann's what() without its "[json.exception.parse_error.101] " prefix.
-std::string WithoutExceptionId(const char* what) {
-  std::string message = what;
-  const size_t bracket = message.find("] ");
-  if (message.rfind("[json.exception.", 0) == 0 && bracket != std::string::npos) {
-    message.erase(0, bracket + 2);
-  }
-  return message;
-}
-
-absl::StatusOr<Json> ParseJson(std::string_view text) {
-  try {
-    return Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& error) {
-    // "parse error at line 3, column 5: syntax error while parsing ..."
-    return absl::InvalidArgumentError(
-        absl::StrCat("invalid JSON at byte ", error.byte, ": ", WithoutExceptionId(error.what())));
-  } catch (const Json::exception& error) {
-    // out_of_range.406 for numbers such as 1e999, without a position.
-    return absl::InvalidArgumentError(
-        absl::StrCat("invalid JSON: ", WithoutExceptionId(error.what())));
-  }
-}
 
 // t x fps, snapped to an integer within kFrameSnap (frames).
 double SecondsToFrames(double seconds, double fps) {
@@ -180,9 +130,9 @@ bool operator==(const Motion3Counts& a, const Motion3Counts& b) {
 bool operator!=(const Motion3Counts& a, const Motion3Counts& b) { return !(a == b); }
 
 absl::StatusOr<Motion3File> ParseMotion3(std::string_view text) {
-  KOMA_RETURN_IF_ERROR(CheckDepth(text));
+  KOMA_RETURN_IF_ERROR(CheckJsonDepth(text, kMaxMotion3Depth));
   Motion3File file;
-  KOMA_ASSIGN_OR_RETURN(file.document, ParseJson(text));
+  KOMA_ASSIGN_OR_RETURN(file.document, ParseJsonText(text));
   KOMA_RETURN_IF_ERROR(CheckTopLevel(file.document));
   KOMA_RETURN_IF_ERROR(ReadMeta(file.document, file.curves));
   KOMA_ASSIGN_OR_RETURN(const Json* curves, RequireCurves(file.document));

@@ -8,6 +8,7 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
+#include "formats/json_text.h"
 #include "formats/motion3.h"
 #include "formats/motion3_internal.h"
 #include "formats/number_format.h"
@@ -19,18 +20,6 @@ using motion3_internal::Json;
 using motion3_internal::PathError;
 using motion3_internal::RequireMember;
 using motion3_internal::RequireObject;
-
-// Integers up to this magnitude convert to int64 and back exactly (2^53).
-constexpr double kMaxExactInteger = 9007199254740992.0;
-
-// 2 -> JSON 2, -0.0 -> 0, 0.5 -> 0.5 (nlohmann dumps doubles with the shortest round-trip
-// text, so 10.0 / 30.0 -> 0.3333333333333333).
-Json JsonNumber(double value) {
-  if (value == std::floor(value) && std::fabs(value) <= kMaxExactInteger) {
-    return Json(static_cast<int64_t>(value));
-  }
-  return Json(value);
-}
 
 absl::Status CheckSteps(const std::vector<CurvePoint>& steps, const std::string& path) {
   if (steps.size() < 2) {
