@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "client/file_format.h"
 #include "client/files.h"
+#include "formats/spine.h"
 
 namespace koma::client {
 CurveFormat CurveFormatFromFlag(const std::string& value) {
@@ -28,6 +29,28 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
   absl::StatusOr<std::string> text = ReadFile(path);
   if (!text.ok()) return text.status();
   if (absl::Status s = CheckInputFormat(path, *text, command); !s.ok()) return s;
+  if (absl::EndsWithIgnoreCase(path, ".skel")) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        path, " is a binary Spine skeleton: koma reads Spine JSON (export the skeleton as JSON)"));
+  }
+  if (format != CurveFormat::kCsv && formats::IsSpineJson(*text)) {
+    if (command != "curves") {
+      return absl::InvalidArgumentError(absl::StrCat(
+          InputName(path), " is a Spine skeleton: `koma ", command,
+          "` reads Live2D motion3.json or per-frame CSV; retime Spine animations with `koma "
+          "curves`"));
+    }
+    absl::StatusOr<formats::SpineFile> spine = formats::ParseSpine(*text);
+    if (!spine.ok()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(InputName(path), " (Spine JSON): ", spine.status().message()));
+    }
+    CurveInput input;
+    input.spine = *std::move(spine);
+    input.format = CurveFormat::kMotion3;  // JSON; the commands check `spine` first
+    input.text = *std::move(text);
+    return input;
+  }
   if (format == CurveFormat::kAuto) {
     switch (SniffFormat(*text)) {
       case FileFormat::kMotion3:
@@ -64,7 +87,7 @@ absl::StatusOr<CurveFormat> CurveOutputFormat(const std::string& path, CurveForm
              : IsStdio(path) ? input.format
                              : CurveFormat::kMotion3;
   }
-  if (format == CurveFormat::kMotion3 && !input.motion3) {
+  if (format == CurveFormat::kMotion3 && !input.motion3 && !input.spine) {
     return absl::InvalidArgumentError(
         absl::StrCat("-o ", path, ": a CSV input can only be written as CSV (-o OUT.csv)"));
   }

@@ -36,7 +36,9 @@ struct CurveInput : convert::CurveInput {
   std::string text;                            // the file as read (for --send-file)
 };
 
-// A motion3.json, or a CSV (`frame,<id>,...`) at `csv_fps` frames per second. The format:
+// A motion3.json, a Spine skeleton JSON (formats::IsSpineJson; only for `command` "curves":
+// `spine` set, no animation selected yet, see client/spine_curves.h), or a CSV (`frame,<id>,...`)
+// at `csv_fps` frames per second. A *.skel (binary Spine) is refused as such. The format:
 // `format` when not kAuto; else a text that starts with "{" is motion3.json, one that starts
 // with a "frame" header is CSV, else the name decides (*.csv is CSV, anything else
 // motion3.json). A BVH file is refused as such ("x.bvh is a BVH file, ..."), naming

@@ -14,6 +14,7 @@
 #include "client/flag_values.h"
 #include "client/report/curves_report.h"
 #include "client/retime_call.h"
+#include "client/spine_curves.h"
 #include "formats/drawing_sheet.h"
 #include "koma/v1/retime.grpc.pb.h"
 
@@ -149,6 +150,11 @@ int RunCurves(const CurvesArgs& args) {
   absl::StatusOr<CurveInput> input =
       ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, "curves");
   if (!input.ok()) return out.Failure(input.status());
+  if (input->spine) return RunSpineCurves(args, *input, out);
+  if (!args.animations.empty()) {
+    return out.UsageFailure(absl::InvalidArgumentError(
+        absl::StrCat("--animation: ", args.input, " is not a Spine skeleton")));
+  }
   if (!args.timing_only) {
     absl::StatusOr<CurveFormat> format =
         CurveOutputFormat(args.output, CurveFormatFromFlag(args.format), *input);

@@ -36,6 +36,9 @@ struct CurvesArgs : CurveFileArgs {
   std::vector<std::string> curve_on;      // --curve-on / --curve-overrides ID=N, repeatable
   std::vector<SegmentOverrideFlag> segment_overrides;  // --segment-overrides, repeatable
   bool timing_only = false;  // --timing-only: write only the drawing sheet
+  // --animation: a Spine skeleton's animations to retime, repeatable; empty: every animation
+  // with bone keys.
+  std::vector<std::string> animations;
 };
 
 // The request for `curves` with every flag of `args` applied. INVALID_ARGUMENT naming the

@@ -2,7 +2,10 @@
 
 #include <utility>
 
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
 #include "formats/curve_csv.h"
+#include "formats/error_text.h"
 
 namespace koma::convert {
 
@@ -21,6 +24,51 @@ absl::StatusOr<CurveInput> ParseCurveText(std::string_view text, bool csv, doubl
   return input;
 }
 
+absl::Status SelectSpineAnimation(CurveInput& input, int index) {
+  const formats::SpineAnimation& animation = input.spine->animations[index];
+  if (!animation.retimable()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "animation ", formats::QuoteForError(animation.name),
+        " has no bone rotate, translate, scale or shear keys to retime over two frames or more"));
+  }
+  input.spine_animation = index;
+  input.curves = animation.curves;
+  return absl::OkStatus();
+}
+
+absl::StatusOr<CurveInput> ParseSpineText(std::string_view text, std::string_view animation) {
+  absl::StatusOr<formats::SpineFile> file = formats::ParseSpine(text);
+  if (!file.ok()) return file.status();
+  return SpineCurveInput(*std::move(file), animation);
+}
+
+absl::StatusOr<CurveInput> SpineCurveInput(formats::SpineFile file, std::string_view animation) {
+  CurveInput input;
+  input.spine = std::move(file);
+  int index = -1;
+  if (!animation.empty()) {
+    absl::StatusOr<int> found = formats::FindSpineAnimation(*input.spine, animation);
+    if (!found.ok()) return found.status();
+    index = *found;
+  } else {
+    std::vector<std::string> retimable;
+    for (size_t i = 0; i < input.spine->animations.size(); ++i) {
+      if (!input.spine->animations[i].retimable()) continue;
+      retimable.push_back(formats::QuoteForError(input.spine->animations[i].name));
+      index = static_cast<int>(i);
+    }
+    if (retimable.size() != 1) {
+      return absl::InvalidArgumentError(
+          retimable.empty()
+              ? std::string("the skeleton has no animation with bone keys to retime")
+              : absl::StrCat("name the animation to retime: the skeleton has ", retimable.size(),
+                             " (", absl::StrJoin(retimable, ", "), ")"));
+    }
+  }
+  if (absl::Status s = SelectSpineAnimation(input, index); !s.ok()) return s;
+  return input;
+}
+
 absl::StatusOr<std::string> CurveOutputText(
     const CurveInput& input, const std::vector<std::optional<CurveReplacement>>& replacements,
     bool csv) {
@@ -36,12 +84,16 @@ absl::StatusOr<std::string> CurveOutputText(
     }
     return formats::WriteCurveCsv(ids, values);
   }
-  if (!input.motion3) {
+  if (!input.motion3 && !input.spine) {
     return absl::InvalidArgumentError("a CSV input can only be written as CSV");
   }
   std::vector<std::optional<std::vector<CurvePoint>>> stepped;
   for (const std::optional<CurveReplacement>& r : replacements) {
     stepped.push_back(r ? std::optional<std::vector<CurvePoint>>(r->steps) : std::nullopt);
+  }
+  if (input.spine) {
+    return formats::WriteSpine(*input.spine,
+                               {formats::SpineRetimed{input.spine_animation, std::move(stepped)}});
   }
   return formats::WriteMotion3(*input.motion3, stepped);
 }

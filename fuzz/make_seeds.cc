@@ -4,6 +4,8 @@
 //   bvh:        every .bvh file, and each cut to its first 4 frames (small seeds run fast);
 //   motion3:    every .motion3.json file;
 //   curve_csv:  curves_crlf.csv and each motion3 file's curves as per-frame CSV (12 frames);
+//   spine:      every Spine skeleton (TESTDATA_DIR/spine/*.json, SAMPLES_DIR/*.json), which also
+//              become retime_curves requests carrying spine_json;
 //   retime_skeletal, retime_curves, lip_blink: serialised requests built from those files
 //              (cut short, some with a film grid), after the slice selector byte the RPC
 //              targets read first (fuzz/rpc_fuzz_input.h): 0 = one slice, 200 = 73-byte slices.
@@ -23,6 +25,7 @@
 #include "formats/bvh.h"
 #include "formats/curve_csv.h"
 #include "formats/motion3.h"
+#include "formats/spine.h"
 #include "koma/v1/retime.pb.h"
 
 namespace fs = std::filesystem;
@@ -160,6 +163,24 @@ int main(int argc, char** argv) {
     lip.set_seed(7);
     lip.set_timing_fps(24);
     WriteRequest(out / "lip_blink", stem + "_auto_grid", lip);
+  }
+  for (const fs::path& path : FilesEndingIn({inputs[0] / "spine", inputs[1]}, ".json")) {
+    const std::string text = ReadFile(path);
+    if (!koma::formats::IsSpineJson(text)) continue;
+    const std::string stem = path.stem().string();
+    WriteFile(out / "spine" / path.filename(), text);
+    const absl::StatusOr<koma::formats::SpineFile> file = koma::formats::ParseSpine(text);
+    if (!file.ok()) {
+      std::cerr << "make_seeds: " << path << ": " << file.status() << "\n";
+      return 1;
+    }
+    for (const koma::formats::SpineAnimation& animation : file->animations) {
+      if (!animation.retimable()) continue;
+      koma::v1::RetimeCurvesRequest curves;
+      curves.set_spine_json(text);
+      curves.set_spine_animation(animation.name);
+      WriteRequest(out / "retime_curves", stem + "_" + animation.name + "_spine", curves);
+    }
   }
   std::cout << "make_seeds: corpora written to " << out << "\n";
   return 0;

@@ -40,6 +40,15 @@ void PutCurveText(bool csv, std::string text, Response* response) {
   }
 }
 
+// The same for RetimeCurves, whose file may also be a Spine skeleton.
+void PutCurveText(const CurveFile& file, std::string text, v1::RetimeCurvesResponse* response) {
+  if (file.input.spine && !file.csv) {
+    response->set_spine_json(std::move(text));
+  } else {
+    PutCurveText(file.csv, std::move(text), response);
+  }
+}
+
 // A reader's error with the request field in front: "bvh_text: line 12: ...".
 absl::Status InField(const absl::Status& status, absl::string_view field) {
   return absl::Status(status.code(), absl::StrCat(field, ": ", status.message()));
@@ -71,12 +80,32 @@ absl::StatusOr<CurveFile> ParseCurveFile(const Request& request, const RequestLi
   return CurveFile{*std::move(input), csv};
 }
 
+// The spine_json of a RetimeCurves request, parsed, with spine_animation's curves.
+absl::StatusOr<CurveFile> ParseSpineFile(const v1::RetimeCurvesRequest& request,
+                                         const RequestLimits& limits) {
+  KOMA_RETURN_IF_ERROR(CheckFileSize(request.spine_json(), "spine_json", limits));
+  absl::StatusOr<formats::SpineFile> spine = formats::ParseSpine(request.spine_json());
+  if (!spine.ok()) return InField(spine.status(), "spine_json");
+  absl::StatusOr<convert::CurveInput> input =
+      convert::SpineCurveInput(*std::move(spine), request.spine_animation());
+  if (!input.ok()) {
+    return InField(absl::InvalidArgumentError(input.status().message()), "spine_animation");
+  }
+  return CurveFile{*std::move(input), false};
+}
+
 // The request with the file's curves in place of the file (every other field kept).
 template <typename Request>
 void Decode(const Request& request, const CurveFile& file, Request* decoded) {
   decoded->CopyFrom(request);
   *decoded->mutable_curves() = convert::CurveSetToProto(file.input.curves);  // drops the text
   decoded->clear_csv_fps();
+}
+
+void Decode(const v1::RetimeCurvesRequest& request, const CurveFile& file,
+            v1::RetimeCurvesRequest* decoded) {
+  Decode<v1::RetimeCurvesRequest>(request, file, decoded);
+  decoded->clear_spine_animation();
 }
 
 constexpr char kParsedFile[] =
@@ -100,6 +129,13 @@ size_t CurveFileBytes(const Request& request) {
                                                    : request.motion3_json().size();
 }
 
+size_t CurveFileBytes(const v1::RetimeCurvesRequest& request) {
+  if (request.input_case() == v1::RetimeCurvesRequest::kSpineJson) {
+    return request.spine_json().size();
+  }
+  return CurveFileBytes<v1::RetimeCurvesRequest>(request);
+}
+
 // `message` (one field set) serialised.
 template <typename Message>
 absl::StatusOr<std::string> Serialised(const Message& message) {
@@ -117,7 +153,8 @@ bool CarriesFile(const v1::RetimeSkeletalRequest& request) {
 }
 bool CarriesFile(const v1::RetimeCurvesRequest& request) {
   return request.input_case() == v1::RetimeCurvesRequest::kMotion3Json ||
-         request.input_case() == v1::RetimeCurvesRequest::kCsvText;
+         request.input_case() == v1::RetimeCurvesRequest::kCsvText ||
+         request.input_case() == v1::RetimeCurvesRequest::kSpineJson;
 }
 bool CarriesFile(const v1::LipBlinkRequest& request) {
   return request.input_case() == v1::LipBlinkRequest::kMotion3Json ||
@@ -170,7 +207,11 @@ absl::Status RetimeSkeletalFileAnswer(const v1::RetimeSkeletalRequest& request,
 
 absl::Status DecodeCurvesFile(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,
                               v1::RetimeCurvesRequest* decoded, CurveFile* file) {
-  KOMA_ASSIGN_OR_RETURN(*file, ParseCurveFile(request, limits));
+  if (request.input_case() == v1::RetimeCurvesRequest::kSpineJson) {
+    KOMA_ASSIGN_OR_RETURN(*file, ParseSpineFile(request, limits));
+  } else {
+    KOMA_ASSIGN_OR_RETURN(*file, ParseCurveFile(request, limits));
+  }
   Decode(request, *file, decoded);
   return ReserveDecoded(*decoded, CurveFileBytes(request), /*bvh=*/false, limits);
 }
@@ -183,7 +224,7 @@ absl::StatusOr<std::string> CurvesFileField(const CurveFile& file,
   absl::StatusOr<std::string> text = convert::CurveOutputText(file.input, replacements, file.csv);
   if (!text.ok()) return absl::InternalError(text.status().message());
   v1::RetimeCurvesResponse field;
-  PutCurveText(file.csv, *std::move(text), &field);
+  PutCurveText(file, *std::move(text), &field);
   return Serialised(field);
 }
 

@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "client/curve_files.h"
+#include "client/spine_curves.h"
 #include "client/report/curves_report.h"
 #include "client/report/lip_blink_report.h"
 #include "client/report/skeletal_report.h"
@@ -113,6 +114,11 @@ class CurvesRpc final : public Rpc {
     absl::StatusOr<CurveInput> input =
         ReadCurveInput(item.input, args_.csv_fps, CurveFormat::kAuto, "curves");
     if (!input.ok()) return input.status();
+    if (input->spine) {  // one call per file: one animation, named or the only one
+      if (absl::Status s = SelectOneSpineAnimation(*input, args_.animations); !s.ok()) {
+        return WithPath(item, s);
+      }
+    }
     absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args_, input->curves);
     if (!request.ok()) return WithPath(item, request.status());
     return std::make_unique<CurvesClipCall>(args_, *std::move(input), *std::move(request));

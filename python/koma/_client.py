@@ -81,12 +81,25 @@ def _read_source(source, text_starts):
 
 def _is_csv(data, path, file_format):
     if file_format is not None:
-        if file_format not in ("motion3", "csv"):
-            raise ValueError(f"format: {file_format!r} is not 'motion3' or 'csv'")
+        if file_format not in ("motion3", "csv", "spine"):
+            raise ValueError(f"format: {file_format!r} is not 'motion3', 'csv' or 'spine'")
         return file_format == "csv"
     if path is not None:
         return path.lower().endswith(".csv")
     return not data.lstrip().startswith(b"{")
+
+
+def _is_spine(data, file_format):
+    """A Spine skeleton JSON: its first key is "skeleton" (as Spine exports it), or it has a
+    "skeleton" key and no "Meta" (koma's reader makes the same guess, formats/spine.h)."""
+    if file_format is not None:
+        return file_format == "spine"
+    text = data.lstrip(b"\xef\xbb\xbf \t\r\n")
+    if not text.startswith(b"{"):
+        return False
+    if text[1:].lstrip().startswith(b'"skeleton"'):
+        return True
+    return b'"skeleton"' in data and b'"Meta"' not in data
 
 
 def _credentials(tls):
@@ -194,8 +207,20 @@ class Client:
             request.bvh_text, _ = _read_source(source, ("HIERARCHY",))
         return SkeletalResult(self._call(self._stub.RetimeSkeletal, request))
 
-    def _curve_request(self, request, source, file_format, csv_fps):
+    def _curve_request(self, request, source, file_format, csv_fps, animation=None):
         data, path = _read_source(source, ("{", "frame,"))
+        if _is_spine(data, file_format):
+            if "spine_json" not in request.DESCRIPTOR.fields_by_name:
+                raise ValueError("a Spine skeleton: lip_blink reads Live2D motion3.json or CSV; "
+                                 "retime Spine animations with retime_curves")
+            if csv_fps is not None:
+                raise ValueError("csv_fps: only for a CSV input")
+            request.spine_json = data
+            if animation is not None:
+                request.spine_animation = animation
+            return
+        if animation is not None:
+            raise ValueError("animation: only for a Spine skeleton")
         if _is_csv(data, path, file_format):
             request.csv_text = data
             if csv_fps is not None:
@@ -205,14 +230,18 @@ class Client:
                 raise ValueError("csv_fps: only for a CSV input")
             request.motion3_json = data
 
-    def retime_curves(self, source, format=None, csv_fps=None, **options):
+    def retime_curves(self, source, format=None, csv_fps=None, animation=None, **options):
         """Koma-uchi on twos/threes with tame/tsume spacing (RetimeCurves).
 
         Args:
-            source: a motion3.json or per-frame CSV file's path, its text or its bytes.
-            format: "motion3" or "csv"; default from the path's extension (.csv) or the
-                text (a motion3.json starts with "{").
+            source: a motion3.json, Spine skeleton JSON or per-frame CSV file's path, its text
+                or its bytes.
+            format: "motion3", "spine" or "csv"; default from the path's extension (.csv) or
+                the text (JSON starts with "{"; a Spine skeleton's first key is "skeleton").
             csv_fps: frames per second of a CSV input (default 30).
+            animation: a Spine skeleton's animation to retime (its bone timelines are the
+                curves, "torso/rotate", "torso/translate.x", ...); may be left out when the
+                skeleton has one animation with bone keys.
             **options: RetimeCurvesRequest fields: key_frames (frames, list of int),
                 frames_per_drawing (1 on ones, 2 on twos, 3 on threes), tame and tsume
                 (strengths >= 1), curve_overrides (list of {"curve_id", "frames_per_drawing"}),
@@ -221,12 +250,14 @@ class Client:
 
         Returns:
             CurvesResult whose .output is the retimed file in the input's format, byte for
-            byte what `koma curves IN -o OUT` writes.
+            byte what `koma curves IN -o OUT` writes (for a Spine skeleton, with
+            `--animation` naming the one animation).
         """
         request = retime_pb2.RetimeCurvesRequest()
         _options.fill(request, options,
-                      skip=("curves", "motion3_json", "csv_text", "csv_fps"))
-        self._curve_request(request, source, format, csv_fps)
+                      skip=("curves", "motion3_json", "csv_text", "csv_fps", "spine_json",
+                            "spine_animation"))
+        self._curve_request(request, source, format, csv_fps, animation)
         return CurvesResult(self._call(self._stub.RetimeCurves, request))
 
     def lip_blink(self, source, format=None, csv_fps=None, **options):

@@ -80,8 +80,8 @@ class CurvesResult(_Result):
     """A RetimeCurves answer.
 
     Attributes:
-        output / output_bytes: the retimed motion3.json or CSV (file requests), as
-            `koma curves IN -o OUT` writes it.
+        output / output_bytes: the retimed motion3.json, Spine skeleton or CSV (file
+            requests), as `koma curves IN -o OUT` writes it.
         key_frames: the key poses used (frames, ascending).
         timing: the default timing map {output frame: source time in frames (fractional)};
             timings has every timing (one more per distinct curve override).

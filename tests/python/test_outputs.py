@@ -133,3 +133,30 @@ def test_python_m_koma_writes_what_the_cli_writes(server, tmp_path, command, pat
     done = run_python_cli(command, path, "-o", str(got), "--server", server.address, *flags)
     assert done.returncode == 0, done.stderr
     assert got.read_bytes() == expected.read_bytes()
+
+
+SPINE_FILES = [("matt-3.7.json", "shake_head"), ("hero-3.8.json", "walk"),
+               ("hero-4.1.json", "idle"), ("hero-4.2.json", None)]
+
+
+@pytest.mark.parametrize("name,animation", SPINE_FILES, ids=[n for n, _ in SPINE_FILES])
+@pytest.mark.parametrize("flags,options", CURVES_OPTIONS[:2], ids=["default", "twos"])
+def test_spine_output_equals_the_cli(server, client, tmp_path, name, animation, flags, options):
+    path = source_path("tests", "testdata", "spine", name)
+    expected = tmp_path / "cli.json"
+    named = ["--animation", animation] if animation else []
+    run_cli("curves", path, "-o", str(expected), "--server", server.address, *named, *flags)
+    result = client.retime_curves(path, animation=animation, **options)
+    assert result.output_bytes == expected.read_bytes()
+    assert result.response.WhichOneof("output") == "spine_json"
+    assert all("/" in curve_id for curve_id in result.curves)  # "bone/rotate", ...
+
+
+def test_spine_errors_name_the_field(client):
+    import koma
+    path = source_path("tests", "testdata", "spine", "hero-3.8.json")
+    with pytest.raises(koma.KomaError) as error:
+        client.retime_curves(path)  # two animations with bone keys: name one
+    assert "spine_animation: name the animation to retime" in str(error.value)
+    with pytest.raises(ValueError):
+        client.lip_blink(path)

@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# End to end: the real koma_server on a free loopback port, the real `koma curves` on Spine
+# skeletons (the real 3.7 export and the hand-written 3.8, 4.1 and 4.2 files), every written
+# bone value checked on the 24 fps grid by an independent evaluator (spine_eval.py).
+# Usage: spine_e2e_test.sh KOMA_SERVER KOMA PYTHON SPINE_TESTDATA_DIR
+set -euo pipefail
+server_bin=$1 client_bin=$2 python=$3 data=$4
+here=$(dirname "$0")
+
+source "$here/lib.sh"
+
+start_server "$server_bin"
+
+for name in matt-3.7 hero-3.8 hero-4.1 hero-4.2; do
+  in="$data/$name.json"
+  # Every animation with bone keys, on threes (the default) on the 24 fps grid.
+  "$client_bin" curves "$in" -o "$work/$name.anime.json" --server "$target" \
+    >"$work/$name.summary.txt" || fail "koma curves $name failed"
+  grep -q '^animation "' "$work/$name.summary.txt" || fail "$name: summary names no animation"
+  "$python" "$here/spine_eval.py" "$in" "$work/$name.anime.json" ||
+    fail "$name: written values differ from the input's at the drawings' times"
+  # The same bytes when the server parses and writes the file (--send-file).
+  "$client_bin" curves "$in" -o "$work/$name.sent.json" --send-file --server "$target" \
+    >/dev/null || fail "koma curves --send-file $name failed"
+  cmp "$work/$name.anime.json" "$work/$name.sent.json" || fail "$name: --send-file wrote other bytes"
+  # Nothing left to change: retiming the retimed skeleton writes back the same JSON.
+  "$client_bin" curves "$work/$name.anime.json" -o "$work/$name.again.json" --server "$target" \
+    >/dev/null || fail "the written $name does not read back"
+  "$python" - "$work/$name.anime.json" "$work/$name.again.json" <<'PY' || fail "$name: a second retime changed it"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert a == b
+PY
+done
+
+# 30 fps on threes: 8 drawings a second (idle's keys are 1 s apart); only the named animation
+# changes; everything koma does not retime is unchanged.
+"$client_bin" curves "$data/hero-3.8.json" -o "$work/walk.json" --animation walk --server "$target" \
+  >/dev/null || fail "--animation walk failed"
+"$python" - "$here" "$data/hero-3.8.json" "$work/walk.json" "$work/hero-3.8.anime.json" <<'PY' || fail "hero-3.8: --animation / 8 drawings a second"
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import spine_eval
+before, walk, every = (json.load(open(p)) for p in sys.argv[2:5])
+spine_eval.check(before, walk, ["walk"])
+assert walk["animations"]["idle"] == before["animations"]["idle"], "idle was not named"
+assert walk["animations"]["blink"] == before["animations"]["blink"]
+for key in ("skeleton", "bones", "slots", "skins", "events", "koma_unknown_top"):
+    assert walk[key] == before[key], key
+for key in ("slots", "events", "drawOrder"):
+    assert walk["animations"]["walk"][key] == before["animations"]["walk"][key], key
+assert spine_eval.drawings_in(every, "idle", "head/rotate", 0, 1) == 8
+assert spine_eval.drawings_in(every, "idle", "head/rotate", 1, 2) == 8
+print("--animation and 8 drawings a second: ok")
+PY
+
+# On twos the drawings follow the same rule with two grid frames each.
+"$client_bin" curves "$data/hero-4.2.json" -o "$work/twos.json" --on 2 --server "$target" \
+  >/dev/null || fail "--on 2 failed"
+"$python" - "$here" "$data/hero-4.2.json" "$work/twos.json" <<'PY' || fail "hero-4.2 on twos"
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import spine_eval
+before, after = (json.load(open(p)) for p in sys.argv[2:4])
+print("on twos:", spine_eval.check(before, after, ["walk"], on=2), "values checked")
+PY
+
+# koma batch: one animation per skeleton (named, or the only one with bone keys), the same
+# bytes as the single command.
+"$client_bin" curves "$data/matt-3.7.json" -o "$work/matt-walk.json" --animation walk \
+  --server "$target" >/dev/null || fail "matt --animation walk failed"
+"$client_bin" batch curves "$data/matt-3.7.json" "$data/hero-3.8.json" -o "$work/batch" \
+  --animation walk --server "$target" >"$work/batch.txt" 2>&1 || fail "koma batch: $(cat "$work/batch.txt")"
+cmp "$work/batch/matt-3.7.json" "$work/matt-walk.json" || fail "batch matt differs from the CLI"
+cmp "$work/batch/hero-3.8.json" "$work/walk.json" || fail "batch hero-3.8 differs from the CLI"
+expect_exit 1 "$work/batch-err.txt" "$client_bin" batch curves "$data/hero-3.8.json" \
+  -o "$work/batch2" --server "$target"
+grep -q 'one animation per skeleton here; this one has 2 with bone keys ("walk", "idle")' \
+  "$work/batch-err.txt" "$work/batch2"/* 2>/dev/null || fail "batch without --animation: $(cat "$work/batch-err.txt")"
+
+# Errors: a bad file names the JSON path, an unknown animation the ones there are, and .skel is
+# refused as binary. Exit 1, nothing written.
+sed 's/"angle": 20, "curve": "stepped"/"angle": 20, "curve": "smooth"/' "$data/hero-3.8.json" \
+  >"$work/bad.json"
+expect_error 1 'bad.json (Spine JSON): animations.walk.bones.torso.rotate\[1\].curve: unknown curve kind "smooth"' \
+  "$client_bin" curves "$work/bad.json" -o "$work/never.json" --server "$target"
+[ ! -e "$work/never.json" ] || fail "a file was written for a bad skeleton"
+expect_error 1 'no animation named "run" (the skeleton has "walk", "idle", "blink")' \
+  "$client_bin" curves "$data/hero-3.8.json" -o "$work/never.json" --animation run --server "$target"
+printf '\x1b\x00kOmA' >"$work/hero.skel"
+expect_error 1 'hero.skel is a binary Spine skeleton' \
+  "$client_bin" curves "$work/hero.skel" -o "$work/never.json" --server "$target"
+expect_error 2 'a Spine skeleton is written back as Spine JSON' \
+  "$client_bin" curves "$data/hero-3.8.json" -o "$work/never.csv" --server "$target"
+
+stop_server
+echo "spine e2e: ok"

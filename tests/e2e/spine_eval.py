@@ -1,0 +1,200 @@
+"""An independent Spine JSON evaluator and film-grid checker for koma's Spine tests.
+
+Written from Spine's published JSON format documentation (esotericsoftware.com/spine-json-format),
+not from koma's C++ reader nor from Spine's runtimes: bone rotate/translate/scale/shear
+timelines (3.x `angle`, x/y; 4.x `value`, x/y and the separate translatex/... timelines), their
+curves (absent or "linear": linear; "stepped"; a Bezier: 3.7 `curve: [cx1, cy1, cx2, cy2]`, 3.8
+`curve: cx1, c2, c3, c4` normalised to the segment, 4.x `curve: [cx1, cy1, cx2, cy2, ...]`
+absolute per value), the setup pose before a timeline's first key, the last value after it.
+
+check(before, after, animations): for every bone value of every animation retimed, at every
+grid time g / 24 s, the output's value equals the input's value at the time of the drawing that
+shows on grid frame g (koma's semantics: key poses snapped to the grid, D = ceil(L / 3) drawings
+per segment held as evenly as possible, longer holds first, drawing j at G_x + L * j / D).
+"""
+import json
+import math
+import sys
+
+GRID_FPS = 24
+ON = 3
+
+
+def _round_half_away(x):
+    return int(math.floor(abs(x) + 0.5)) * (1 if x >= 0 else -1)
+
+
+class Timeline:
+    def __init__(self, keys, fields, component, neutral, major):
+        self.times = [float(k.get("time", 0)) for k in keys]
+        self.values = [float(k.get(fields[component], neutral)) for k in keys]
+        self.neutral = neutral
+        self.beziers = []
+        for i, key in enumerate(keys):
+            curve = key.get("curve")
+            if i + 1 == len(keys) or curve is None or curve == "linear":
+                self.beziers.append("linear")
+            elif curve == "stepped":
+                self.beziers.append("stepped")
+            else:
+                t0, t1 = self.times[i], self.times[i + 1]
+                v0, v1 = self.values[i], float(keys[i + 1].get(fields[component], neutral))
+                if major == 3:
+                    if isinstance(curve, list):
+                        cx1, cy1, cx2, cy2 = curve
+                    else:
+                        cx1, cy1, cx2, cy2 = curve, key.get("c2", 0), key.get("c3", 1), key.get("c4", 1)
+                    handles = (t0 + cx1 * (t1 - t0), v0 + cy1 * (v1 - v0),
+                               t0 + cx2 * (t1 - t0), v0 + cy2 * (v1 - v0))
+                else:
+                    handles = tuple(curve[4 * component:4 * component + 4])
+                self.beziers.append(handles)
+
+    def keys(self):
+        return self.times
+
+    def at(self, t):
+        if t < self.times[0]:
+            return self.neutral
+        i = max(k for k in range(len(self.times)) if self.times[k] <= t)
+        if i + 1 == len(self.times):
+            return self.values[i]
+        t0, t1 = self.times[i], self.times[i + 1]
+        v0, v1 = self.values[i], self.values[i + 1]
+        kind = self.beziers[i]
+        if kind == "stepped":
+            return v0
+        if kind == "linear":
+            return v0 + (v1 - v0) * (t - t0) / (t1 - t0)
+        cx1, cy1, cx2, cy2 = kind
+
+        def cubic(p0, p1, p2, p3, u):
+            w = 1 - u
+            return w * w * w * p0 + 3 * w * w * u * p1 + 3 * w * u * u * p2 + u * u * u * p3
+
+        lo, hi = 0.0, 1.0
+        for _ in range(200):
+            mid = (lo + hi) / 2
+            if cubic(t0, cx1, cx2, t1, mid) < t:
+                lo = mid
+            else:
+                hi = mid
+        return cubic(v0, cy1, cy2, v1, (lo + hi) / 2)
+
+
+def bone_values(doc):
+    """{animation: {curve id: Timeline}} for every bone value timeline."""
+    major = int(doc["skeleton"]["spine"].split(".")[0])
+    kinds3 = {"rotate": ("rotate", ["angle"], [""]), "translate": ("translate", ["x", "y"], [".x", ".y"]),
+              "scale": ("scale", ["x", "y"], [".x", ".y"]), "shear": ("shear", ["x", "y"], [".x", ".y"])}
+    kinds4 = {"rotate": ("rotate", ["value"], [""])}
+    for base in ("translate", "scale", "shear"):
+        kinds4[base] = (base, ["x", "y"], [".x", ".y"])
+        kinds4[base + "x"] = (base, ["value"], [".x"])
+        kinds4[base + "y"] = (base, ["value"], [".y"])
+    kinds = kinds3 if major == 3 else kinds4
+    out = {}
+    for name, animation in doc.get("animations", {}).items():
+        curves = {}
+        for bone, timelines in animation.get("bones", {}).items():
+            for timeline, keys in timelines.items():
+                if timeline not in kinds or not keys:
+                    continue
+                base, fields, suffixes = kinds[timeline]
+                for c, suffix in enumerate(suffixes):
+                    # in 3.x a scale key's missing x/y is 1 (3.8's documented default).
+                    neutral = 1.0 if base == "scale" else 0.0
+                    curves["%s/%s%s" % (bone, base, suffix)] = Timeline(keys, fields, c, neutral, major)
+        out[name] = curves
+    return out
+
+
+def duration(value):
+    latest = 0.0
+    if isinstance(value, list):
+        for item in value:
+            if isinstance(item, dict) and isinstance(item.get("time"), (int, float)):
+                latest = max(latest, float(item["time"]))
+            latest = max(latest, duration(item))
+    elif isinstance(value, dict):
+        for item in value.values():
+            latest = max(latest, duration(item))
+    return latest
+
+
+def drawing_times(doc, name, curves, on=ON):
+    """Per grid frame g, the grid time tau (in grid frames) of the drawing shown there, `on`
+    grid frames per drawing."""
+    fps = float(doc["skeleton"].get("fps", 30))
+    last = _round_half_away(duration(doc["animations"][name]) * fps)
+    grid_count = int(math.floor(last * GRID_FPS / fps + 1e-9)) + 1
+    source_keys = {0, last}
+    for timeline in curves.values():
+        source_keys.update(_round_half_away(t * fps) for t in timeline.keys())
+    grid_keys = []
+    for k in sorted(source_keys):
+        if k == last:
+            continue
+        g = min(_round_half_away(k * GRID_FPS / fps), grid_count - 1)
+        if not grid_keys or grid_keys[-1] != g:
+            grid_keys.append(g)
+    if grid_keys[-1] == grid_count - 1:
+        grid_keys.pop()
+    grid_keys.append(grid_count - 1)
+    tau = [None] * grid_count
+    for a, b in zip(grid_keys, grid_keys[1:]):
+        length = b - a
+        count = -(-length // on)
+        q, r = divmod(length, count)
+        start = a
+        for j in range(count):
+            hold = q + 1 if j < r else q
+            for g in range(start, start + hold):
+                tau[g] = a + length * j / count
+            start += hold
+    tau[grid_count - 1] = grid_count - 1
+    return tau
+
+
+def check(before_doc, after_doc, animations, on=ON):
+    """Raises AssertionError on the first mismatch; returns the number of values checked."""
+    before_all, after_all = bone_values(before_doc), bone_values(after_doc)
+    checked = 0
+    for name in animations:
+        before, after = before_all[name], after_all[name]
+        assert sorted(before) == sorted(after), (name, sorted(before), sorted(after))
+        tau = drawing_times(before_doc, name, before, on)
+        fps = float(before_doc["skeleton"].get("fps", 30))
+        clip_end = _round_half_away(duration(before_doc["animations"][name]) * fps) / fps
+        for curve_id, timeline in before.items():
+            out = after[curve_id]
+            for k, t in enumerate(out.times):
+                grid = t * GRID_FPS
+                # Drawings start on the grid; a last key may hold the last drawing to the clip's
+                # end (the animation's last frame, which need not be a grid time).
+                assert abs(grid - round(grid)) < 1e-9 or (
+                    k + 1 == len(out.times) and abs(t - clip_end) < 1e-9), (
+                        name, curve_id, "key off the grid", t)
+                if k + 1 < len(out.times):
+                    assert out.beziers[k] == "stepped", (name, curve_id, k, out.beziers[k])
+            for g, drawing in enumerate(tau):
+                want = timeline.at(drawing / GRID_FPS)
+                got = out.at(g / GRID_FPS)
+                assert abs(got - want) <= 1e-6 * max(1.0, abs(want)), (
+                    name, curve_id, "grid frame", g, "got", got, "want", want, "tau", drawing)
+                checked += 1
+    return checked
+
+
+def drawings_in(doc, name, curve_id, begin, end):
+    """Distinct output key times of one value in [begin, end) seconds."""
+    return len([t for t in bone_values(doc)[name][curve_id].times if begin <= t < end - 1e-9])
+
+
+if __name__ == "__main__":
+    before_path, after_path = sys.argv[1], sys.argv[2]
+    names = sys.argv[3:]
+    before_doc, after_doc = (json.load(open(p, encoding="utf-8")) for p in (before_path, after_path))
+    if not names:
+        names = [n for n, c in bone_values(before_doc).items() if c]
+    print("%s: %d values checked on the grid" % (after_path, check(before_doc, after_doc, names)))
