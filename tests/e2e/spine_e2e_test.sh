@@ -36,7 +36,14 @@ done
 # 30 fps on threes: 8 drawings a second (idle's keys are 1 s apart); only the named animation
 # changes; everything koma does not retime is unchanged.
 "$client_bin" curves "$data/hero-3.8.json" -o "$work/walk.json" --animation walk --server "$target" \
-  >/dev/null || fail "--animation walk failed"
+  --report "$work/walk.html" --timing "$work/walk.csv" >/dev/null || fail "--animation walk failed"
+# The report draws each bone value before and after; the sheet has one row per frame.
+for id in torso/rotate torso/translate.y head/shear.x arm/scale.y 'hero-3.8.json (walk)'; do
+  grep -qF "$id" "$work/walk.html" || fail "the report lacks $id"
+done
+[ "$(wc -l <"$work/walk.csv")" = 47 ] || fail "walk sheet: $(wc -l <"$work/walk.csv") lines, want 46 frames + header"
+expect_error 2 '--report: the report is per animation; name one with --animation (this run retimes 2)' \
+  "$client_bin" curves "$data/hero-3.8.json" -o "$work/never.json" --report "$work/never.html" --server "$target"
 "$python" - "$here" "$data/hero-3.8.json" "$work/walk.json" "$work/hero-3.8.anime.json" <<'PY' || fail "hero-3.8: --animation / 8 drawings a second"
 import json, sys
 sys.path.insert(0, sys.argv[1])

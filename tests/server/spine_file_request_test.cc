@@ -86,7 +86,8 @@ TEST(SpineFileRequestTest, BadFilesAndAnimationsNameTheField) {
   std::string bad_curve = SpineText("hero-4.1.json");
   bad_curve.replace(bad_curve.find("\"curve\": \"stepped\""), 18, "\"curve\": \"smooth\"");
   const Bad kBad[] = {
-      {"{", "", "spine_json: invalid JSON at byte 1"},
+      {"{", "", "spine_json: invalid JSON at byte 2: parse error at line 1, column 2"},
+      {"", "", "spine_json: invalid JSON at byte 1"},
       {bad_curve, "walk",
        "spine_json: animations.walk.bones.torso.rotate[1].curve: unknown curve kind \"smooth\""},
       {R"({"skeleton":{"spine":"3.5.51"},"bones":[]})", "",
