@@ -98,6 +98,19 @@ absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesRequest(const CurvesArgs& arg
 
 absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesFileRequest(const CurvesArgs& args,
                                                                const CurveInput& input) {
+  if (input.spine) {
+    CurveInput selected = input;
+    if (selected.spine_animation < 0) {
+      if (absl::Status s = SelectOneSpineAnimation(selected, args.animations); !s.ok()) return s;
+    }
+    absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args, selected.curves);
+    if (request.ok() && args.send_file) {
+      request->clear_curves();
+      request->set_spine_json(selected.text);
+      request->set_spine_animation(selected.spine->animations[selected.spine_animation].name);
+    }
+    return request;
+  }
   absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args, input.curves);
   if (request.ok() && args.send_file) PutCurveFile(args, input, &*request);
   return request;

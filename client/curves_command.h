@@ -48,6 +48,9 @@ absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesRequest(const CurvesArgs& arg
 
 // BuildCurvesRequest(args, input.curves); with --send-file the request carries input.text in
 // motion3_json or csv_text (with csv_fps = --fps) instead of curves, for the server to parse.
+// A Spine input: its selected animation (input.spine_animation), else the one --animation
+// names or the only one with bone keys (client/spine_curves.h); with --send-file spine_json and
+// spine_animation.
 absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesFileRequest(const CurvesArgs& args,
                                                                const CurveInput& input);
 

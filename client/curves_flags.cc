@@ -45,7 +45,7 @@ CLI::App* AddCurvesCommand(CLI::App& app, CurvesArgs& args) {
          "(0-based); repeatable")
       ->type_name("SEG:KEY=V,...")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  AddStringList(cmd, "--animation", &args.animations,
+  AddStringList(cmd, "--animation,--spine-animation", &args.animations,
                 "Spine skeleton: the animation to retime (repeatable; default every animation "
                 "with bone keys)")
       ->type_name("NAME");

@@ -119,15 +119,20 @@ int RunSpineCurves(const CurvesArgs& args, const CurveInput& input, const Comman
         if (curve.id == id) animation_args.curve_on.push_back(entry);
       }
     }
+    animation_args.send_file = false;
     absl::StatusOr<v1::RetimeCurvesRequest> request =
-        BuildCurvesRequest(animation_args, selected.curves);
+        BuildCurvesFileRequest(animation_args, selected);
     if (!request.ok()) return out.UsageFailure(request.status());
-    // --send-file: the wire carries the skeleton; the report still reads the decoded request.
+    // --send-file: the wire carries the skeleton (as the previous call left it) and the
+    // animation's name; the report still reads the decoded request.
     v1::RetimeCurvesRequest sent = *request;
     if (args.send_file) {
-      sent.clear_curves();
-      sent.set_spine_json(file_text);
-      sent.set_spine_animation(name);
+      selected.text = file_text;
+      animation_args.send_file = true;
+      absl::StatusOr<v1::RetimeCurvesRequest> with_file =
+          BuildCurvesFileRequest(animation_args, selected);
+      if (!with_file.ok()) return out.UsageFailure(with_file.status());
+      sent = *std::move(with_file);
     }
     v1::RetimeCurvesResponse response;
     if (int code = CallRetime(args, out, &v1::Retime::Stub::RetimeCurves, sent, &response);

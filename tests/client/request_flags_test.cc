@@ -49,8 +49,10 @@ const std::set<std::string> kSendFileFields = {
     "RetimeSkeletalRequest.bvh_text", "RetimeCurvesRequest.motion3_json",
     "RetimeCurvesRequest.csv_text",   "RetimeCurvesRequest.csv_fps",
     "LipBlinkRequest.motion3_json",   "LipBlinkRequest.csv_text",
-    "LipBlinkRequest.csv_fps"};
+    "LipBlinkRequest.csv_fps",        "RetimeCurvesRequest.spine_json"};
 const std::string kCsv = std::string(KOMA_TESTDATA_DIR) + "/curves_crlf.csv";
+// A Spine skeleton with one animation with bone keys ("walk"), so none needs naming.
+const std::string kSpine = std::string(KOMA_TESTDATA_DIR) + "/spine/hero-4.2.json";
 constexpr char kInputFile[] = "<the input file>";
 
 // Singular message fields whose fields are settings, each with its own flag.
@@ -106,6 +108,8 @@ const std::map<std::string, FieldCase>& Cases() {
        {{"1:frames-per-drawing=2,tame=1.5,tsume=2"},
         "segment: 1 frames_per_drawing: 2 tame: 1.5 tsume: 2"}},
       {"RetimeCurvesRequest.timing_fps", {{"12"}, "12"}},
+      // --animation, a Spine skeleton's animation: sent by name with the file.
+      {"RetimeCurvesRequest.spine_animation", {{"walk"}, "\"walk\"", {"--send-file"}, "", kSpine}},
       // LipBlink
       {"LipBlinkRequest.mouth.ids",
        {{"ParamMouthOpenY,ParamMouthForm"}, "\"ParamMouthOpenY\", \"ParamMouthForm\""}},
@@ -133,6 +137,7 @@ const std::map<std::string, FieldCase>& Cases() {
       {"RetimeCurvesRequest.motion3_json", {{}, kInputFile, {}, "--send-file"}},
       {"RetimeCurvesRequest.csv_text", {{}, kInputFile, {}, "--send-file", kCsv}},
       {"RetimeCurvesRequest.csv_fps", {{}, "24", {"--fps", "24"}, "--send-file", kCsv}},
+      {"RetimeCurvesRequest.spine_json", {{}, kInputFile, {}, "--send-file", kSpine}},
       {"LipBlinkRequest.motion3_json", {{}, kInputFile, {}, "--send-file"}},
       {"LipBlinkRequest.csv_text", {{}, kInputFile, {}, "--send-file", kCsv}},
       {"LipBlinkRequest.csv_fps", {{}, "12.5", {"--fps", "12.5"}, "--send-file", kCsv}},
@@ -276,8 +281,8 @@ TEST(RequestFlagsTest, WalksEveryField) {
   for (const auto& [key, unused] : Cases()) {
     EXPECT_TRUE(walked.count(key)) << key << ": a case for a field the proto does not have";
   }
-  // 12 + 10 + 23 fields today; the count catches a settings message walked wrongly.
-  EXPECT_EQ(paths.size(), 45u);
+  // 12 + 12 + 23 fields today; the count catches a settings message walked wrongly.
+  EXPECT_EQ(paths.size(), 47u);
 }
 
 TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {
