@@ -36,9 +36,13 @@ if [ "${1:-}" != "--build-only" ]; then
   # python3-numpy: Blender's glTF exporter and importer (io_scene_gltf2) import numpy; the glTF
   # tests export the test BVHs through it and read koma's .glb back.
   packages+=(python3-numpy)
-  # nodejs (and npm where the nodejs package does not bring it): three.js, the second glTF
-  # consumer of tests/e2e/gltf, runs under node; npm ci installs it from the committed lock.
-  packages+=(nodejs)
+  # python3-build, python3-venv: the wheel test builds the Python package's wheel offline and
+  # installs it into a fresh venv; slurm-wlm, munge: the render-farm test runs a Slurm job
+  # array on a controller and a node daemon it starts on localhost; nodejs: the sharding test
+  # compiles the Flamenco job type (deploy/farm/koma-batch.js) as Flamenco's manager would, and
+  # three.js, the second glTF consumer of tests/e2e/gltf, runs under it (npm where the nodejs
+  # package does not bring it: npm ci installs three.js from the committed lock).
+  packages+=(python3-build python3-venv slurm-wlm munge nodejs)
   if ! command -v npm >/dev/null 2>&1; then packages+=(npm); fi
 fi
 
