@@ -37,6 +37,8 @@ if [ "${1:-}" != "--build-only" ]; then
   # array on a controller and a node daemon it starts on localhost; nodejs: the sharding test
   # compiles the Flamenco job type (deploy/farm/koma-batch.js) as Flamenco's manager would.
   packages+=(python3-build python3-venv slurm-wlm munge nodejs)
+  # catatonit: `podman kube play` (deploy/test-image.sh) builds the pod's pause image from it.
+  packages+=(catatonit)
 fi
 
 missing=()
