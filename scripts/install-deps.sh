@@ -44,6 +44,8 @@ if [ "${1:-}" != "--build-only" ]; then
   # package does not bring it: npm ci installs three.js from the committed lock).
   packages+=(python3-build python3-venv slurm-wlm munge nodejs)
   if ! command -v npm >/dev/null 2>&1; then packages+=(npm); fi
+  # catatonit: `podman kube play` (deploy/test-image.sh) builds the pod's pause image from it.
+  packages+=(catatonit)
 fi
 
 # The tests' npm packages, exactly as tests/e2e/gltf/package-lock.json pins them (into
