@@ -6,6 +6,7 @@
 //   curve_csv:  curves_crlf.csv and each motion3 file's curves as per-frame CSV (12 frames);
 //   spine:      every Spine skeleton (TESTDATA_DIR/spine/*.json, SAMPLES_DIR/*.json), which also
 //              become retime_curves requests carrying spine_json;
+//   gltf:       the test arm of tests/testing/gltf_builder.h as .glb and .gltf;
 //   retime_skeletal, retime_curves, lip_blink: serialised requests built from those files
 //              (cut short, some with a film grid), after the slice selector byte the RPC
 //              targets read first (fuzz/rpc_fuzz_input.h): 0 = one slice, 200 = 73-byte slices.
@@ -26,6 +27,7 @@
 #include "formats/curve_csv.h"
 #include "formats/motion3.h"
 #include "formats/spine.h"
+#include "tests/testing/gltf_builder.h"
 #include "koma/v1/retime.pb.h"
 
 namespace fs = std::filesystem;
@@ -181,6 +183,17 @@ int main(int argc, char** argv) {
       curves.set_spine_animation(animation.name);
       WriteRequest(out / "retime_curves", stem + "_" + animation.name + "_spine", curves);
     }
+  }
+
+  // glTF: the test arm (tests/testing/gltf_builder.h) as GLB and .gltf, LINEAR and STEP, and
+  // as a RetimeSkeletal request carrying it.
+  for (const char* interpolation : {"LINEAR", "STEP"}) {
+    const koma::testing::TestGltf arm = koma::testing::ArmGltf(interpolation);
+    WriteFile(out / "gltf" / (std::string("arm_") + interpolation + ".glb"), arm.Glb());
+    WriteFile(out / "gltf" / (std::string("arm_") + interpolation + ".gltf"), arm.GltfText());
+    koma::v1::RetimeSkeletalRequest request;
+    request.set_gltf(arm.Glb());
+    WriteRequest(out / "retime_skeletal", std::string("arm_") + interpolation + "_glb", request);
   }
   std::cout << "make_seeds: corpora written to " << out << "\n";
   return 0;
