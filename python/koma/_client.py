@@ -217,7 +217,11 @@ class Client:
                 frames_per_drawing (1 on ones, 2 on twos, 3 on threes), tame and tsume
                 (strengths >= 1), curve_overrides (list of {"curve_id", "frames_per_drawing"}),
                 segment_overrides (list of {"segment", "frames_per_drawing", "tame",
-                "tsume"}), timing_fps (film grid, frames per second; unset 24, 0 none).
+                "tsume"}), timing_fps (film grid, frames per second; unset 24, 0 none),
+                merge_key_poses (False: every keyframe time a key pose), timing_groups
+                (list of {"name", "ids" (ids or patterns such as "ParamHair*"),
+                "frames_per_drawing", "tame", "tsume", "key_frames"}; unset: Live2D's default
+                face / hair / body grouping), default_timing_groups (False: one group).
 
         Returns:
             CurvesResult whose .output is the retimed file in the input's format, byte for

@@ -82,7 +82,12 @@ class CurvesResult(_Result):
     Attributes:
         output / output_bytes: the retimed motion3.json or CSV (file requests), as
             `koma curves IN -o OUT` writes it.
-        key_frames: the key poses used (frames, ascending).
+        key_frames: the key poses used (frames, ascending): the default group's.
+        key_frames_merged: per key pose, how many keyframe times it merges (empty when the
+            key poses were named or merging was off).
+        groups: {group name: {"curves": [curve ids], "frames_per_drawing": n,
+            "key_frames": [...], "key_frames_merged": [...], "timing": index into timings}},
+            the default group "body" first; empty when every curve is in the default group.
         timing: the default timing map {output frame: source time in frames (fractional)};
             timings has every timing (one more per distinct curve override).
         timings: list of dicts: frames_per_drawing, drawing_of_frame, source_frame,
@@ -99,6 +104,13 @@ class CurvesResult(_Result):
         which = response.WhichOneof("output")
         self.output_bytes = getattr(response, which) if which else None
         self.key_frames = list(response.key_frames)
+        self.key_frames_merged = list(response.key_frames_merged)
+        self.groups = {g.name: {"curves": [response.curves[c].id for c in g.curves],
+                                "frames_per_drawing": g.frames_per_drawing,
+                                "key_frames": list(g.key_frames),
+                                "key_frames_merged": list(g.key_frames_merged),
+                                "timing": g.timing}
+                       for g in response.timing_groups}
         self.timing_fps = response.timing_fps
         self.timings = [{
             "frames_per_drawing": t.frames_per_drawing,

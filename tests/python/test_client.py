@@ -89,6 +89,27 @@ def test_curves_and_lip_blink_results(client):
     assert set(lip.timing) == {"ParamMouthOpenY", "ParamEyeLOpen", "ParamEyeROpen"}
 
 
+def test_curves_timing_groups_and_merged_key_poses(client):
+    sample = source_path("samples", "arm_head.motion3.json")
+    grouped = client.retime_curves(sample, timing_groups=[
+        {"name": "arms", "ids": ["ParamArm*"], "frames_per_drawing": 2}])
+    assert list(grouped.groups) == ["body", "arms"]
+    assert grouped.groups["arms"]["curves"] == ["ParamArmLA", "ParamArmRA"]
+    assert grouped.groups["body"]["curves"] == ["ParamAngleX", "ParamAngleY", "ParamBodyAngleX"]
+    arms = grouped.groups["arms"]
+    assert arms["frames_per_drawing"] == 2
+    assert grouped.timings[arms["timing"]]["frames_per_drawing"] == 2
+    assert grouped.curves["ParamArmLA"]["timing"] == arms["timing"]
+    assert grouped.key_frames == grouped.groups["body"]["key_frames"]
+    assert len(grouped.key_frames_merged) == len(grouped.key_frames)
+    # One group, every keyframe time a key pose: no groups listed, nothing merged.
+    one = client.retime_curves(sample, default_timing_groups=False, merge_key_poses=False)
+    assert one.groups == {} and one.key_frames_merged == []
+    with pytest.raises(koma.KomaError, match=r"timing_groups\[0\]\.name: required") as error:
+        client.retime_curves(sample, timing_groups=[{"ids": ["ParamArm*"]}])
+    assert error.value.field == "timing_groups[0].name"
+
+
 @pytest.mark.parametrize("call,options,error,words", [
     ("retime_skeletal", {"omisions": 3}, TypeError, "unknown option 'omisions'"),
     ("retime_skeletal", {"motion": {}}, TypeError, "unknown option 'motion'"),
