@@ -7,6 +7,8 @@
 #include <algorithm>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/match.h"
+#include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "client/channel.h"
 #include "client/command_output.h"
@@ -46,9 +48,9 @@ absl::Status AddCurveOverrides(const std::vector<std::string>& entries,
 // spelt out when --group-on changes one of its groups).
 absl::Status AddTimingGroups(const CurvesArgs& args, v1::RetimeCurvesRequest& request) {
   std::vector<TimingGroupFlag> groups = args.groups;
-  if (groups.empty() && !args.group_on.empty() && !args.no_default_groups) {
+  if (groups.empty() && !args.group_on.empty() && !!args.default_groups) {
     for (const CurveTimingGroup& g : DefaultLive2dTimingGroups()) {
-      groups.push_back({g.name, g.ids, std::nullopt, std::nullopt, std::nullopt});
+      groups.push_back({g.name, g.ids, std::nullopt, std::nullopt, std::nullopt, {}});
     }
   }
   for (const std::string& entry : args.group_on) {
@@ -80,8 +82,9 @@ absl::Status AddTimingGroups(const CurvesArgs& args, v1::RetimeCurvesRequest& re
     if (flag.frames_per_drawing) g->set_frames_per_drawing(*flag.frames_per_drawing);
     if (flag.tame) g->set_tame(*flag.tame);
     if (flag.tsume) g->set_tsume(*flag.tsume);
+    for (int key : flag.key_frames) g->add_key_frames(key);
   }
-  if (args.no_default_groups) request.set_default_timing_groups(false);
+  if (!args.default_groups) request.set_default_timing_groups(false);
   return absl::OkStatus();
 }
 
@@ -116,7 +119,8 @@ absl::StatusOr<TimingGroupFlag> ParseTimingGroup(const std::string& text) {
   constexpr char kFlag[] = "--group";
   const std::string usage = absl::StrCat(
       kFlag, ": \"", text,
-      "\" is not NAME=ID,...[:on=N,tame=S,tsume=S], e.g. hair=ParamHair*,ParamBust*:on=2");
+      "\" is not NAME=ID,...[:on=N,tame=S,tsume=S,keys=F/F/...], e.g. "
+      "hair=ParamHair*,ParamBust*:on=2");
   const size_t equals = text.find('=');
   if (equals == std::string::npos || equals == 0) return absl::InvalidArgumentError(usage);
   TimingGroupFlag out;
@@ -129,9 +133,26 @@ absl::StatusOr<TimingGroupFlag> ParseTimingGroup(const std::string& text) {
     out.ids.emplace_back(id);
   }
   if (colon != std::string::npos) {
-    absl::StatusOr<bool> known = ParseDrawingSettings(kFlag, text.substr(colon + 1), out);
-    if (!known.ok()) return known.status();
-    if (!*known) return absl::InvalidArgumentError(usage);
+    // keys=F/F/F (the group's named key poses; '/' since ',' separates the settings), then
+    // on, tame and tsume as for --segment-overrides.
+    std::vector<std::string> settings;
+    for (absl::string_view setting : absl::StrSplit(text.substr(colon + 1), ',')) {
+      if (!absl::StartsWith(setting, "keys=")) {
+        settings.emplace_back(setting);
+        continue;
+      }
+      for (absl::string_view key : absl::StrSplit(setting.substr(5), '/')) {
+        absl::StatusOr<int64_t> frame =
+            ParseWholeNumber(absl::StrCat(kFlag, " keys"), std::string(key), 0, INT32_MAX);
+        if (!frame.ok()) return frame.status();
+        out.key_frames.push_back(static_cast<int>(*frame));
+      }
+    }
+    if (!settings.empty()) {
+      absl::StatusOr<bool> known = ParseDrawingSettings(kFlag, absl::StrJoin(settings, ","), out);
+      if (!known.ok()) return known.status();
+      if (!*known) return absl::InvalidArgumentError(usage);
+    }
   }
   return out;
 }
@@ -173,7 +194,7 @@ absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesRequest(const CurvesArgs& arg
     if (flag.tsume) o->set_tsume(*flag.tsume);
   }
   if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
-  if (args.no_merge_keys) request.set_merge_key_poses(false);
+  if (!args.merge_key_poses) request.set_merge_key_poses(false);
   if (absl::Status s = AddTimingGroups(args, request); !s.ok()) return s;
   return request;
 }

@@ -106,6 +106,12 @@ const std::map<std::string, FieldCase>& Cases() {
        {{"1:frames-per-drawing=2,tame=1.5,tsume=2"},
         "segment: 1 frames_per_drawing: 2 tame: 1.5 tsume: 2"}},
       {"RetimeCurvesRequest.timing_fps", {{"12"}, "12"}},
+      {"RetimeCurvesRequest.merge_key_poses", {{"=false"}, "false"}},
+      {"RetimeCurvesRequest.timing_groups",
+       {{"hair=ParamHair*,ParamBust?:on=2,tame=1.25,tsume=1.5,keys=0/10/20"},
+        "name: \"hair\" ids: \"ParamHair*\" ids: \"ParamBust?\" frames_per_drawing: 2 "
+        "tame: 1.25 tsume: 1.5 key_frames: 0 key_frames: 10 key_frames: 20"}},
+      {"RetimeCurvesRequest.default_timing_groups", {{"=false"}, "false"}},
       // LipBlink
       {"LipBlinkRequest.mouth.ids",
        {{"ParamMouthOpenY,ParamMouthForm"}, "\"ParamMouthOpenY\", \"ParamMouthForm\""}},
@@ -276,8 +282,8 @@ TEST(RequestFlagsTest, WalksEveryField) {
   for (const auto& [key, unused] : Cases()) {
     EXPECT_TRUE(walked.count(key)) << key << ": a case for a field the proto does not have";
   }
-  // 12 + 10 + 23 fields today; the count catches a settings message walked wrongly.
-  EXPECT_EQ(paths.size(), 45u);
+  // 12 + 13 + 23 fields today; the count catches a settings message walked wrongly.
+  EXPECT_EQ(paths.size(), 48u);
 }
 
 TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {

@@ -79,7 +79,7 @@ def test_curves_and_lip_blink_results(client):
     curves = client.retime_curves(source_path("samples", "arm_head.motion3.json"))
     assert curves.key_frames == [0, 9, 18, 27, 36, 45, 54, 63, 72, 81, 90]  # README's figures
     assert curves.timing_fps == 24
-    assert curves.counts == {"curves": 5, "frames": 91, "key_poses": 11, "drawings": 31}
+    assert curves.counts == {"curves": 5, "frames": 91, "key_poses": 11, "drawings": 21}
     assert set(curves.curves) == {"ParamAngleX", "ParamAngleY", "ParamBodyAngleX", "ParamArmLA",
                                   "ParamArmRA"}
     lip = client.lip_blink(source_path("samples", "talk_blink.motion3.json"))
