@@ -311,10 +311,10 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
 // The --config file's [skeletal] section is `koma batch skeletal`'s as it is `koma
 // skeletal`'s: CLI11 looks a section up among the subcommands of the app that reads the
 // file, which here sit under "batch".
-class BatchConfig final : public CLI::ConfigTOML {
+class BatchConfig final : public ConfigToml {
  public:
   std::vector<CLI::ConfigItem> from_config(std::istream& in) const override {
-    std::vector<CLI::ConfigItem> read = CLI::ConfigTOML::from_config(in);
+    std::vector<CLI::ConfigItem> read = ConfigToml::from_config(in);
     for (CLI::ConfigItem& item : read) {
       if (!item.parents.empty()) item.parents.insert(item.parents.begin(), "batch");
     }

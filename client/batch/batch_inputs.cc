@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <string_view>
 #include <system_error>
 
 #include "absl/status/status.h"
@@ -12,6 +13,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
+#include "formats/text_encoding.h"
 
 namespace koma::client::batch {
 namespace fs = std::filesystem;
@@ -102,6 +104,14 @@ absl::Status AddList(const std::string& list_path, Collector& collector) {
   }
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
+    if (number == 1) {
+      // A UTF-8 byte order mark (Notepad writes one) is skipped; UTF-16 is refused by name.
+      absl::StatusOr<std::string_view> text = formats::SkipUtf8Bom(line);
+      if (!text.ok()) {
+        return absl::InvalidArgumentError(absl::StrCat("@", list_path, ": ", text.status().message()));
+      }
+      line = std::string(*text);
+    }
     const std::string path(absl::StripAsciiWhitespace(line));
     if (path.empty() || path[0] == '#') continue;
     if (absl::Status s = collector.Add(path, absl::StrCat(list_path, ":", number)); !s.ok()) {

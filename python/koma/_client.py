@@ -86,7 +86,8 @@ def _is_csv(data, path, file_format):
         return file_format == "csv"
     if path is not None:
         return path.lower().endswith(".csv")
-    return not data.lstrip().startswith(b"{")
+    # A UTF-8 byte order mark (Windows tools write one) says nothing about the format.
+    return not data.removeprefix(b"\xef\xbb\xbf").lstrip().startswith(b"{")
 
 
 def _credentials(tls):
