@@ -36,7 +36,8 @@ class SkeletalResult(_Result):
         kinds: per output frame, "ORIGINAL", "DUPLICATE" or "HELD".
         timing: the timing map as a dict {output frame: source frame}.
         counts: dict with frames (output frames), omissions_applied, duplicates_applied,
-            duplicates_skipped, holds_applied, omissions_requested, holds_requested, max_hold
+            duplicates_skipped, duplicates_omitted and duplicates_held (duplicates a later
+            omission removed or a later hold held over), holds_applied, omissions_requested, holds_requested, max_hold
             (counts in grid frames when timing_fps > 0).
         deleted_frames, hidden_frames: source frames no longer shown (omitted / held over).
         input_ssd: per input frame (grid frame with a grid) the squared distance to the one
@@ -66,6 +67,8 @@ class SkeletalResult(_Result):
             "omissions_applied": response.omissions_applied,
             "duplicates_applied": response.duplicates_applied,
             "duplicates_skipped": response.duplicates_skipped,
+            "duplicates_omitted": response.duplicates_omitted,
+            "duplicates_held": response.duplicates_held,
             "holds_applied": response.holds_applied,
             "omissions_requested": response.omissions_requested,
             "holds_requested": response.holds_requested,
