@@ -6,7 +6,10 @@ namespace koma::client {
 CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   CLI::App* cmd =
       app.add_subcommand("lipblink", "Three-drawing mouth flaps and anime blinks (LipBlink)");
-  AddCurveInputFlag(cmd, &args.input);
+  cmd->add_option("input", args.input,
+                  "motion3.json, or CSV (frame,<id>,... per frame); - reads standard input "
+                  "(optional with --audio or --rhubarb)")
+      ->type_name("IN");
   cmd->add_option("-o,--output", args.output,
                   "motion3.json or .csv to write; - writes standard output")
       ->type_name("OUT");
@@ -57,6 +60,19 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
                  "frames an automatic blink stays closed, then half-open (default 2)");
   AddIntervals(cmd, "--auto-blink-keep", &args.auto_blink_keep,
                "frames automatic blinks must not touch, BEGIN-END,...");
+  // voice
+  cmd->add_option("--audio", args.audio,
+                  "a voice recording (WAV, FLAC, Ogg Vorbis/Opus, MP3): speech and mouth "
+                  "drawings from it; without IN, a new motion at --fps")
+      ->type_name("FILE");
+  cmd->add_option("--rhubarb", args.rhubarb,
+                  "Rhubarb Lip Sync mouth cues (its JSON or TSV) in place of --audio")
+      ->type_name("FILE");
+  cmd->add_option("--motion", args.motion, "the motion the voice's mouth goes into (same as IN)")
+      ->type_name("FILE");
+  cmd->add_option("--cues", args.cues,
+                  "with --audio/--rhubarb: the mouth as Rhubarb cues, OUT.tsv as TSV, else JSON")
+      ->type_name("OUT");
   AddSeed(cmd, "--seed", &args.seed,
           "seed of the random mouth shapes and auto-blinks, 0 .. 2^64-1 (default 0x6b6f6d61)");
   AddCurveFileFlags(cmd, args, "mouth and blink holds are");

@@ -6,6 +6,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "client/files.h"
+#include "convert/curve_text.h"
 #include "convert/curves_convert.h"
 
 namespace koma::client {
@@ -120,6 +121,71 @@ nlohmann::json LipBlinkSummaryJson(const LipBlinkArgs& args, const CurveSet& cur
                          {"mid_level", eye.mid_level()},
                          {"open_level", eye.open_level()}});
   }
+  return j;
+}
+
+namespace {
+
+// The motion the server wrote (for its frame count and rate).
+CurveSet WrittenCurves(const LipBlinkArgs& args, const v1::LipBlinkResponse& response) {
+  const bool csv = response.has_csv_text();
+  absl::StatusOr<convert::CurveInput> input = convert::ParseCurveText(
+      csv ? response.csv_text() : response.motion3_json(), csv, args.csv_fps);
+  return input.ok() ? input->curves : CurveSet{};
+}
+
+LipBlinkArgs VoiceArgs(const LipBlinkArgs& args) {
+  LipBlinkArgs named = args;
+  named.input = args.audio.empty() ? args.rhubarb : args.audio;
+  return named;
+}
+
+}  // namespace
+
+std::string LipBlinkVoiceSummaryText(const LipBlinkArgs& args,
+                                     const v1::LipBlinkResponse& response) {
+  const v1::LipBlinkVoiceAnalysis& v = response.voice();
+  std::string text;
+  if (!args.audio.empty()) {
+    absl::StrAppendFormat(&text, "%s: %.3f s, %d Hz, %d channel%s", InputName(args.audio),
+                          v.duration_s(), v.sample_rate(), v.channels(),
+                          v.channels() == 1 ? "" : "s");
+  } else {
+    absl::StrAppendFormat(&text, "%s: %.3f s of Rhubarb cues", InputName(args.rhubarb),
+                          v.duration_s());
+  }
+  const std::string& motion = args.motion.empty() ? args.input : args.motion;
+  absl::StrAppend(&text, motion.empty() ? ", a new motion\n"
+                                        : absl::StrCat(", into ", InputName(motion), "\n"));
+  if (!args.audio.empty()) {
+    absl::StrAppendFormat(&text,
+                          "  loudness: noise floor %.1f dBFS; speech starts above %.1f dBFS, "
+                          "stays above %.1f dBFS; loud %.1f dBFS\n",
+                          v.noise_floor_dbfs(), v.start_dbfs(), v.stay_dbfs(), v.loud_dbfs());
+  }
+  text += LipBlinkSummaryText(VoiceArgs(args), WrittenCurves(args, response), response);
+  if (!args.cues.empty()) absl::StrAppend(&text, "  cues: ", OutputName(args.cues), "\n");
+  return text;
+}
+
+nlohmann::json LipBlinkVoiceSummaryJson(const LipBlinkArgs& args,
+                                        const v1::LipBlinkResponse& response) {
+  nlohmann::json j =
+      LipBlinkSummaryJson(VoiceArgs(args), WrittenCurves(args, response), response);
+  if (!args.cues.empty()) j["outputs"]["cues"] = args.cues;
+  const v1::LipBlinkVoiceAnalysis& v = response.voice();
+  j["voice"] = {{"kind", args.audio.empty() ? "rhubarb" : "audio"},
+                {"sample_rate", v.sample_rate()},
+                {"channels", v.channels()},
+                {"duration_s", v.duration_s()},
+                {"frame_fps", v.frame_fps()},
+                {"noise_floor_dbfs", v.noise_floor_dbfs()},
+                {"start_dbfs", v.start_dbfs()},
+                {"stay_dbfs", v.stay_dbfs()},
+                {"loud_dbfs", v.loud_dbfs()},
+                {"speech", Intervals(v.speech())}};
+  const std::string& motion = args.motion.empty() ? args.input : args.motion;
+  if (!motion.empty()) j["voice"]["motion"] = motion;
   return j;
 }
 

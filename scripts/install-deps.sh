@@ -10,6 +10,7 @@ packages=(
   libabsl-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev
   prometheus-cpp-dev
+  libsndfile1-dev
 )
 # What the tests and benchmarks add (python3-grpcio: the interop test's second client;
 # buildah, podman, runc, debootstrap: deploy/test-image.sh builds and runs the image;
@@ -32,6 +33,10 @@ if [ "${1:-}" != "--build-only" ]; then
   # jq, bsdextrautils (column): docs/usage.md's examples pipe into them, and the docs test
   # runs every documented command.
   packages+=(jq bsdextrautils)
+  # espeak-ng, sox, libsox-fmt-all, sndfile-programs: the LipBlink audio tests speak known
+  # sentences, join them with known silences and noise, and write them as WAV, FLAC, Ogg
+  # Vorbis/Opus and MP3 (tests/e2e/voice_lib.sh); nothing is downloaded.
+  packages+=(espeak-ng sox libsox-fmt-all sndfile-programs)
 fi
 
 missing=()

@@ -21,6 +21,11 @@ struct RequestLimits {
   // parsed whole into memory (about 8 bytes per number, ~1 to 3x the text), and what it
   // decodes to is then checked against max_values and max_joints as a decoded request is.
   int64_t max_file_bytes = 64 * 1024 * 1024;
+  // LipBlink's recordings (LipBlinkRequest.audio, also within max_file_bytes): the longest
+  // decoded, in seconds (the header's claim and the samples; memory grows with its film-grid
+  // frames, CPU time with its samples), and the most channels.
+  double max_audio_seconds = 7200.0;
+  int max_audio_channels = 64;
   // Threads one RetimeSkeletal call's forward kinematics may use (a clip of at least
   // 2 x kFramesPerFkThread frames, core/forward_kinematics.h); 1 = the calling thread only.
   int threads_per_call = 1;
