@@ -66,7 +66,33 @@ v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSe
   }
   if (args.seed) request.set_seed(*args.seed);
   if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
+  v1::LipBlinkVoiceSettings* voice = request.mutable_voice_settings();
+  if (args.noise_floor_dbfs) voice->set_noise_floor_dbfs(*args.noise_floor_dbfs);
+  if (args.noise_percentile) voice->set_noise_percentile(*args.noise_percentile);
+  if (args.start_above_floor_db) voice->set_start_above_floor_db(*args.start_above_floor_db);
+  if (args.stay_above_floor_db) voice->set_stay_above_floor_db(*args.stay_above_floor_db);
+  if (args.min_speech_dbfs) voice->set_min_speech_dbfs(*args.min_speech_dbfs);
+  if (args.bridge_gap_frames) voice->set_bridge_gap_frames(*args.bridge_gap_frames);
+  if (args.min_speech_frames) voice->set_min_speech_frames(*args.min_speech_frames);
+  if (args.open_below_peak_db) voice->set_open_below_peak_db(*args.open_below_peak_db);
+  if (args.closed_below_peak_db) voice->set_closed_below_peak_db(*args.closed_below_peak_db);
+  if (args.hysteresis_db) voice->set_hysteresis_db(*args.hysteresis_db);
+  if (voice->ByteSizeLong() == 0) request.clear_voice_settings();
+  if (args.voice_motion_fps) request.set_voice_motion_fps(*args.voice_motion_fps);
+  if (!args.voice_output.empty()) {
+    request.set_voice_output(args.voice_output == "csv" ? v1::VOICE_OUTPUT_CSV
+                                                        : v1::VOICE_OUTPUT_MOTION3_JSON);
+  }
   return request;
+}
+
+// True when any flag only a voice uses is given.
+bool HasVoiceFlags(const LipBlinkArgs& args) {
+  return args.noise_floor_dbfs || args.noise_percentile || args.start_above_floor_db ||
+         args.stay_above_floor_db || args.min_speech_dbfs || args.bridge_gap_frames ||
+         args.min_speech_frames || args.open_below_peak_db || args.closed_below_peak_db ||
+         args.hysteresis_db || args.voice_motion_fps || !args.voice_output.empty() ||
+         !args.motion.empty() || !args.cues.empty();
 }
 
 v1::LipBlinkRequest BuildLipBlinkFileRequest(const LipBlinkArgs& args, const CurveInput& input) {
@@ -91,9 +117,9 @@ absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args) {
       return absl::InvalidArgumentError(
           "IN is required (a motion3.json or CSV), or --audio FILE / --rhubarb FILE");
     }
-    if (!args.motion.empty() || !args.cues.empty()) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          args.cues.empty() ? "--motion" : "--cues", " needs --audio or --rhubarb"));
+    if (HasVoiceFlags(args)) {
+      return absl::InvalidArgumentError(
+          "--motion, --cues, --voice-*: need a voice, --audio FILE or --rhubarb FILE");
     }
   } else if (!args.report.empty()) {
     return absl::InvalidArgumentError(
@@ -112,13 +138,15 @@ v1::LipBlinkRequest BuildLipBlinkVoiceRequest(const LipBlinkArgs& args, std::str
   if (input != nullptr) {
     PutCurveFile(args, *input, &request);
   } else {
-    request.set_voice_motion_fps(args.csv_fps);
+    request.set_voice_motion_fps(args.voice_motion_fps.value_or(args.csv_fps));
     request.set_voice_output(csv_output ? v1::VOICE_OUTPUT_CSV : v1::VOICE_OUTPUT_MOTION3_JSON);
   }
   if (!args.audio.empty()) {
     request.set_audio(std::move(voice));
   } else {
     request.set_rhubarb_cues(std::move(voice));
+    // Unset: the server follows the cues' drawings.
+    if (args.mode.empty()) request.mutable_mouth()->clear_mode();
   }
   return request;
 }
@@ -137,7 +165,8 @@ absl::Status WriteLipBlinkVoiceOutputs(const LipBlinkArgs& args, bool csv_output
     absl::StatusOr<convert::CurveInput> written =
         convert::ParseCurveText(response.motion3_json(), /*csv=*/false, 0);
     if (!written.ok()) return absl::InternalError(written.status().message());
-    absl::StatusOr<std::string> csv = convert::CurveOutputText(*written, {}, /*csv=*/true);
+    const std::vector<std::optional<CurveReplacement>> unchanged(written->curves.curves.size());
+    absl::StatusOr<std::string> csv = convert::CurveOutputText(*written, unchanged, /*csv=*/true);
     if (!csv.ok()) return csv.status();
     text = *std::move(csv);
   } else {
@@ -168,8 +197,10 @@ int RunLipBlinkVoice(const LipBlinkArgs& args, const CommandOutput& out) {
     if (!format.ok()) return out.UsageFailure(format.status());
     csv_output = *format == CurveFormat::kCsv;
   } else {
-    const CurveFormat format = CurveFormatFromFlag(args.format);
-    csv_output = format == CurveFormat::kCsv || (format == CurveFormat::kAuto && IsCsvPath(args.output));
+    const CurveFormat format = CurveFormatFromFlag(
+        args.voice_output.empty() ? args.format : args.voice_output);
+    csv_output =
+        format == CurveFormat::kCsv || (format == CurveFormat::kAuto && IsCsvPath(args.output));
   }
   if (absl::Status s = CheckWritable({args.output, args.cues}); !s.ok()) return out.Failure(s);
   absl::StatusOr<std::string> voice = ReadFile(voice_path);

@@ -23,7 +23,7 @@ namespace koma::client {
 struct LipBlinkArgs : CurveFileArgs {
   // mouth (MouthSettings)
   std::vector<std::string> mouth_ids;     // --mouth / --mouth-ids; empty: ParamMouthOpenY
-  std::string mode = "random";            // --mode / --mouth-mode random|follow
+  std::string mode;  // --mode / --mouth-mode random|follow; empty: random (follow for --rhubarb)
   std::optional<int> frames_per_shape;    // --on / --mouth-frames-per-shape
   std::optional<double> mouth_mid_ratio;  // --mouth-mid-ratio r, 0 < r < 1
   std::optional<double> mouth_min;        // --mouth-min: the closed level
@@ -50,6 +50,13 @@ struct LipBlinkArgs : CurveFileArgs {
   std::string rhubarb;  // --rhubarb FILE: Rhubarb Lip Sync's mouth cues (JSON or TSV)
   std::string motion;   // --motion FILE: the motion the mouth goes into (= IN)
   std::string cues;     // --cues OUT.json|OUT.tsv: the mouth as Rhubarb cues
+  // voice_settings (LipBlinkVoiceSettings): --voice-settings-<field>
+  std::optional<double> noise_floor_dbfs, noise_percentile, start_above_floor_db,
+      stay_above_floor_db, min_speech_dbfs, open_below_peak_db, closed_below_peak_db,
+      hysteresis_db;
+  std::optional<int> bridge_gap_frames, min_speech_frames;
+  std::optional<double> voice_motion_fps;  // --voice-motion-fps; unset: --fps
+  std::string voice_output;                // --voice-output motion3|csv; empty: from -o
 };
 
 // True when --audio or --rhubarb is given.

@@ -12,6 +12,12 @@
 namespace koma::client {
 namespace {
 
+// --mode as the server applies it: unset is random, or follow for Rhubarb cues.
+std::string MouthModeName(const LipBlinkArgs& args) {
+  if (!args.mode.empty()) return args.mode;
+  return args.rhubarb.empty() ? "random" : "follow";
+}
+
 // Frame numbers of the response: the curves' frames, or film-grid frames (timing_fps > 0),
 // which the summary also gives in seconds.
 struct Frames {
@@ -66,7 +72,7 @@ std::string LipBlinkSummaryText(const LipBlinkArgs& args, const CurveSet& curves
                                 const v1::LipBlinkResponse& response) {
   std::string text = absl::StrFormat("%s: %d frames at %.4g fps -> %s (seed %d, %s mouth)\n",
                                      InputName(args.input), curves.frame_count, curves.fps,
-                                     OutputName(args.output), response.seed(), args.mode);
+                                     OutputName(args.output), response.seed(), MouthModeName(args));
   const Frames frames{response.timing_fps()};
   if (frames.grid_fps > 0) {
     absl::StrAppendFormat(
@@ -88,7 +94,7 @@ nlohmann::json LipBlinkSummaryJson(const LipBlinkArgs& args, const CurveSet& cur
   j["frames"] = curves.frame_count;
   j["fps"] = curves.fps;
   j["seed"] = response.seed();
-  j["mouth_mode"] = args.mode;
+  j["mouth_mode"] = MouthModeName(args);
   j["timing_fps"] = response.timing_fps();
   j["mouths"] = nlohmann::json::array();
   for (const v1::MouthTrack& mouth : response.mouths()) {

@@ -69,7 +69,7 @@ struct VoiceOptions {
   // threshold goes below `min_speech_dbfs`, so a clean recording's digital silence (floor
   // -150) does not make its faintest breath speech.
   double start_above_floor_db = 9.0;
-  double stay_above_floor_db = 4.0;
+  double stay_above_floor_db = 2.0;
   double min_speech_dbfs = -55.0;
   // Gaps of at most this many frames between intervals are bridged (a stop consonant's
   // closure is one or two), then intervals shorter than `min_speech_frames` dropped (a click,

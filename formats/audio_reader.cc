@@ -6,13 +6,53 @@
 #include <cmath>
 #include <cstring>
 
+#include <optional>
+#include <string>
+
+#include "absl/strings/match.h"
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
+#include "absl/strings/strip.h"
 
 namespace koma::formats {
 namespace {
 
 // Sample frames decoded per block: 4096 frames of up to max_channels floats (1 MB at 64).
 constexpr sf_count_t kBlockFrames = 4096;
+
+// Sizes a header states for its samples that the file cannot hold. libsndfile reads what is
+// there and notes the difference in its log ("data : 4294967280 (should be 384000)" for WAV,
+// "SSND : ... (should be ...)" for AIFF); 0 and 0xFFFFFFFF are the placeholders of a file
+// written to a pipe, whose length was unknown, and are not claims.
+struct DataClaim {
+  int64_t claimed = 0;  // bytes
+  int64_t actual = 0;   // bytes
+};
+
+std::optional<DataClaim> ClaimInLog(SNDFILE* file) {
+  std::string log(16384, '\0');
+  sf_command(file, SFC_GET_LOG_INFO, log.data(), static_cast<int>(log.size()));
+  for (absl::string_view line : absl::StrSplit(log.c_str(), '\n')) {
+    if (!absl::StartsWith(line, "data") && !absl::StartsWith(line, "SSND")) continue;
+    const size_t colon = line.find(':');
+    const size_t should = line.find("(should be ");
+    if (colon == absl::string_view::npos || should == absl::string_view::npos) continue;
+    DataClaim claim;
+    if (!absl::SimpleAtoi(absl::StripAsciiWhitespace(line.substr(colon + 1, should - colon - 1)),
+                          &claim.claimed) ||
+        !absl::SimpleAtoi(absl::StripAsciiWhitespace(absl::StripSuffix(
+                              line.substr(should + 11), ")")),
+                          &claim.actual)) {
+      continue;
+    }
+    if (claim.claimed == 0 || claim.claimed == 0xFFFFFFFF || claim.claimed <= claim.actual) {
+      continue;
+    }
+    return claim;
+  }
+  return std::nullopt;
+}
 
 }  // namespace
 
@@ -91,6 +131,22 @@ absl::StatusOr<std::unique_ptr<AudioDecoder>> AudioDecoder::Open(std::string_vie
         absl::StrCat("the header claims ", claimed_s, " s (", sf_info.frames, " frames at ",
                      sf_info.samplerate, " Hz), over the server limit --max_audio_seconds=",
                      limits.max_seconds));
+  }
+  if (const std::optional<DataClaim> claim = ClaimInLog(file); claim && sf_info.frames > 0) {
+    const double claimed_frames = static_cast<double>(sf_info.frames) *
+                                  static_cast<double>(claim->claimed) /
+                                  static_cast<double>(claim->actual);
+    const double claimed_seconds = claimed_frames / sf_info.samplerate;
+    if (claimed_seconds > limits.max_seconds) {
+      return absl::ResourceExhaustedError(absl::StrCat(
+          "the header claims ", claimed_seconds, " s (", claim->claimed,
+          " bytes of samples at ", sf_info.samplerate,
+          " Hz), over the server limit --max_audio_seconds=", limits.max_seconds,
+          "; the file holds ", claim->actual, " bytes"));
+    }
+    return absl::InvalidArgumentError(
+        absl::StrCat("truncated: the header claims ", claim->claimed,
+                     " bytes of samples, the file holds ", claim->actual));
   }
   d->interleaved_.resize(static_cast<size_t>(kBlockFrames * sf_info.channels));
   d->mono_.resize(static_cast<size_t>(kBlockFrames));
