@@ -82,11 +82,12 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   db("--voice-settings-start-above-floor-db", &args.start_above_floor_db, Above(0),
      "speech starts at a frame this many dB above the floor (default 9)");
   db("--voice-settings-stay-above-floor-db", &args.stay_above_floor_db, Above(0),
-     "and lasts while frames stay this many dB above it (default 2)");
+     "and lasts while frames stay this many dB above it (default: a fifth of the "
+     "recording's range, 2 to the start)");
   db("--voice-settings-min-speech-dbfs", &args.min_speech_dbfs, {},
      "neither threshold below this, dBFS (default -55)");
   AddWholeNumber(cmd, "--voice-settings-bridge-gap-frames", &args.bridge_gap_frames, 0, INT32_MAX,
-                 "gaps of at most this many frames inside speech are bridged (default 2)");
+                 "gaps of at most this many frames inside speech are bridged (default 4)");
   AddWholeNumber(cmd, "--voice-settings-min-speech-frames", &args.min_speech_frames, 1, INT32_MAX,
                  "shorter speech is dropped (default 2)");
   db("--voice-settings-open-below-peak-db", &args.open_below_peak_db, Above(0),

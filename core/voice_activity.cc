@@ -14,8 +14,10 @@ constexpr double kLn10 = 2.30258509299404568402;
 constexpr double kSqrtHalf = 0.70710678118654752440;
 // At or below this mean square a frame is digital silence (10 log10(1e-15) = -150 dB).
 constexpr double kSilenceMeanSquare = 1e-15;
-// The speech's loud level for FOLLOW: this percentile of its frames' loudness.
+// The speech's loud level for FOLLOW: this percentile of its frames' loudness; the
+// recording's range (for the unset stay threshold): the same percentile of all its frames.
 constexpr double kLoudPercentile = 90.0;
+constexpr double kRangePercentile = 90.0;
 
 // ln(m) for m in [sqrt(1/2), sqrt(2)): 2 atanh(s), s = (m - 1) / (m + 1), |s| <= 0.172, as
 // the series 2 (s + s^3/3 + s^5/5 + ...) to s^23 (the next term is below 1e-19 of the sum).
@@ -132,9 +134,9 @@ absl::Status ValidateVoiceOptions(const VoiceOptions& o) {
     return invalid("start_above_floor_db: ", o.start_above_floor_db,
                    " must be in (0, 200] dB");
   }
-  if (!(IsFinitePositive(o.stay_above_floor_db) &&
-        o.stay_above_floor_db <= o.start_above_floor_db)) {
-    return invalid("stay_above_floor_db: ", o.stay_above_floor_db,
+  if (o.stay_above_floor_db && !(IsFinitePositive(*o.stay_above_floor_db) &&
+                                  *o.stay_above_floor_db <= o.start_above_floor_db)) {
+    return invalid("stay_above_floor_db: ", *o.stay_above_floor_db,
                    " must be in (0, start_above_floor_db = ", o.start_above_floor_db, "] dB");
   }
   if (!(std::isfinite(o.min_speech_dbfs) && o.min_speech_dbfs <= 0.0 &&
@@ -252,11 +254,13 @@ VoiceActivity DetectVoice(absl::Span<const double> dbfs, const VoiceOptions& opt
   v.noise_floor_dbfs =
       options.noise_floor_dbfs.value_or(Percentile({dbfs.begin(), dbfs.end()},
                                                    options.noise_percentile));
-  v.start_dbfs = std::max(v.noise_floor_dbfs + options.start_above_floor_db,
-                          options.min_speech_dbfs);
-  v.stay_dbfs = std::max(v.noise_floor_dbfs + options.stay_above_floor_db,
-                         options.min_speech_dbfs -
-                             (options.start_above_floor_db - options.stay_above_floor_db));
+  const double start_db = options.start_above_floor_db;
+  const double range = Percentile({dbfs.begin(), dbfs.end()}, kRangePercentile) - v.noise_floor_dbfs;
+  const double stay_db = options.stay_above_floor_db.value_or(
+      std::min(start_db, std::max(kMinStayAboveFloorDb, kStayFractionOfRange * range)));
+  v.start_dbfs = std::max(v.noise_floor_dbfs + start_db, options.min_speech_dbfs);
+  v.stay_dbfs =
+      std::max(v.noise_floor_dbfs + stay_db, options.min_speech_dbfs - (start_db - stay_db));
   v.speech = BridgeAndDrop(Runs(dbfs, v.start_dbfs, v.stay_dbfs), options.bridge_gap_frames,
                            options.min_speech_frames);
   std::vector<double> speaking;

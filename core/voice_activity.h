@@ -20,6 +20,10 @@ namespace koma {
 
 // The loudness of digital silence (and of any frame below it): 10 log10(1e-15), dBFS.
 inline constexpr double kSilenceDbfs = -150.0;
+// The unset stay threshold: this fraction of the recording's range above its floor, and at
+// least kMinStayAboveFloorDb (VoiceOptions::stay_above_floor_db).
+inline constexpr double kStayFractionOfRange = 0.2;
+inline constexpr double kMinStayAboveFloorDb = 2.0;
 
 // 10 log10(mean_square) in dB (full scale: a mean square of 1 is 0 dBFS), kSilenceDbfs at or
 // below 1e-15. Deterministic: frexp and + - * / only (libm's log10 may differ in its last bit
@@ -65,16 +69,19 @@ struct VoiceOptions {
   std::optional<double> noise_floor_dbfs;
   double noise_percentile = 10.0;
   // A speech interval is a run of frames at least `stay_above_floor_db` above the floor holding
-  // one frame at least `start_above_floor_db` above it (0 < stay <= start, dB). Neither
-  // threshold goes below `min_speech_dbfs`, so a clean recording's digital silence (floor
-  // -150) does not make its faintest breath speech.
+  // one frame at least `start_above_floor_db` above it (0 < stay <= start, dB). Unset stay:
+  // kStayFractionOfRange of the recording's range (its frames' 90th percentile minus the
+  // floor), within [2 dB, start]: a clean take's noise bursts beside a word stay out, a noisy
+  // take's soft word ends stay in. Neither threshold goes below `min_speech_dbfs`, so a clean
+  // recording's digital silence (floor -150) does not make its faintest breath speech.
   double start_above_floor_db = 9.0;
-  double stay_above_floor_db = 2.0;
+  std::optional<double> stay_above_floor_db;
   double min_speech_dbfs = -55.0;
   // Gaps of at most this many frames between intervals are bridged (a stop consonant's
-  // closure is one or two), then intervals shorter than `min_speech_frames` dropped (a click,
-  // a door). >= 0 and >= 1.
-  int bridge_gap_frames = 2;
+  // closure, a fricative lost in a narrow band, a breath between words: up to 167 ms on the
+  // 24 fps grid), then intervals shorter than `min_speech_frames` dropped (a click, a door).
+  // >= 0 and >= 1.
+  int bridge_gap_frames = 4;
   int min_speech_frames = 2;
   // MOUTH_FOLLOW: a frame asks for open when it is within `open_below_peak_db` of the speech's
   // loud level (the 90th percentile of its frames' loudness), closed when more than

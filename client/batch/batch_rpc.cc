@@ -152,11 +152,18 @@ class LipBlinkClipCall final : public Clip {
   v1::LipBlinkResponse response_;
 };
 
+LipBlinkArgs WithAudio(const LipBlinkArgs& args, const std::string& path) {
+  LipBlinkArgs with = args;
+  with.audio = path;
+  return with;
+}
+
 // A recording (LipBlinkRequest.audio): a new motion written from it.
 class LipBlinkVoiceCall final : public Clip {
  public:
-  LipBlinkVoiceCall(const LipBlinkArgs& args, std::string audio)
-      : args_(args), request_(BuildLipBlinkVoiceRequest(args_, std::move(audio), nullptr, false)) {}
+  LipBlinkVoiceCall(const LipBlinkArgs& args, const std::string& path, std::string audio)
+      : args_(args), request_(BuildLipBlinkVoiceRequest(WithAudio(args, path), std::move(audio),
+                                                        nullptr, false)) {}
 
   void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
              std::function<void(grpc::Status)> done) override {
@@ -191,7 +198,7 @@ class LipBlinkRpc final : public Rpc {
       }
       absl::StatusOr<std::string> audio = ReadFile(item.input);
       if (!audio.ok()) return audio.status();
-      return std::make_unique<LipBlinkVoiceCall>(args_, *std::move(audio));
+      return std::make_unique<LipBlinkVoiceCall>(args_, item.input, *std::move(audio));
     }
     absl::StatusOr<CurveInput> input =
         ReadCurveInput(item.input, args_.csv_fps, CurveFormat::kAuto, "lipblink");

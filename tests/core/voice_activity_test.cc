@@ -132,7 +132,9 @@ TEST(DetectVoiceTest, MatchesTheNaiveRulesOnRandomLoudness) {
     const double floor = Percentile(db, 10);
     EXPECT_EQ(v.noise_floor_dbfs, floor);
     EXPECT_EQ(v.start_dbfs, std::max(floor + 9, -55.0));
-    EXPECT_EQ(v.stay_dbfs, std::max(floor + 2, -62.0));
+    const double stay_db =
+        std::min(9.0, std::max(2.0, 0.2 * (Percentile(db, 90) - floor)));
+    EXPECT_EQ(v.stay_dbfs, std::max(floor + stay_db, -55.0 - (9 - stay_db)));
     const std::vector<FrameInterval> want =
         NaiveSpeech(db, v.start_dbfs, v.stay_dbfs, o.bridge_gap_frames, o.min_speech_frames);
     ASSERT_EQ(v.speech.size(), want.size()) << trial;
@@ -149,7 +151,7 @@ TEST(DetectVoiceTest, MatchesTheNaiveRulesOnRandomLoudness) {
 }
 
 TEST(DetectVoiceTest, HandWorkedSpeechAndFollow) {
-  // Floor -60 (10th percentile), start -51, stay -58; loud = 90th percentile of speech = -20:
+  // Floor -60 (10th percentile), start -51, stay -52 (a fifth of the 40 dB range); loud = 90th percentile of speech = -20:
   // open above -26 (+1.5 to enter), closed below -35.
   std::vector<double> db(40, -60.0);
   for (int f = 5; f < 15; ++f) db[f] = -20;  // a word
@@ -196,7 +198,7 @@ TEST(DetectVoiceTest, CleanRecordingSilenceIsNotSpeech) {
 
 TEST(ValidateVoiceOptionsTest, NamesTheOption) {
   VoiceOptions o;
-  o.stay_above_floor_db = 12;
+  o.stay_above_floor_db = 12.0;
   EXPECT_EQ(ValidateVoiceOptions(o).message(),
             "stay_above_floor_db: 12 must be in (0, start_above_floor_db = 9] dB");
   o = {};

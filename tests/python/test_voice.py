@@ -1,5 +1,5 @@
 """LipBlink from a voice end to end (issue 30): recordings made here by espeak-ng and sox
-(tests/testing/voice_recordings.py: two voices, English and Japanese, known silences of 0.2 to
+(tests/testing/voice_recordings.py: two voices, English and Japanese, known silences of 0.25 to
 1.5 s, pink room noise at 20 and 10 dB SNR, 8 to 48 kHz, mono and stereo, WAV int16/int24/
 float, FLAC, Ogg Vorbis, Ogg Opus, MP3) through the real koma_server, the C++ CLI, the Python
 package and `koma batch`."""
@@ -57,16 +57,30 @@ def within(found, known, tolerance):
                for f, k in zip(found, known))
 
 
+# LAME's encoder delay (576 + 529 samples): sox writes no gapless header, so an MP3 decodes
+# this much late (docs/formats.md, "Audio").
+MP3_DELAY_S = 1105 / voice_recordings.RATE
+
+
 def test_speech_matches_the_known_intervals_in_every_encoding(server, voices, tmp_path):
     found = {}
     for name, path in voices["files"].items():
         summary, _ = lipblink(server, tmp_path, path)
         found[name] = summary["voice"]["speech"]
-        assert within(found[name], voices["known"], 1), (name, found[name], voices["known"])
-    # Different encodings of one recording give the same intervals.
+        known = voices["known"]
+        if name == "mp3":
+            known = [(a + MP3_DELAY_S, b + MP3_DELAY_S) for a, b in known]
+        assert within(found[name], known, 1), (name, found[name], known)
+    # Every lossless encoding of one recording (any rate, channels, sample format, FLAC) gives
+    # the same intervals; a lossy one (Vorbis, Opus, MP3 after its delay) within a grid frame.
     reference = found["wav16-22k"]
     for name, speech in found.items():
-        assert speech == reference, (name, speech, reference)
+        if name in ("ogg-vorbis", "opus", "mp3"):
+            shift = MP3_DELAY_S * FPS if name == "mp3" else 0
+            assert within(speech, [((r["begin"] + shift) / FPS, (r["end"] + shift) / FPS)
+                                   for r in reference], 1), (name, speech, reference)
+        else:
+            assert speech == reference, (name, speech, reference)
 
 
 def test_speech_within_two_frames_at_10_db_snr(server, voices, tmp_path):
@@ -157,3 +171,20 @@ def test_bad_audio_is_refused_naming_the_field(server, tmp_path):
                    "--server", server.address, check=False)
     assert done.returncode == 1
     assert "INVALID_ARGUMENT: audio: not a recording libsndfile can read" in done.stderr
+
+
+def test_batch_over_a_folder_of_recordings(server, voices, tmp_path):
+    folder = tmp_path / "takes"
+    folder.mkdir()
+    for name in ("flac", "wav16-16k"):
+        source = voices["files"][name]
+        (folder / os.path.basename(source)).write_bytes(open(source, "rb").read())
+    out = tmp_path / "out"
+    done = run_cli("batch", "lipblink", str(folder), "-o", str(out), "--server", server.address,
+                   "--quiet")
+    assert done.returncode == 0, done.stderr
+    for name in ("flac", "wav16-16k"):
+        stem = os.path.basename(voices["files"][name]).rsplit(".", 1)[0]
+        written = out / (stem + ".motion3.json")
+        _, single = lipblink(server, tmp_path, voices["files"][name], out=stem + ".single.json")
+        assert written.read_bytes() == single.read_bytes(), name

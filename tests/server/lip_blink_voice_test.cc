@@ -285,10 +285,7 @@ std::vector<BadVoice> BadVoices() {
                                                {"start": 0.5, "end": 2, "value": "D"}]})");
        },
        kInvalid, "rhubarb_cues: mouthCues[1]: starts at 0.5"},
-      {"CuesTooLong", [](auto& r) { r.set_rhubarb_cues("0	X
-0.5	D
-11	X
-"); },
+      {"CuesTooLong", [](auto& r) { r.set_rhubarb_cues("0\tX\n0.5\tD\n11\tX\n"); },
        C::RESOURCE_EXHAUSTED, "rhubarb_cues: 11 s of cues, over the server limit --max_audio_seconds=10"},
       {"NaNSamples",
        [](auto& r) {
