@@ -35,8 +35,13 @@ if [ "${1:-}" != "--build-only" ]; then
   packages+=(jq bsdextrautils)
   # espeak-ng, sox, libsox-fmt-all, sndfile-programs: the LipBlink audio tests speak known
   # sentences, join them with known silences and noise, and write them as WAV, FLAC, Ogg
-  # Vorbis/Opus and MP3 (tests/e2e/voice_lib.sh); nothing is downloaded.
+  # Vorbis/Opus and MP3 (tests/testing/voice_recordings.py); nothing is downloaded.
   packages+=(espeak-ng sox libsox-fmt-all sndfile-programs)
+  # python3-build, python3-venv: the wheel test builds the Python package's wheel offline and
+  # installs it into a fresh venv; slurm-wlm, munge: the render-farm test runs a Slurm job
+  # array on a controller and a node daemon it starts on localhost; nodejs: the sharding test
+  # compiles the Flamenco job type (deploy/farm/koma-batch.js) as Flamenco's manager would.
+  packages+=(python3-build python3-venv slurm-wlm munge nodejs)
 fi
 
 missing=()
