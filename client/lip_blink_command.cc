@@ -126,8 +126,10 @@ absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args) {
         "--report: not available with --audio or --rhubarb (the report shows an input curve; "
         "the voice's loudness and speech are in --json's \"voice\")");
   }
-  return CheckOneOnStdout({{"-o", args.output}, {"--report", args.report}, {"--cues", args.cues}},
-                          args.json);
+  if (HasVoice(args)) {
+    return CheckOneOnStdout({{"-o", args.output}, {"--cues", args.cues}}, args.json);
+  }
+  return CheckOneOnStdout({{"-o", args.output}, {"--report", args.report}}, args.json);
 }
 
 v1::LipBlinkRequest BuildLipBlinkVoiceRequest(const LipBlinkArgs& args, std::string voice,
