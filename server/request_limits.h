@@ -26,6 +26,9 @@ struct RequestLimits {
   // frames, CPU time with its samples), and the most channels.
   double max_audio_seconds = 7200.0;
   int max_audio_channels = 64;
+  // Most nodes a glTF file (RetimeSkeletalRequest.gltf) may have; the node tree is walked
+  // every sampled frame, so this bounds the work per frame beside max_values.
+  int64_t max_gltf_nodes = 65536;
   // Threads one RetimeSkeletal call's forward kinematics may use (a clip of at least
   // 2 x kFramesPerFkThread frames, core/forward_kinematics.h); 1 = the calling thread only.
   int threads_per_call = 1;

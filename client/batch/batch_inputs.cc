@@ -132,7 +132,7 @@ bool IsAudioPath(const std::string& path) {
 }
 
 std::vector<std::string> ExtensionsOf(const std::string& rpc) {
-  if (rpc == "skeletal") return {".bvh"};
+  if (rpc == "skeletal") return {".bvh", ".glb", ".gltf", ".vrm", ".vrma"};
   std::vector<std::string> extensions = {".motion3.json", ".csv"};
   if (rpc == "lipblink") {
     extensions.insert(extensions.end(), AudioExtensions().begin(), AudioExtensions().end());

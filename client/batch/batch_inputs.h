@@ -19,8 +19,8 @@ struct BatchItem {
   std::string report;    // the HTML report beside the output; empty when none is asked for
 };
 
-// File name endings the RPC reads, lower case: {".bvh"}, {".motion3.json", ".csv"}, and for
-// lipblink also the recordings' (AudioExtensions).
+// File name endings the RPC reads, lower case: {".bvh", ".glb", ".gltf", ".vrm", ".vrma"}, or
+// {".motion3.json", ".csv"} and for lipblink also the recordings' (AudioExtensions).
 std::vector<std::string> ExtensionsOf(const std::string& rpc);
 
 // Recordings `koma batch lipblink` sends as LipBlinkRequest.audio, each written as
