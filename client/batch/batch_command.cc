@@ -45,7 +45,9 @@ constexpr double kManifestSaveEveryS = 5.0;  // a killed client loses at most th
 // Options of the single-file commands that name one file or choose how one summary is
 // printed: a batch has its own (-o OUTDIR, --timing as a switch, --summary).
 constexpr const char* kPerFileOptions[] = {"input",    "-o",           "--timing", "--timing-only",
-                                           "--format", "--return-motion", "--report"};
+                                           "--format", "--return-motion", "--report",
+                                           "--audio",  "--rhubarb",    "--motion", "--cues",
+                                           "--voice-output"};
 
 // The batch's own options on the RPC's subcommand (the RPC's --server, --deadline, --quiet and
 // --json stay, bound to its args). Returns them, to leave them out of the fingerprint.

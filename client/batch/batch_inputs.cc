@@ -87,6 +87,8 @@ class Collector {
     item.input = path;
     item.relative = relative;
     item.output = (fs::path(out_dir_) / relative).string();
+    // A recording's output is the motion written from it.
+    if (IsAudioPath(relative)) item.output = BesidePath(item.output, AudioExtensions(), ".motion3.json");
     items_.push_back(std::move(item));
   }
 
@@ -126,9 +128,26 @@ absl::Status AddList(const std::string& list_path, Collector& collector) {
 
 }  // namespace
 
+const std::vector<std::string>& AudioExtensions() {
+  static const std::vector<std::string> extensions = {".wav", ".flac", ".ogg",
+                                                      ".oga", ".opus", ".mp3"};
+  return extensions;
+}
+
+bool IsAudioPath(const std::string& path) {
+  for (const std::string& extension : AudioExtensions()) {
+    if (absl::EndsWithIgnoreCase(path, extension)) return true;
+  }
+  return false;
+}
+
 std::vector<std::string> ExtensionsOf(const std::string& rpc) {
   if (rpc == "skeletal") return {".bvh", ".glb", ".gltf", ".vrm", ".vrma"};
-  return {".motion3.json", ".csv"};
+  std::vector<std::string> extensions = {".motion3.json", ".csv"};
+  if (rpc == "lipblink") {
+    extensions.insert(extensions.end(), AudioExtensions().begin(), AudioExtensions().end());
+  }
+  return extensions;
 }
 
 std::string BesidePath(const std::string& output, const std::vector<std::string>& extensions,

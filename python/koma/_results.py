@@ -153,6 +153,10 @@ class LipBlinkResult(_Result):
         curves: {curve id: per-frame values} of the converted curves.
         counts: dict with mouth_curves, eye_curves, mouth_holds, blinks.
         seed: the seed used. timing_fps: the film grid used; 0 when counting source frames.
+        voice: with audio or rhubarb_cues, a dict of the analysis: sample_rate, channels,
+            duration_s, frame_fps, loudness_dbfs (per frame), noise_floor_dbfs, start_dbfs,
+            stay_dbfs, loud_dbfs, speech [(begin, end)] (frames of frame_fps); else None.
+        rhubarb_json, rhubarb_tsv: with a voice, the mouth as Rhubarb cues (str); else None.
         response: the koma.v1.LipBlinkResponse message itself.
     """
 
@@ -178,6 +182,19 @@ class LipBlinkResult(_Result):
         self.timing = {m["id"]: m["holds"] for m in self.mouths}
         self.timing.update({e["id"]: e["blinks"] for e in self.eyes})
         self.curves = {c.id: list(c.values) for c in response.curves}
+        self.voice = None
+        self.rhubarb_json = self.rhubarb_tsv = None
+        if response.HasField("voice"):
+            v = response.voice
+            self.voice = {
+                "sample_rate": v.sample_rate, "channels": v.channels,
+                "duration_s": v.duration_s, "frame_fps": v.frame_fps,
+                "loudness_dbfs": list(v.loudness_dbfs), "noise_floor_dbfs": v.noise_floor_dbfs,
+                "start_dbfs": v.start_dbfs, "stay_dbfs": v.stay_dbfs, "loud_dbfs": v.loud_dbfs,
+                "speech": [(i.begin, i.end) for i in v.speech],
+            }
+            self.rhubarb_json = response.rhubarb_json.decode("utf-8")
+            self.rhubarb_tsv = response.rhubarb_tsv.decode("utf-8")
         self.counts = {
             "mouth_curves": len(self.mouths),
             "eye_curves": len(self.eyes),
