@@ -5,7 +5,9 @@
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "client/batch/batch_inputs.h"
 #include "client/curve_files.h"
+#include "client/files.h"
 #include "client/report/curves_report.h"
 #include "client/report/lip_blink_report.h"
 #include "client/file_format.h"
@@ -190,11 +192,54 @@ class LipBlinkClipCall final : public Clip {
   v1::LipBlinkResponse response_;
 };
 
+LipBlinkArgs WithAudio(const LipBlinkArgs& args, const std::string& path) {
+  LipBlinkArgs with = args;
+  with.audio = path;
+  return with;
+}
+
+// A recording (LipBlinkRequest.audio): a new motion written from it.
+class LipBlinkVoiceCall final : public Clip {
+ public:
+  LipBlinkVoiceCall(const LipBlinkArgs& args, const std::string& path, std::string audio)
+      : args_(args), request_(BuildLipBlinkVoiceRequest(WithAudio(args, path), std::move(audio),
+                                                        nullptr, false)) {}
+
+  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
+             std::function<void(grpc::Status)> done) override {
+    response_.Clear();
+    stub.async()->LipBlink(context, &request_, &response_, std::move(done));
+  }
+
+  absl::Status Write(const BatchItem& item) override {
+    if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
+    LipBlinkArgs args = args_;
+    args.audio = item.input;
+    args.output = item.output;
+    args.cues.clear();
+    return WriteLipBlinkVoiceOutputs(args, /*csv_output=*/false, response_);
+  }
+
+ private:
+  const LipBlinkArgs& args_;
+  v1::LipBlinkRequest request_;
+  v1::LipBlinkResponse response_;
+};
+
 class LipBlinkRpc final : public Rpc {
  public:
   explicit LipBlinkRpc(const LipBlinkArgs& args) : args_(args) {}
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
+    if (IsAudioPath(item.input)) {
+      if (!item.report.empty()) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(item.input, ": --report is not available for recordings"));
+      }
+      absl::StatusOr<std::string> audio = ReadFile(item.input);
+      if (!audio.ok()) return audio.status();
+      return std::make_unique<LipBlinkVoiceCall>(args_, item.input, *std::move(audio));
+    }
     absl::StatusOr<CurveInput> input =
         ReadCurveInput(item.input, args_.csv_fps, CurveFormat::kAuto, "lipblink");
     if (!input.ok()) return input.status();

@@ -75,6 +75,26 @@ def test_positions_checks_its_shape():
         koma.Positions(["a"], [-1], 0.04, [0.0] * 7)
 
 
+def test_a_utf8_byte_order_mark_is_skipped_and_utf16_is_named(client):
+    # Windows tools start UTF-8 files with EF BB BF; the server skips it in every text format.
+    bvh = pathlib.Path(PITCH).read_bytes()
+    by_path = client.retime_skeletal(PITCH)
+    assert client.retime_skeletal(b"\xef\xbb\xbf" + bvh).output_bytes == by_path.output_bytes
+    motion = pathlib.Path(source_path("samples", "talk_blink.motion3.json")).read_bytes()
+    assert (client.lip_blink(b"\xef\xbb\xbf" + motion).output_bytes ==
+            client.lip_blink(motion).output_bytes)
+    with pytest.raises(koma.KomaError, match=r"bvh_text: the file is UTF-16 \(little-endian"):
+        client.retime_skeletal(bvh.decode("ascii").encode("utf-16"))
+
+
+def test_counts_say_what_became_of_the_duplicates(client):
+    result = client.retime_skeletal(PITCH)
+    counts = result.counts
+    assert counts["duplicates_applied"] == (result.kinds.count("DUPLICATE") +
+                                            counts["duplicates_omitted"] +
+                                            counts["duplicates_held"])
+
+
 def test_curves_and_lip_blink_results(client):
     curves = client.retime_curves(source_path("samples", "arm_head.motion3.json"))
     assert curves.key_frames == [0, 9, 18, 27, 36, 45, 54, 63, 72, 81, 90]  # README's figures
