@@ -11,7 +11,6 @@
 #include "client/report/curves_report.h"
 #include "client/report/lip_blink_report.h"
 #include "client/file_format.h"
-#include "client/files.h"
 #include "client/report/skeletal_report.h"
 #include "client/skeletal_gltf.h"
 
@@ -36,6 +35,15 @@ absl::Status MakeParentFolder(const std::string& path) {
   return absl::OkStatus();
 }
 
+// The batch's skeletal flags with this clip's own input, output and timing sheet.
+SkeletalArgs ArgsFor(const SkeletalArgs& batch_args, const BatchItem& item) {
+  SkeletalArgs args = batch_args;
+  args.input = item.input;
+  args.output = item.output;
+  args.timing = item.timing;
+  return args;
+}
+
 class SkeletalClipCall final : public Clip {
  public:
   SkeletalClipCall(const SkeletalArgs& args, SkeletalClip clip, v1::RetimeSkeletalRequest request)
@@ -49,10 +57,7 @@ class SkeletalClipCall final : public Clip {
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
-    SkeletalArgs args = args_;
-    args.input = item.input;
-    args.output = item.output;
-    args.timing = item.timing;
+    const SkeletalArgs args = ArgsFor(args_, item);
     if (absl::Status s = WriteSkeletalOutputs(args, clip_, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
     return report::WriteSkeletalReport(item.report, request_, response_, item.input);
@@ -79,10 +84,7 @@ class GltfClipCall final : public Clip {
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
-    SkeletalArgs args = args_;
-    args.input = item.input;
-    args.output = item.output;
-    args.timing = item.timing;
+    const SkeletalArgs args = ArgsFor(args_, item);
     if (absl::Status s = WriteGltfOutputs(args, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
     return WriteGltfReport(item.report, request_, response_, item.input);
