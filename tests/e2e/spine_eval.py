@@ -122,29 +122,32 @@ def duration(value):
     return latest
 
 
-def drawing_times(doc, name, curves, on=ON):
+def drawing_times(doc, name, curves, on=ON, merge=True):
     """Per grid frame g, the grid time tau (in grid frames) of the drawing shown there, `on`
-    grid frames per drawing."""
+    grid frames per drawing. Key poses are the keys' times snapped to the grid; with `merge`
+    (koma's default, docs/semantics.md "Key poses"), a time less than `on` grid frames after
+    the pose before it, or before the last frame, joins that pose, and a segment of L frames
+    gets max(1, L // on) drawings; without it ceil(L / on)."""
     fps = float(doc["skeleton"].get("fps", 30))
     last = _round_half_away(duration(doc["animations"][name]) * fps)
     grid_count = int(math.floor(last * GRID_FPS / fps + 1e-9)) + 1
+    last_grid = grid_count - 1
     source_keys = {0, last}
     for timeline in curves.values():
         source_keys.update(_round_half_away(t * fps) for t in timeline.keys())
     grid_keys = []
     for k in sorted(source_keys):
-        if k == last:
+        g = min(_round_half_away(k * GRID_FPS / fps), last_grid)
+        if g == last_grid or (grid_keys and grid_keys[-1] == g):
             continue
-        g = min(_round_half_away(k * GRID_FPS / fps), grid_count - 1)
-        if not grid_keys or grid_keys[-1] != g:
-            grid_keys.append(g)
-    if grid_keys[-1] == grid_count - 1:
-        grid_keys.pop()
-    grid_keys.append(grid_count - 1)
+        if merge and grid_keys and (g - grid_keys[-1] < on or last_grid - g < on):
+            continue
+        grid_keys.append(g)
+    grid_keys.append(last_grid)
     tau = [None] * grid_count
     for a, b in zip(grid_keys, grid_keys[1:]):
         length = b - a
-        count = -(-length // on)
+        count = max(1, length // on) if merge else -(-length // on)
         q, r = divmod(length, count)
         start = a
         for j in range(count):
@@ -152,7 +155,7 @@ def drawing_times(doc, name, curves, on=ON):
             for g in range(start, start + hold):
                 tau[g] = a + length * j / count
             start += hold
-    tau[grid_count - 1] = grid_count - 1
+    tau[last_grid] = last_grid
     return tau
 
 

@@ -78,6 +78,20 @@ TEST(GltfWriteTest, NothingReplacedKeepsTheDocumentAndTheBytes) {
   }
 }
 
+// A file with no "animations" member (a mesh, a pose): writing it back adds and drops that
+// member, which once left the writer holding references into moved JSON members (a fuzz
+// finding; under ASan this test failed with a heap-use-after-free).
+TEST(GltfWriteTest, AFileWithoutAnimationsWritesBackAsItWas) {
+  Json json = Json::parse(ArmGltf().GltfText());
+  json.erase("animations");
+  const std::string bytes = json.dump(2) + "\n";
+  ASSERT_OK_AND_ASSIGN(const GltfDocument doc, ReadGltf(bytes));
+  EXPECT_TRUE(doc.animations.empty());
+  ASSERT_OK_AND_ASSIGN(const std::string written, WriteGltf(doc, {}, false));
+  EXPECT_EQ(JsonOf(written), json);
+  EXPECT_FALSE(JsonOf(written).contains("animations"));
+}
+
 GltfAnimationKeys TwoKeys(const GltfDocument& doc) {
   GltfAnimationKeys keys;
   keys.times = {0, 1.0 / 3};
@@ -198,6 +212,12 @@ TEST(GltfReadTest, BadFilesNameTheJsonPath) {
       {"external buffer",
        [](Json& j) { j["images"] = Json::array({{{"uri", "face.png"}}}); },
        "images[0].uri: \"face.png\" is an external file"},
+      {"a channel tinygltf skips",
+       [](Json& j) { j["animations"][0]["channels"][1].erase("sampler"); },
+       "animations[0].channels: 3 entries, of which tinygltf read 2: an entry is malformed"},
+      {"an array that is not one",
+       [](Json& j) { j["animations"] = Json::object({{"take", 1}}); },
+       "animations: not an array"},
       {"skin joint out of range", [](Json& j) { j["skins"][0]["joints"][1] = 17; },
        "skins[0].joints[1]: node 17 does not exist (4 nodes)"},
       {"animated matrix node",
