@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <utility>
 
@@ -133,11 +134,12 @@ std::vector<RetimeOptions> ShotOptions(const ShotBudget& budget, const std::vect
       shot.holds = holds[i];
     }
     if (budget.holds_per_frame_cap) {
-      shot.holds = static_cast<int>(std::min<int64_t>(frames * budget.totals.max_hold, INT32_MAX));
+      shot.holds = static_cast<int>(std::min<int64_t>(
+          kHoldStepsPerFrameAndHold * frames * budget.totals.max_hold, INT32_MAX));
     }
     if (budget.drawings_per_frame > 0.0) {
-      const double drawings = std::ceil(static_cast<double>(frames) * budget.drawings_per_frame);
-      shot.max_drawings = static_cast<int>(std::max(1.0, std::min(drawings, 2147483647.0)));
+      shot.max_drawings =
+          std::max(1, CeilOfRate(static_cast<double>(frames) * budget.drawings_per_frame));
     }
     if (lengths[i] < kMinRetimedShotFrames && !single) {
       shot.omissions = 0;
@@ -145,6 +147,11 @@ std::vector<RetimeOptions> ShotOptions(const ShotBudget& budget, const std::vect
     }
   }
   return options;
+}
+
+int CeilOfRate(double x) {
+  const double whole = std::ceil(x * (1.0 - 1e-4));
+  return whole >= 2147483647.0 ? INT32_MAX : static_cast<int>(whole);
 }
 
 int OmissionsForRate(double per_second, int frames, double frames_per_second) {

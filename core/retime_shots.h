@@ -57,11 +57,11 @@ inline constexpr int kMinRetimedShotFrames = 3;
 struct ShotBudget {
   // omissions and holds: the whole clip's totals; max_hold, keep_length, order as they are.
   RetimeOptions totals;
-  // > 0: each shot's max_drawings = ceil(its frames * drawings_per_frame) (a drawing rate in
-  // drawings per counted frame); 0: none.
+  // > 0: each shot's max_drawings = CeilOfRate(its frames * drawings_per_frame) (a drawing
+  // rate in drawings per counted frame); 0: none.
   double drawings_per_frame = 0.0;
-  // Hold steps per shot: its frames * max_hold (a bound, with a drawing rate and no hold
-  // count) instead of its share of totals.holds.
+  // Hold steps per shot: kHoldStepsPerFrameAndHold * its frames * max_hold (a bound, with a
+  // drawing rate and no hold count) instead of its share of totals.holds.
   bool holds_per_frame_cap = false;
 };
 
@@ -70,6 +70,17 @@ struct ShotBudget {
 // SplitByLength (a shot's omissions at most its frames - 3); shorter shots get none. With a
 // single shot the totals are its own, unchanged.
 std::vector<RetimeOptions> ShotOptions(const ShotBudget& budget, const std::vector<int>& lengths);
+
+// ceil(x), but an x within 1e-4 (relative) above a whole number counts as that number, as the
+// film grid's rates do: 1 / 0.008333 s is 120.005 fps, and 8 drawings a second of it are holds
+// of 15 frames, not 16.
+int CeilOfRate(double x);
+
+// Hold steps a drawing rate may take when no hold count is given: this many times the frames
+// times max_hold. A hold step can slide a run along without removing a drawing; the real clips
+// and samples reach their target within 1.3 times frames x max_hold (the pitch on threes: 491
+// steps for 130 frames), and the bound keeps an adversarial clip's steps linear.
+inline constexpr int kHoldStepsPerFrameAndHold = 4;
 
 // Omissions for a rate: floor(per_second * frames / frames_per_second + 1/2), at most
 // max(0, frames - 3) (docs/semantics.md, "Omission rate").

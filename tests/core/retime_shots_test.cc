@@ -208,7 +208,7 @@ TEST(ShotOptionsTest, DrawingRate) {
   budget.holds_per_frame_cap = true;
   const std::vector<RetimeOptions> options = ShotOptions(budget, {100, 2});
   EXPECT_EQ(options[0].max_drawings, 34);  // ceil(33.3)
-  EXPECT_EQ(options[0].holds, 300);        // 100 frames x max_hold 3: a bound
+  EXPECT_EQ(options[0].holds, 1200);       // 4 x 100 frames x max_hold 3: a bound
   EXPECT_EQ(options[1].holds, 0);          // too short to retime
 }
 
