@@ -191,6 +191,18 @@ std::vector<std::string> WithoutReplacedFlags(const std::vector<std::string>& fl
   return kept;
 }
 
+// The omission count and rate are one setting: the one on the line (the preset's flags are on
+// it by now) replaces the other from a --config file. Both on the line stay, for
+// CheckSkeletalFlags to refuse.
+void KeepOneOmissionSetting(const std::vector<std::string>& line, size_t command_index,
+                            SkeletalArgs* args) {
+  const bool count = OnLine(line, command_index, "--omit") ||
+                     OnLine(line, command_index, "--omissions");
+  const bool rate = OnLine(line, command_index, "--omissions-per-second");
+  if (rate && !count) args->omissions.reset();
+  if (count && !rate) args->omissions_per_second.reset();
+}
+
 // --preset NAME: its flags, placed right after the command so that flags given on the line
 // win (a repeated option keeps its last value); a --config file's values lose to both.
 int ExpandPreset(const std::string& command, size_t command_index, std::vector<std::string>* line) {
@@ -268,6 +280,7 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
     return code;
   }
   for (const CLI::App* sub : app.get_subcommands()) out->command = sub->get_name();  // the one parsed
+  if (command == "skeletal") KeepOneOmissionSetting(line, command_index, &out->skeletal);
   return -1;
 }
 

@@ -95,6 +95,10 @@ const std::map<std::string, FieldCase>& Cases() {
       {"RetimeSkeletalRequest.return_motion", {{"false"}, "false", {"--timing", "t.csv"}}},
       {"RetimeSkeletalRequest.timing_fps", {{"30"}, "30"}},
       {"RetimeSkeletalRequest.output_rate", {{"timing"}, "TIMING_RATE"}},
+      {"RetimeSkeletalRequest.cut_neighbour_ratio", {{"0"}, "0"}},
+      {"RetimeSkeletalRequest.cut_median_ratio", {{"12.5"}, "12.5"}},
+      {"RetimeSkeletalRequest.omissions_per_second", {{"1.5"}, "1.5"}},
+      {"RetimeSkeletalRequest.drawings_per_second", {{"8"}, "8"}},
       // RetimeCurves
       {"RetimeCurvesRequest.key_frames", {{"0,10,25"}, "0, 10, 25"}},
       {"RetimeCurvesRequest.frames_per_drawing", {{"2"}, "2"}},
@@ -276,8 +280,8 @@ TEST(RequestFlagsTest, WalksEveryField) {
   for (const auto& [key, unused] : Cases()) {
     EXPECT_TRUE(walked.count(key)) << key << ": a case for a field the proto does not have";
   }
-  // 12 + 10 + 23 fields today; the count catches a settings message walked wrongly.
-  EXPECT_EQ(paths.size(), 45u);
+  // 16 + 10 + 23 fields today; the count catches a settings message walked wrongly.
+  EXPECT_EQ(paths.size(), 49u);
 }
 
 TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {

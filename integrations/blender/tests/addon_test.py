@@ -69,6 +69,7 @@ def main():
         # The panel's "On threes" preset: 8 drawings a second, a median hold of 3 grid frames
         # (docs/semantics.md, "Drawing rate"), as the Python client asked the same way.
         obj120.animation_data.action = source120
+        bpy.data.actions.remove(bpy.data.actions[source120.name + ".anime"])  # the last run's
         expected_threes = expected_source_frames(obj120, address, drawings_per_second=8.0,
                                                  timing_fps=24.0, output_rate="TIMING_RATE",
                                                  return_motion=False)
