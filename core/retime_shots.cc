@@ -204,9 +204,16 @@ absl::StatusOr<ShotsRetimed> RetimeShots(absl::Span<const double> positions, int
     const int counted = static_cast<int>(samples.size());
     std::vector<int32_t> global(samples);
     for (int32_t& s : global) s += first;
-    const std::vector<double> shot_positions = GatherFrames(positions, per_frame, global);
+    // On a grid the shot's samples are copied (as the server's grid path does); without one
+    // its frames are read in place.
+    const std::vector<double> shot_positions =
+        grid ? GatherFrames(positions, per_frame, global) : std::vector<double>();
+    const absl::Span<const double> shot_view =
+        grid ? absl::MakeConstSpan(shot_positions)
+             : positions.subspan(static_cast<size_t>(first) * per_frame,
+                                 static_cast<size_t>(n) * per_frame);
     absl::StatusOr<FrameDistance> distance =
-        FrameDistance::CreateView(shot_positions, counted, joints, distance_options);
+        FrameDistance::CreateView(shot_view, counted, joints, distance_options);
     if (!distance.ok()) return distance.status();
     TimingMap shot_map;
     std::vector<double> ssd;
