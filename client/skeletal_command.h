@@ -44,6 +44,12 @@ struct SkeletalArgs : CallFlags {
   std::optional<double> drawings_per_second;   // --drawings-per-second: 12 twos, 8 threes
   std::optional<double> cut_neighbour_ratio;   // --cut-neighbour-ratio; 0: no cuts
   std::optional<double> cut_median_ratio;      // --cut-median-ratio
+  // glTF input (.glb, .gltf, .vrm, .vrma; client/skeletal_gltf.h):
+  std::vector<std::string> animations;  // --gltf-animations NAME|INDEX,...; empty: every one
+  bool retime_none = false;             // --gltf-retime-none: the file back, nothing retimed
+  std::optional<double> source_fps;     // --gltf-source-fps; unset: from the keys (or 30)
+  std::string gltf_keys;                // --gltf-keys step|linear; empty: step
+  bool keep_original = false;           // --gltf-keep-original: add "<name>.anime" beside each
 };
 
 // The clip in `path` ("-": standard input). A motion3.json or CSV is refused as such; a
@@ -56,6 +62,8 @@ struct SkeletalInput {
   std::string text;
 };
 absl::StatusOr<SkeletalInput> ReadSkeletalFile(const std::string& path);
+// The same on text already read from `path` (a glTF file is refused: RunSkeletalGltf's).
+absl::StatusOr<SkeletalInput> ParseSkeletalText(const std::string& path, std::string text);
 
 // BuildSkeletalRequest(args, input.clip); with --send-file the request carries input.text in
 // bvh_text instead of motion (the server parses it and answers the retimed file in bvh_text).
