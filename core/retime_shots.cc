@@ -256,6 +256,8 @@ absl::StatusOr<ShotsRetimed> RetimeShots(absl::Span<const double> positions, int
     map.duplicates_applied += expanded.duplicates_applied;
     map.duplicates_skipped += expanded.duplicates_skipped;
     map.holds_applied += expanded.holds_applied;
+    map.duplicates_omitted += expanded.duplicates_omitted;
+    map.duplicates_held += expanded.duplicates_held;
     retimed_offset += retimed_length;
   }
   return out;

@@ -347,6 +347,8 @@ TEST(RetimeShotsTest, ConcatenationIsTheShotsRetimedAlone) {
       expected.duplicates_applied += alone.duplicates_applied;
       expected.duplicates_skipped += alone.duplicates_skipped;
       expected.holds_applied += alone.holds_applied;
+      expected.duplicates_omitted += alone.duplicates_omitted;
+      expected.duplicates_held += alone.duplicates_held;
     }
     ASSERT_TRUE(shots.map == expected) << "clip " << clip;
     ASSERT_EQ(shots.input_ssd.size(), static_cast<size_t>(na + nb));

@@ -131,7 +131,7 @@ class SkeletalCutsTest : public ::testing::Test {
 void ExpectConcatenation(const v1::RetimeSkeletalResponse& whole,
                          const std::vector<std::pair<int, v1::RetimeSkeletalResponse>>& shots) {
   std::vector<int> source, deleted, hidden, kinds;
-  int omitted = 0, duplicated = 0, held = 0;
+  int omitted = 0, duplicated = 0, held = 0, duplicates_omitted = 0, duplicates_held = 0;
   for (const auto& [first, shot] : shots) {
     for (int s : shot.source_frames()) source.push_back(s + first);
     for (int k : shot.kinds()) kinds.push_back(k);
@@ -140,6 +140,8 @@ void ExpectConcatenation(const v1::RetimeSkeletalResponse& whole,
     omitted += shot.omissions_applied();
     duplicated += shot.duplicates_applied();
     held += shot.holds_applied();
+    duplicates_omitted += shot.duplicates_omitted();
+    duplicates_held += shot.duplicates_held();
   }
   EXPECT_EQ(std::vector<int>(whole.source_frames().begin(), whole.source_frames().end()), source);
   EXPECT_EQ(std::vector<int>(whole.kinds().begin(), whole.kinds().end()), kinds);
@@ -149,6 +151,8 @@ void ExpectConcatenation(const v1::RetimeSkeletalResponse& whole,
   EXPECT_EQ(whole.omissions_applied(), omitted);
   EXPECT_EQ(whole.duplicates_applied(), duplicated);
   EXPECT_EQ(whole.holds_applied(), held);
+  EXPECT_EQ(whole.duplicates_omitted(), duplicates_omitted);
+  EXPECT_EQ(whole.duplicates_held(), duplicates_held);
 }
 
 // What a lone frame's shot answers: itself, unchanged.
