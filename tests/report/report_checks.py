@@ -5,6 +5,7 @@
   report_checks.py curves REPORT DRAWING_CSV SUMMARY [SHOT.png]
   report_checks.py lipblink REPORT SUMMARY [SHOT.png [VALUES_CSV]]
   report_checks.py voice REPORT SUMMARY [SHOT.png]
+  report_checks.py audio REPORT SUMMARY
   report_checks.py player REPORT TIMING_CSV
   report_checks.py bones REPORT BVH
   report_checks.py camera REPORT
@@ -354,6 +355,28 @@ AUDIO_JS = """new Promise((resolve) => {
 })"""
 
 
+def check_audio(browser, report, summary):
+    """The page's <audio> decodes the recording: metadata loaded, no error, its duration the
+    summary's within 50 ms."""
+    duration = float(summary_field(summary, r"(\S+): ([\d.]+) s, (\d+) Hz, (\d+) channels?").group(2))
+    audio = browser.evaluate(AUDIO_JS)
+    if audio["error"] is not None or audio["state"] < 1:
+        fail(f"{report}: the <audio> did not decode the recording: {audio}")
+    if abs(audio["duration"] - duration) > 0.05:
+        fail(f"{report}: <audio> lasts {audio['duration']} s, the summary says {duration} s")
+    print(f"ok: {report}: <audio> decodes {audio['src']}... ({audio['duration']:.3f} s, "
+          f"embedded {audio['embedded']})")
+
+
+def check_audio_only(report, summary_path):
+    import cdp
+    with cdp.Browser() as b:
+        b.open("file://" + os.path.abspath(report))
+        check_audio(b, report, open(summary_path).read())
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+
+
 def check_voice(report, summary_path, shot=None):
     """The report of `koma lipblink --audio`: the <audio> element decodes the recording (its
     duration is the summary's), the loudness plot's lines are the summary's noise floor and
@@ -370,13 +393,7 @@ def check_voice(report, summary_path, shot=None):
         [int(a), int(z) + 1] for a, z in re.findall(r"(\d+)-(\d+)(?: \([^)]*\))?", speech_text)]
     with cdp.Browser() as b:
         b.open("file://" + os.path.abspath(report))
-        audio = b.evaluate(AUDIO_JS)
-        if audio["error"] is not None or audio["state"] < 1:
-            fail(f"{report}: the <audio> did not decode the recording: {audio}")
-        if abs(audio["duration"] - duration) > 0.05:
-            fail(f"{report}: <audio> lasts {audio['duration']} s, the summary says {duration} s")
-        print(f"ok: {report}: <audio> decodes {audio['src']}... ({audio['duration']:.3f} s, "
-              f"embedded {audio['embedded']})")
+        check_audio(b, report, summary)
         got = b.evaluate("Object.fromEntries([...document.querySelectorAll('svg.loudness-plot line.level')].map((l) => [l.classList[1], +l.dataset.dbfs]))")
         for name, index in (("noise-floor", 1), ("threshold-start", 2), ("threshold-stay", 3), ("loud-level", 4)):
             want = float(levels.group(index))
@@ -640,6 +657,8 @@ def main(argv):
         check_lipblink(*args)
     elif command == "voice":
         check_voice(*args)
+    elif command == "audio":
+        check_audio_only(*args)
     elif command == "player":
         check_player(*args)
     elif command == "camera":

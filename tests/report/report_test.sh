@@ -167,6 +167,14 @@ case "$mode" in
       >"$work/linked.txt" || fail "koma lipblink --report-audio-max-bytes"
     grep -qF '"src":"../sound/take%201.flac"' "$work/sub/pages/linked.html" || fail "linked: no relative link"
     "${checks[@]}" voice "$work/sub/pages/linked.html" "$work/linked.txt" || fail "voice, linked"
+    # The page plays the other formats koma reads: WAV (16-bit, float), Ogg Vorbis, MP3.
+    for f in voice16.wav voice_float.wav voice.ogg voice.mp3; do
+      case $f in *float*) enc=(-e floating-point -b 32) ;; *16*) enc=(-b 16) ;; *) enc=() ;; esac
+      sox "$samples/voice.flac" "${enc[@]}" "$work/$f" || fail "sox $f"
+      "$koma" lipblink --audio "$work/$f" -o "$work/$f.motion3.json" --report "$work/$f.html" \
+        --server "$target" >"$work/$f.txt" || fail "koma lipblink --audio $f"
+      "${checks[@]}" audio "$work/$f.html" "$work/$f.txt" || fail "voice: $f"
+    done
     # Rhubarb cues in: no recording, the drawings and the face on the page's clock.
     "$koma" lipblink --audio "$samples/voice.flac" -o "$work/c.motion3.json" --cues "$work/cues.tsv" \
       --server "$target" >/dev/null || fail "koma lipblink --cues"
