@@ -113,6 +113,14 @@ absl::Status ValidateEyeOptions(const EyeOptions& options, int frame_count);
 EyeResult ConvertEyes(const std::vector<absl::Span<const double>>& eyes,
                       const EyeOptions& options, uint64_t seed);
 
+// The three drawings per frame, for writers that key drawings rather than levels (a Spine
+// slot's attachments): a mouth shows closed outside its holds and each hold's shape inside; an
+// eye open outside its blinks shows each blink as ConvertEyes paints it (closing phase open,
+// closed through max(C_end, C_start + k - 1), k frames half-open = kMid, then open, cut at
+// the next blink's closing or the clip's end). Holds and blinks past frame_count are cut.
+std::vector<MouthShape> MouthDrawings(const std::vector<MouthHold>& holds, int frame_count);
+std::vector<MouthShape> BlinkDrawings(const std::vector<Blink>& blinks, int frame_count);
+
 }  // namespace koma
 
 #endif  // KOMA_CORE_LIP_BLINK_H_

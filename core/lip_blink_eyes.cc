@@ -227,4 +227,21 @@ EyeResult ConvertEyes(const std::vector<absl::Span<const double>>& eyes, const E
   return result;
 }
 
+std::vector<MouthShape> BlinkDrawings(const std::vector<Blink>& blinks, int frame_count) {
+  const int n = std::max(frame_count, 0);
+  std::vector<MouthShape> drawings(static_cast<size_t>(n), MouthShape::kOpen);
+  const std::vector<int> ends = lip_blink_internal::PaintEnds(blinks, n);
+  const auto fill = [&drawings, n](int from, int to, MouthShape shape) {
+    for (int f = std::max(from, 0); f < std::min(to, n); ++f) drawings[f] = shape;
+  };
+  for (size_t i = 0; i < blinks.size(); ++i) {
+    const Blink& b = blinks[i];
+    const int closed_stop = std::min(ends[i], ClosedLast(b) + 1);
+    const int mid_stop = std::min(ends[i], closed_stop + b.hold);
+    fill(b.closed_begin, closed_stop, MouthShape::kClosed);
+    fill(closed_stop, mid_stop, MouthShape::kMid);
+  }
+  return drawings;
+}
+
 }  // namespace koma

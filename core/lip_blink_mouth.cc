@@ -133,4 +133,14 @@ MouthResult ConvertMouth(absl::Span<const double> input, const MouthOptions& opt
   return result;
 }
 
+std::vector<MouthShape> MouthDrawings(const std::vector<MouthHold>& holds, int frame_count) {
+  const int n = std::max(frame_count, 0);
+  std::vector<MouthShape> drawings(static_cast<size_t>(n), MouthShape::kClosed);
+  for (const MouthHold& hold : holds) {
+    const int end = std::min(n, hold.begin + std::max(hold.length, 0));
+    for (int f = std::max(hold.begin, 0); f < end; ++f) drawings[f] = hold.shape;
+  }
+  return drawings;
+}
+
 }  // namespace koma
