@@ -34,7 +34,7 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
         path, " is a binary Spine skeleton: koma reads Spine JSON (export the skeleton as JSON)"));
   }
   if (format != CurveFormat::kCsv && formats::IsSpineJson(*text)) {
-    if (command != "curves") {
+    if (command != "curves" && command != "lipblink") {
       return absl::InvalidArgumentError(absl::StrCat(
           InputName(path), " is a Spine skeleton: `koma ", command,
           "` reads Live2D motion3.json or per-frame CSV; retime Spine animations with `koma "

@@ -16,6 +16,7 @@
 #include "client/report/lip_blink_report.h"
 #include "client/report/lip_blink_voice_report.h"
 #include "client/retime_call.h"
+#include "client/spine_lip_blink.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
@@ -263,6 +264,19 @@ absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& in
 int RunLipBlink(const LipBlinkArgs& args) {
   const CommandOutput out("lipblink", args.json, args.quiet, args.server);
   if (absl::Status s = CheckLipBlinkFlags(args); !s.ok()) return out.UsageFailure(s);
+  // A Spine skeleton IN goes its own way (client/spine_lip_blink.h). Standard input is read
+  // once, so it is looked at here only when the Spine flags say it is a skeleton.
+  if (!args.input.empty() && (HasSpineFlags(args) || !IsStdio(args.input))) {
+    absl::StatusOr<CurveInput> read =
+        ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, "lipblink");
+    if (read.ok() && read->spine) return RunLipBlinkSpine(args, out, *read);
+    if (HasSpineFlags(args)) {
+      if (!read.ok()) return out.Failure(read.status());
+      return out.UsageFailure(absl::InvalidArgumentError(
+          absl::StrCat("--animation, --mouth-slot, --eye-slot, --mouth-attachments, "
+                       "--eye-attachments: ", InputName(args.input), " is not a Spine skeleton")));
+    }
+  }
   if (HasVoice(args)) return RunLipBlinkVoice(args, out);
   absl::StatusOr<CurveInput> input =
       ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, "lipblink");

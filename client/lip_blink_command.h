@@ -60,7 +60,20 @@ struct LipBlinkArgs : CurveFileArgs {
   // --report-audio-max-bytes: a recording up to this size is embedded in --report's page,
   // a larger one linked; unset: report::kDefaultReportAudioMaxBytes.
   std::optional<int> report_audio_max_bytes;
+  // A Spine skeleton IN (client/spine_lip_blink.h): the animation written into and the slots.
+  std::string spine_animation;                 // --animation NAME (created when missing)
+  std::string mouth_slot;                      // --mouth-slot SLOT
+  std::vector<std::string> mouth_attachments;  // --mouth-attachments CLOSED,MID,OPEN
+  std::vector<std::string> eye_slots;          // --eye-slot SLOT,...
+  std::vector<std::string> eye_attachments;    // --eye-attachments OPEN,HALF,CLOSED
 };
+
+// True when any flag only a Spine skeleton uses is given.
+inline bool HasSpineFlags(const LipBlinkArgs& args) {
+  return !args.spine_animation.empty() || !args.mouth_slot.empty() ||
+         !args.mouth_attachments.empty() || !args.eye_slots.empty() ||
+         !args.eye_attachments.empty();
+}
 
 // True when --audio or --rhubarb is given.
 inline bool HasVoice(const LipBlinkArgs& args) {

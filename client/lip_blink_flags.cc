@@ -7,7 +7,8 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   CLI::App* cmd =
       app.add_subcommand("lipblink", "Three-drawing mouth flaps and anime blinks (LipBlink)");
   cmd->add_option("input", args.input,
-                  "motion3.json, or CSV (frame,<id>,... per frame); - reads standard input "
+                  "motion3.json, CSV (frame,<id>,... per frame) or a Spine skeleton JSON; - reads "
+                  "standard input "
                   "(optional with --audio or --rhubarb)")
       ->type_name("IN");
   cmd->add_option("-o,--output", args.output,
@@ -104,6 +105,21 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
                  "with --audio and --report: a recording up to this size is embedded in the "
                  "page, a larger one linked by its path (default 16777216)")
       ->type_name("BYTES");
+  // Spine skeleton IN (client/spine_lip_blink.h)
+  cmd->add_option("--animation", args.spine_animation,
+                  "Spine IN: the animation to write the mouth and eyes into (added if missing)")
+      ->type_name("NAME");
+  cmd->add_option("--mouth-slot", args.mouth_slot,
+                  "Spine IN: the mouth slot, keyed with its three attachments")
+      ->type_name("SLOT");
+  AddStringList(cmd, "--mouth-attachments", &args.mouth_attachments,
+                "Spine IN: the mouth slot's CLOSED,MID,OPEN attachments (default "
+                "<slot>_closed,<slot>_mid,<slot>_open)");
+  AddStringList(cmd, "--eye-slot,--eye-slots", &args.eye_slots,
+                "Spine IN: eye slots, keyed with their three attachments");
+  AddStringList(cmd, "--eye-attachments", &args.eye_attachments,
+                "Spine IN: the eye slots' OPEN,HALF,CLOSED attachments (default "
+                "<slot>_open,<slot>_half,<slot>_closed)");
   AddSeed(cmd, "--seed", &args.seed,
           "seed of the random mouth shapes and auto-blinks, 0 .. 2^64-1 (default 0x6b6f6d61)");
   AddCurveFileFlags(cmd, args, "mouth and blink holds are");

@@ -201,3 +201,42 @@ if __name__ == "__main__":
     if not names:
         names = [n for n, c in bone_values(before_doc).items() if c]
     print("%s: %d values checked on the grid" % (after_path, check(before_doc, after_doc, names)))
+
+
+# Slot attachment timelines (animations.<a>.slots.<slot>.attachment, the same in 3.x and 4.x:
+# keys {"time": seconds (absent: 0), "name": attachment or null}); before the first key the
+# slot shows its setup attachment (slots[].attachment).
+def attachment_keys(doc, animation, slot):
+    keys = doc["animations"].get(animation, {}).get("slots", {}).get(slot, {}).get("attachment", [])
+    return [(float(k.get("time", 0)), k.get("name")) for k in keys]
+
+
+def setup_attachment(doc, slot):
+    for s in doc["slots"]:
+        if s["name"] == slot:
+            return s.get("attachment")
+    raise KeyError(slot)
+
+
+def attachment_at(doc, animation, slot, t):
+    """The attachment the slot shows at t seconds: the last key at or before t."""
+    shown = setup_attachment(doc, slot)
+    for time, name in attachment_keys(doc, animation, slot):
+        if time <= t + 1e-9:
+            shown = name
+    return shown
+
+
+def check_attachment_keys(doc, animation, slot, names, grid_fps=GRID_FPS):
+    """Keys on the grid (time * grid_fps whole), increasing, naming only `names`, one at 0 s,
+    no two neighbours alike. Returns the keys."""
+    keys = attachment_keys(doc, animation, slot)
+    assert keys and keys[0][0] == 0, f"{slot}: no key at 0 s: {keys[:2]}"
+    for i, (time, name) in enumerate(keys):
+        assert name in names, f"{slot}[{i}]: {name!r} is not one of {names}"
+        g = time * grid_fps
+        assert abs(g - round(g)) < 1e-9, f"{slot}[{i}]: {time} s is not on the {grid_fps} fps grid"
+        if i:
+            assert time > keys[i - 1][0], f"{slot}[{i}]: time does not increase"
+            assert name != keys[i - 1][1], f"{slot}[{i}]: the same drawing twice"
+    return keys
