@@ -160,6 +160,22 @@ def check_skeletal(report, timing_csv, summary_path, shot=None, browser=None):
         expect("omitted marks", omitted, deleted)
         hidden_marks = b.evaluate("[...document.querySelectorAll('line.mark-hidden')].map((l) => +l.dataset.frame)")
         expect("hidden-by-hold marks", hidden_marks, hidden)
+        # Cuts (issue 28): one dashed mark per cut on the speed plot, at the source frame that
+        # starts the shot after it, and a legend entry counting them; none on a clip of one shot.
+        m = re.search(r"cuts +(\d+); shots retimed separately start at source frames 0, (.*)", summary)
+        cuts = [int(v) for v in m.group(2).split(", ")] if m else []
+        if m:
+            expect("cuts counted in the summary", int(m.group(1)), len(cuts))
+        cut_marks = b.evaluate("[...document.querySelectorAll('#ssd-plot line.mark-cut')].map((l) => +l.dataset.frame)")
+        expect("cut marks", cut_marks, cuts)
+        cut_legend = b.evaluate("[...document.querySelectorAll('.legend > span')].map((e) => e.textContent).filter((t) => t.startsWith('cuts: '))")
+        expect("cut legend entries", cut_legend,
+               [f"cuts: shots retimed separately ({len(cuts)})"] if cuts else [])
+        if cuts:
+            # The marks sit at the cut frames' source times on the plot's time axis, in order.
+            xs = b.evaluate("[...document.querySelectorAll('#ssd-plot line.mark-cut')].map((l) => +l.getAttribute('x1'))")
+            if xs != sorted(xs) or len(set(xs)) != len(xs):
+                fail(f"cut marks not at distinct increasing x: {xs}")
         expect("SSD curve drawn", b.evaluate("document.getElementById('ssd-curve').getAttribute('d').length > 10"), True)
         # The figures: front and side (or camera) view before and after, one stroke per bone.
         bones = b.evaluate("[...document.querySelectorAll('path.figure')].map((p) => (p.getAttribute('d').match(/M/g) || []).length)")
@@ -189,7 +205,7 @@ def check_skeletal(report, timing_csv, summary_path, shot=None, browser=None):
             drawings += new
             expect(f"X-sheet row {i} drawing", got[3][0], str(drawings) if new else "|")
         print(f"ok: {report}: {n} output frames, {len(sheet)} X-sheet rows, {drawings} drawings, "
-              f"{len(omitted)} omitted and {len(hidden_marks)} hidden marks, "
+              f"{len(omitted)} omitted, {len(hidden_marks)} hidden and {len(cut_marks)} cut marks, "
               f"{sum(1 for r in rows if r['kind'] == 'HELD')} HELD frames, {len(bones)} views of {joints - 1} bones")
         if shot:
             check_screenshot(b, shot, "#after svg")

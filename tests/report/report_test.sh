@@ -129,8 +129,17 @@ case "$mode" in
       "${checks[@]}" lipblink "$work/$part.html" "$work/$part.txt" "" "$work/${part}_out.csv" \
         || fail "lipblink $part"
     done
+    # Cuts (issue 28) on clips made from a real BVH: a T-pose first frame (one cut) and a glitch
+    # frame (two cuts), marked on the speed plot at the summary's source frames.
+    "$python" "$here/../e2e/make_real_takes.py" "$here/../testdata/bvh_test1.bvh" "$work"
+    for clip in tpose glitch; do
+      "$koma" skeletal "$work/$clip.bvh" -o "$work/${clip}_out.bvh" --timing "$work/$clip.csv" \
+        --report "$work/$clip.html" --server "$target" >"$work/$clip.txt" || fail "koma skeletal $clip"
+      grep -q "cuts " "$work/$clip.txt" || fail "$clip: the summary names no cut"
+      "${checks[@]}" skeletal "$work/$clip.html" "$work/$clip.csv" "$work/$clip.txt" || fail "$clip: cut marks"
+    done
     "${checks[@]}" validate "$work"/v[1-7].html "$work/mouth_only.html" "$work/eyes_only.html" \
-      || fail "variants: HTML5"
+      "$work/tpose.html" "$work/glitch.html" || fail "variants: HTML5"
     ;;
   large)
     "$python" "$here/make_long_bvh.py" "$samples/pitch.bvh" "$work/long.bvh" 100000
