@@ -234,7 +234,9 @@ class Client:
         if _is_spine(data, file_format):
             if "spine_json" not in request.DESCRIPTOR.fields_by_name:
                 raise ValueError("a Spine skeleton: lip_blink reads Live2D motion3.json or CSV; "
-                                 "retime Spine animations with retime_curves")
+                                 "key a skeleton's mouth and eye slots with the CLI (`koma "
+                                 "lipblink hero.json --animation NAME --mouth-slot SLOT ...`), "
+                                 "retime its animations with retime_curves")
             if csv_fps is not None:
                 raise ValueError("csv_fps: only for a CSV input")
             request.spine_json = data
