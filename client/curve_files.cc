@@ -34,11 +34,14 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
         path, " is a binary Spine skeleton: koma reads Spine JSON (export the skeleton as JSON)"));
   }
   if (format != CurveFormat::kCsv && formats::IsSpineJson(*text)) {
-    if (command != "curves" && command != "lipblink") {
+    if (command != "curves" && command != kLipBlinkSpineCommand) {
       return absl::InvalidArgumentError(absl::StrCat(
           InputName(path), " is a Spine skeleton: `koma ", command,
-          "` reads Live2D motion3.json or per-frame CSV; retime Spine animations with `koma "
-          "curves`"));
+          "` reads Live2D motion3.json or per-frame CSV",
+          command == "lipblink" ? "; key a skeleton's mouth and eyes with --animation NAME and "
+                                  "--mouth-slot SLOT / --eye-slot SLOT"
+                                : "",
+          "; retime Spine animations with `koma curves`"));
     }
     absl::StatusOr<formats::SpineFile> spine = formats::ParseSpine(*text);
     if (!spine.ok()) {

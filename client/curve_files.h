@@ -43,6 +43,10 @@ struct CurveInput : convert::CurveInput {
 // with a "frame" header is CSV, else the name decides (*.csv is CSV, anything else
 // motion3.json). A BVH file is refused as such ("x.bvh is a BVH file, ..."), naming
 // `command`. Errors name the file ("standard input" for "-").
+// The `command` under which ReadCurveInput also reads a Spine skeleton for `koma lipblink`
+// (client/spine_lip_blink.h); plain "lipblink" refuses one, pointing at the Spine flags.
+inline constexpr char kLipBlinkSpineCommand[] = "lipblink --animation";
+
 absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fps,
                                           CurveFormat format, absl::string_view command);
 

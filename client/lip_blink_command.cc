@@ -264,18 +264,21 @@ absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& in
 int RunLipBlink(const LipBlinkArgs& args) {
   const CommandOutput out("lipblink", args.json, args.quiet, args.server);
   if (absl::Status s = CheckLipBlinkFlags(args); !s.ok()) return out.UsageFailure(s);
-  // A Spine skeleton IN goes its own way (client/spine_lip_blink.h). Standard input is read
-  // once, so it is looked at here only when the Spine flags say it is a skeleton.
-  if (!args.input.empty() && (HasSpineFlags(args) || !IsStdio(args.input))) {
+  // A Spine skeleton IN goes its own way (client/spine_lip_blink.h), named by its flags.
+  if (HasSpineFlags(args)) {
+    if (args.input.empty()) {
+      return out.UsageFailure(absl::InvalidArgumentError(
+          "--animation, --mouth-slot, --eye-slot: IN, a Spine skeleton JSON, is required"));
+    }
     absl::StatusOr<CurveInput> read =
-        ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, "lipblink");
-    if (read.ok() && read->spine) return RunLipBlinkSpine(args, out, *read);
-    if (HasSpineFlags(args)) {
-      if (!read.ok()) return out.Failure(read.status());
+        ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, kLipBlinkSpineCommand);
+    if (!read.ok()) return out.Failure(read.status());
+    if (!read->spine) {
       return out.UsageFailure(absl::InvalidArgumentError(
           absl::StrCat("--animation, --mouth-slot, --eye-slot, --mouth-attachments, "
                        "--eye-attachments: ", InputName(args.input), " is not a Spine skeleton")));
     }
+    return RunLipBlinkSpine(args, out, *read);
   }
   if (HasVoice(args)) return RunLipBlinkVoice(args, out);
   absl::StatusOr<CurveInput> input =

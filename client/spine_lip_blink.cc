@@ -90,14 +90,16 @@ double EyeLevel(const std::string& name, const std::vector<std::string>& names) 
 
 // The eye slot's attachment timeline in the animation as an eye curve at `fps`.
 absl::StatusOr<Curve> EyeCurve(const formats::SpineFile& file, const SpineLipBlinkSlots& slots,
-                               const std::string& slot, double fps, int frame_count) {
+                               size_t e, double fps, int frame_count) {
+  const std::string& slot = slots.eyes[e];
+  const std::vector<std::string>& names = slots.eye_names[e];
   absl::StatusOr<std::vector<formats::SpineAttachmentKey>> keys =
       formats::SpineAttachmentKeys(file, slots.animation, slot);
   if (!keys.ok()) return keys.status();
-  double first = EyeLevel(formats::SpineSetupAttachment(file, slot), slots.eye_names);
+  double first = EyeLevel(formats::SpineSetupAttachment(file, slot), names);
   std::vector<CurvePoint> points;
   for (const formats::SpineAttachmentKey& key : *keys) {
-    const double level = EyeLevel(key.name, slots.eye_names);
+    const double level = EyeLevel(key.name, names);
     if (key.time <= 0) {
       first = level;
     } else {
@@ -190,9 +192,7 @@ absl::StatusOr<SpineLipBlinkSlots> SpineLipBlinkSlotsOf(const LipBlinkArgs& args
       return absl::InvalidArgumentError(
           absl::StrCat("--eye-slot: \"", eye, "\" is named twice (or is the mouth slot)"));
     }
-    // One name list for every eye slot: the names the first one was checked with, which each
-    // other eye slot must have too (checked above).
-    slots.eye_names = *std::move(names);
+    slots.eye_names.push_back(*std::move(names));
     slots.eyes.push_back(eye);
   }
   if (!slots.existing && !HasVoice(args) && args.speech.empty()) {
@@ -223,8 +223,8 @@ absl::StatusOr<v1::LipBlinkRequest> BuildSpineLipBlinkRequest(const LipBlinkArgs
   const bool voice_only = !slots.existing && HasVoice(args);
   if (!voice_only) {
     if (!slots.mouth.empty()) set.curves.push_back(SteppedCurve(slots.mouth, 0.0, {}, set.frame_count));
-    for (const std::string& eye : slots.eyes) {
-      absl::StatusOr<Curve> curve = EyeCurve(file, slots, eye, fps, set.frame_count);
+    for (size_t e = 0; e < slots.eyes.size(); ++e) {
+      absl::StatusOr<Curve> curve = EyeCurve(file, slots, e, fps, set.frame_count);
       if (!curve.ok()) return curve.status();
       set.curves.push_back(*std::move(curve));
     }
@@ -276,9 +276,11 @@ absl::StatusOr<std::vector<formats::SpineAttachmentTimeline>> SpineTimelinesOf(
         {slots.mouth, KeysOf(MouthDrawings(HoldsOf(track), frames), slots.mouth_names, false, rate)});
   }
   for (const v1::EyeTrack& track : response.eyes()) {
-    if (std::find(slots.eyes.begin(), slots.eyes.end(), track.id()) == slots.eyes.end()) continue;
+    const auto it = std::find(slots.eyes.begin(), slots.eyes.end(), track.id());
+    if (it == slots.eyes.end()) continue;
+    const std::vector<std::string>& names = slots.eye_names[it - slots.eyes.begin()];
     timelines.push_back(
-        {track.id(), KeysOf(BlinkDrawings(BlinksOf(track), frames), slots.eye_names, true, rate)});
+        {track.id(), KeysOf(BlinkDrawings(BlinksOf(track), frames), names, true, rate)});
   }
   return timelines;
 }

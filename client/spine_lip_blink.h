@@ -29,7 +29,7 @@ struct SpineLipBlinkSlots {
   std::string mouth;      // empty: no mouth
   std::vector<std::string> mouth_names;  // closed, mid, open
   std::vector<std::string> eyes;
-  std::vector<std::string> eye_names;    // open, half, closed
+  std::vector<std::vector<std::string>> eye_names;  // per eye slot: open, half, closed
 };
 
 // INVALID_ARGUMENT naming the flag and the value: no --animation, no slot, a slot the skeleton

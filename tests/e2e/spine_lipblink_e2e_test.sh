@@ -119,6 +119,12 @@ expect_error 2 '--mouth-slot mouth: the mouth needs a voice' \
 expect_error 2 'is not a Spine skeleton' \
   "$client_bin" lipblink "$samples/talk_blink.motion3.json" --animation walk --mouth-slot mouth \
   -o "$work/never.json" --server "$target"
+# Without the Spine flags a skeleton is refused, pointing at them (as before, for motion3 paths).
+expect_error 1 "hero.json is a Spine skeleton: .koma lipblink. reads Live2D motion3.json or per-frame CSV; key a skeleton's mouth and eyes with --animation NAME" \
+  "$client_bin" lipblink "$samples/hero.json" -o "$work/never.json" --server "$target"
+expect_error 1 'is a Spine skeleton' \
+  "$client_bin" lipblink --audio "$samples/voice.flac" --motion "$samples/hero.json" \
+  -o "$work/never.json" --server "$target"
 [ ! -e "$work/never.json" ] || fail "a refused run wrote its output"
 
 stop_server
