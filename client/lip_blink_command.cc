@@ -13,6 +13,8 @@
 #include "client/lip_blink_summary.h"
 #include "client/report/lip_blink_report.h"
 #include "client/retime_call.h"
+#include "client/xdts_sheets.h"
+#include "formats/xdts.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
@@ -77,7 +79,8 @@ absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args) {
   if (args.output.empty()) {
     return absl::InvalidArgumentError("-o/--output OUT.motion3.json or OUT.csv is required");
   }
-  return CheckOneOnStdout({{"-o", args.output}, {"--report", args.report}}, args.json);
+  return CheckOneOnStdout(
+      {{"-o", args.output}, {"--report", args.report}, {"--xdts", args.xdts}}, args.json);
 }
 
 absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& input,
@@ -93,7 +96,18 @@ absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& in
     }
     replacements[it->second] = convert::ReplacementFromProto(curve);
   }
-  return WriteCurveOutput(args.output, input, replacements, CurveFormatFromFlag(args.format));
+  if (absl::Status s =
+          WriteCurveOutput(args.output, input, replacements, CurveFormatFromFlag(args.format));
+      !s.ok()) {
+    return s;
+  }
+  if (!args.xdts.empty()) {
+    absl::StatusOr<formats::XdtsSheet> sheet =
+        LipBlinkXdtsSheet(response, input.curves.fps, XdtsClipName(args.input, args.xdts));
+    if (!sheet.ok()) return sheet.status();
+    if (absl::Status s = WriteFile(args.xdts, formats::WriteXdts(*sheet)); !s.ok()) return s;
+  }
+  return absl::OkStatus();
 }
 
 int RunLipBlink(const LipBlinkArgs& args) {
@@ -105,7 +119,7 @@ int RunLipBlink(const LipBlinkArgs& args) {
   absl::StatusOr<CurveFormat> format =
       CurveOutputFormat(args.output, CurveFormatFromFlag(args.format), *input);
   if (!format.ok()) return out.UsageFailure(format.status());
-  if (absl::Status s = CheckWritable({args.output, args.report}); !s.ok()) return out.Failure(s);
+  if (absl::Status s = CheckWritable({args.output, args.report, args.xdts}); !s.ok()) return out.Failure(s);
 
   const v1::LipBlinkRequest request = BuildLipBlinkRequest(args, input->curves);
   // --send-file: the wire carries the file; the report still reads the decoded request.
@@ -126,9 +140,10 @@ int RunLipBlink(const LipBlinkArgs& args) {
       return out.Failure(s);
     }
   }
-  out.Success(LipBlinkSummaryText(args, input->curves, response) + ReportLine(args.report),
+  out.Success(LipBlinkSummaryText(args, input->curves, response) + XdtsLine(args.xdts) +
+                  ReportLine(args.report),
               LipBlinkSummaryJson(args, input->curves, response),
-              IsStdio(args.output) || IsStdio(args.report));
+              IsStdio(args.output) || IsStdio(args.report) || IsStdio(args.xdts));
   return kExitOk;
 }
 

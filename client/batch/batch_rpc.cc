@@ -48,6 +48,7 @@ class SkeletalClipCall final : public Clip {
     args.input = item.input;
     args.output = item.output;
     args.timing = item.timing;
+    args.xdts = item.xdts;
     if (absl::Status s = WriteSkeletalOutputs(args, clip_, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
     return report::WriteSkeletalReport(item.report, request_, response_, item.input);
@@ -93,6 +94,7 @@ class CurvesClipCall final : public Clip {
     args.input = item.input;
     args.output = item.output;
     args.timing = item.timing;
+    args.xdts = item.xdts;
     if (absl::Status s = WriteCurvesOutputs(args, input_, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
     return report::WriteCurvesReport(item.report, request_, response_, item.input);
@@ -138,6 +140,7 @@ class LipBlinkClipCall final : public Clip {
     LipBlinkArgs args = args_;
     args.input = item.input;
     args.output = item.output;
+    args.xdts = item.xdts;
     if (absl::Status s = WriteLipBlinkOutputs(args, input_, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
     return report::WriteLipBlinkReport(item.report, request_, response_, item.input);

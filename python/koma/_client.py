@@ -1,4 +1,5 @@
 """koma.Client: the three koma RPCs and the health check, from a file path or its text."""
+import json
 import os
 
 import grpc
@@ -188,22 +189,27 @@ class Client:
         """
         request = retime_pb2.RetimeSkeletalRequest()
         _options.fill(request, options, skip=("motion", "bvh_text"))
+        path = None
         if isinstance(source, Positions):
             request.motion.CopyFrom(source.to_proto())
         else:
-            request.bvh_text, _ = _read_source(source, ("HIERARCHY",))
-        return SkeletalResult(self._call(self._stub.RetimeSkeletal, request))
+            request.bvh_text, path = _read_source(source, ("HIERARCHY",))
+        result = SkeletalResult(self._call(self._stub.RetimeSkeletal, request))
+        result.source_path = path
+        return result
 
     def _curve_request(self, request, source, file_format, csv_fps):
+        """Fills the request's file; returns (its path or None, a function giving its fps)."""
         data, path = _read_source(source, ("{", "frame,"))
         if _is_csv(data, path, file_format):
             request.csv_text = data
             if csv_fps is not None:
                 _options.fill(request, {"csv_fps": csv_fps})
-        else:
-            if csv_fps is not None:
-                raise ValueError("csv_fps: only for a CSV input")
-            request.motion3_json = data
+            return path, lambda: request.csv_fps or 30.0
+        if csv_fps is not None:
+            raise ValueError("csv_fps: only for a CSV input")
+        request.motion3_json = data
+        return path, lambda: float(json.loads(data)["Meta"]["Fps"])
 
     def retime_curves(self, source, format=None, csv_fps=None, **options):
         """Koma-uchi on twos/threes with tame/tsume spacing (RetimeCurves).
@@ -226,8 +232,10 @@ class Client:
         request = retime_pb2.RetimeCurvesRequest()
         _options.fill(request, options,
                       skip=("curves", "motion3_json", "csv_text", "csv_fps"))
-        self._curve_request(request, source, format, csv_fps)
-        return CurvesResult(self._call(self._stub.RetimeCurves, request))
+        path, _ = self._curve_request(request, source, format, csv_fps)
+        result = CurvesResult(self._call(self._stub.RetimeCurves, request))
+        result.source_path = path
+        return result
 
     def lip_blink(self, source, format=None, csv_fps=None, **options):
         """Three-drawing mouth flaps and anime blinks (LipBlink).
@@ -246,8 +254,11 @@ class Client:
         """
         request = retime_pb2.LipBlinkRequest()
         _options.fill(request, options, skip=("curves", "motion3_json", "csv_text", "csv_fps"))
-        self._curve_request(request, source, format, csv_fps)
-        return LipBlinkResult(self._call(self._stub.LipBlink, request))
+        path, fps = self._curve_request(request, source, format, csv_fps)
+        result = LipBlinkResult(self._call(self._stub.LipBlink, request))
+        result.source_path = path
+        result._source_fps = fps
+        return result
 
     def health(self, service=""):
         """The server's grpc.health.v1 status: "SERVING" when it takes calls ("NOT_SERVING"

@@ -29,14 +29,18 @@ mkdir -p "$shots"
 run_samples() {
   local tag=$1
   "$koma" skeletal "$samples/pitch.bvh" -o "$work/pitch.bvh" --timing "$work/pitch.csv" \
-    --report "$work/pitch$tag.html" --server "$target" >"$work/pitch.txt" || fail "koma skeletal pitch"
+    --report "$work/pitch$tag.html" --xdts "$work/pitch.xdts" --server "$target" >"$work/pitch.txt" \
+    || fail "koma skeletal pitch"
   "$koma" skeletal "$samples/mocap_120fps.bvh" -o "$work/mocap.bvh" --timing "$work/mocap.csv" \
-    --report "$work/mocap$tag.html" --server "$target" >"$work/mocap.txt" || fail "koma skeletal mocap"
+    --report "$work/mocap$tag.html" --xdts "$work/mocap.xdts" --server "$target" >"$work/mocap.txt" \
+    || fail "koma skeletal mocap"
   "$koma" curves "$samples/arm_head.motion3.json" -o "$work/arm.motion3.json" --timing "$work/arm.csv" \
-    --on 3 --tame 1.5 --tsume 1.5 --report "$work/arm$tag.html" --server "$target" >"$work/arm.txt" \
+    --on 3 --tame 1.5 --tsume 1.5 --report "$work/arm$tag.html" --xdts "$work/arm.xdts" \
+    --server "$target" >"$work/arm.txt" \
     || fail "koma curves"
   "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/talk_values.csv" \
-    --report "$work/talk$tag.html" --server "$target" >"$work/talk.txt" || fail "koma lipblink"
+    --report "$work/talk$tag.html" --xdts "$work/talk.xdts" --server "$target" >"$work/talk.txt" \
+    || fail "koma lipblink"
 }
 
 case "$mode" in
@@ -77,6 +81,9 @@ case "$mode" in
     "${checks[@]}" curves "$work/arm.html" "$work/arm.csv" "$work/arm.txt" "$shots/arm.png" || fail "arm"
     "${checks[@]}" lipblink "$work/talk.html" "$work/talk.txt" "$shots/talk.png" \
       "$work/talk_values.csv" || fail "talk"
+    for name in pitch mocap arm talk; do
+      "${checks[@]}" xdts "$work/$name.html" "$work/$name.xdts" || fail "$name: exposure sheet"
+    done
     ;;
   player)
     run_samples ""
