@@ -32,6 +32,11 @@ if [ "${1:-}" != "--build-only" ]; then
   # jq, bsdextrautils (column): docs/usage.md's examples pipe into them, and the docs test
   # runs every documented command.
   packages+=(jq bsdextrautils)
+  # python3-build, python3-venv: the wheel test builds the Python package's wheel offline and
+  # installs it into a fresh venv; slurm-wlm, munge: the render-farm test runs a Slurm job
+  # array on a controller and a node daemon it starts on localhost; nodejs: the sharding test
+  # compiles the Flamenco job type (deploy/farm/koma-batch.js) as Flamenco's manager would.
+  packages+=(python3-build python3-venv slurm-wlm munge nodejs)
 fi
 
 missing=()

@@ -26,6 +26,7 @@
 #include "client/batch/batch_progress.h"
 #include "client/batch/batch_rpc.h"
 #include "client/batch/batch_runner.h"
+#include "client/batch/batch_shard.h"
 #include "client/batch/batch_state.h"
 #include "client/channel.h"
 #include "client/cli_options.h"
@@ -86,7 +87,20 @@ std::set<const CLI::Option*> AddBatchOptions(CLI::App* cmd, BatchCommandArgs& a)
                  ->check(CLI::PositiveNumber));
   own.insert(cmd->add_option("--summary", a.summary,
                              "write every clip's status, the counts and the time as JSON here "
-                             "(- for stdout)"));
+                             "(- for stdout; with a shard, its tag goes before the extension: "
+                             "OUT.3-of-8.json)"));
+  CLI::Option* shard =
+      cmd->add_option("--shard", a.shard,
+                      "do only task K of N (K from 0): N tasks with the same inputs and K = "
+                      "0..N-1 together do every clip once, each with its own manifest and "
+                      "summary (a render farm's job array)")
+          ->type_name("K/N");
+  own.insert(shard);
+  own.insert(cmd->add_flag("--shard-from-env", a.shard_from_env,
+                           "--shard from the scheduler: KOMA_SHARD_INDEX and KOMA_SHARD_COUNT, "
+                           "or JOB_COMPLETION_INDEX (Kubernetes Indexed Job) and "
+                           "KOMA_SHARD_COUNT, or SLURM_ARRAY_TASK_ID (Slurm job array)")
+                 ->excludes(shard));
   // The RPC's common flags, kept (bound to its args) and described as a batch uses them.
   const std::pair<const char*, const char*> common[] = {
       {"--server",
@@ -162,11 +176,14 @@ const char* StatusName(ItemStatus status) {
 
 absl::Status WriteSummary(const std::string& path, const std::string& rpc,
                           const std::string& out_dir, const std::vector<std::string>& servers,
-                          int jobs,
+                          int jobs, const Shard& shard, size_t all_clips,
                           const std::vector<BatchItem>& items, const RunResult& run) {
   nlohmann::json json;
   json["rpc"] = rpc;
   json["out_dir"] = out_dir;
+  if (!shard.whole()) {
+    json["shard"] = {{"index", shard.index}, {"count", shard.count}, {"batch_total", all_clips}};
+  }
   json["servers"] = servers;
   json["jobs"] = jobs;
   json["total"] = run.counts.total;
@@ -226,21 +243,40 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
   const bool quiet = call.quiet;
   const bool json = call.json;
   if (json && args.summary == "-") return UsageError("--json and --summary -: one JSON on stdout");
-  std::vector<std::string> summary_paths;  // --summary FILE, and stdout for --json
-  if (!args.summary.empty()) summary_paths.push_back(args.summary);
+  Shard shard;
+  if (!args.shard.empty() || args.shard_from_env) {
+    absl::StatusOr<Shard> parsed =
+        args.shard_from_env
+            ? ShardFromEnvironment([](const char* name) { return std::getenv(name); })
+            : ParseShard(args.shard);
+    if (!parsed.ok()) return UsageError(std::string(parsed.status().message()));
+    shard = *parsed;
+  }
+  std::vector<std::string> summary_paths;  // --summary FILE (the shard's own), stdout for --json
+  if (!args.summary.empty()) summary_paths.push_back(ShardedPath(args.summary, shard));
   if (json) summary_paths.push_back("-");
 
   const std::vector<std::string> extensions = ExtensionsOf(rpc_name);
-  absl::StatusOr<std::vector<BatchItem>> items =
-      DiscoverInputs(args.inputs, extensions, args.out_dir, args.timing, args.report, args.xdts);
-  if (!items.ok()) {
-    std::fprintf(stderr, "koma: %s\n", std::string(items.status().message()).c_str());
+  absl::StatusOr<std::vector<BatchItem>> all_items =
+      DiscoverInputs(args.inputs, extensions, args.out_dir, args.timing, args.report,
+                     args.xdts);
+  if (!all_items.ok()) {
+    std::fprintf(stderr, "koma: %s\n", std::string(all_items.status().message()).c_str());
     return kUsageError;
   }
-  if (items->empty()) {
+  if (all_items->empty()) {
     std::fprintf(stderr, "koma: no input clips (folders are searched for %s)\n",
                  absl::StrJoin(extensions, ", ").c_str());
     return kUsageError;
+  }
+  // A shard may be empty (fewer clips than tasks): it succeeds with nothing to do.
+  const std::optional<std::vector<BatchItem>> selected =
+      shard.whole() ? std::nullopt : std::optional(SelectShard(*all_items, shard));
+  const std::vector<BatchItem>* items = selected ? &*selected : &*all_items;
+  if (!shard.whole() && !quiet) {
+    std::fprintf(stderr, "koma batch: task %s: %zu of the batch's %zu clips\n",
+                 absl::StrCat(shard.index, "/", shard.count).c_str(), items->size(),
+                 all_items->size());
   }
   std::error_code error;
   std::filesystem::create_directories(args.out_dir, error);
@@ -250,7 +286,8 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
     return kFailed;
   }
 
-  Manifest manifest = Manifest::Load(args.out_dir);
+  // Each task its own manifest: tasks on several machines never write the same file.
+  Manifest manifest = Manifest::Load(args.out_dir, ShardedPath(Manifest::kFileName, shard));
   std::vector<ItemResult> results(items->size());
   if (!args.force) {
     for (size_t i = 0; i < items->size(); ++i) {
@@ -299,8 +336,8 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
                  run.interrupted ? " (interrupted)" : "");
   }
   for (const std::string& summary_path : summary_paths) {
-    if (absl::Status s =
-            WriteSummary(summary_path, rpc_name, args.out_dir, *servers, settings.jobs, *items, run);
+    if (absl::Status s = WriteSummary(summary_path, rpc_name, args.out_dir, *servers, settings.jobs,
+                                      shard, all_items->size(), *items, run);
         !s.ok()) {
       std::fprintf(stderr, "koma: --summary: %s\n", std::string(s.message()).c_str());
       if (code == 0) code = kFailed;

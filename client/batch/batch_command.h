@@ -29,6 +29,8 @@ struct BatchCommandArgs {
   bool xdts = false;    // NAME.xdts beside each output
   std::string summary;
   double progress_every_s = 10.0;
+  std::string shard;            // --shard K/N; empty: the whole batch
+  bool shard_from_env = false;  // --shard-from-env: K and N from the scheduler's variables
   SkeletalArgs skeletal;
   CurvesArgs curves;
   LipBlinkArgs lip_blink;

@@ -25,9 +25,9 @@ bool NotOlder(const std::string& output, const std::string& input) {
 
 }  // namespace
 
-Manifest Manifest::Load(const std::string& out_dir) {
+Manifest Manifest::Load(const std::string& out_dir, const std::string& file_name) {
   Manifest manifest;
-  manifest.path_ = (fs::path(out_dir) / kFileName).string();
+  manifest.path_ = (fs::path(out_dir) / file_name).string();
   absl::StatusOr<std::string> text = ReadFile(manifest.path_);
   if (!text.ok()) return manifest;
   const nlohmann::json json = nlohmann::json::parse(*text, nullptr, /*allow_exceptions=*/false);

@@ -17,8 +17,9 @@ class Manifest {
  public:
   static constexpr const char* kFileName = ".koma-batch.json";
 
-  // OUTDIR/.koma-batch.json; empty when absent or unreadable (everything is then redone).
-  static Manifest Load(const std::string& out_dir);
+  // OUTDIR/FILE_NAME (a shard's own: .koma-batch.3-of-8.json); empty when absent or
+  // unreadable (everything is then redone).
+  static Manifest Load(const std::string& out_dir, const std::string& file_name = kFileName);
 
   // True when item.output (and item.timing and item.report, if asked for) exists, is not older than
   // item.input, and was made from that input with `fingerprint`.

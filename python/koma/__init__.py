@@ -9,9 +9,10 @@
 Built from proto/ at build time (stubs by Debian's protoc + grpc_python_plugin) on Debian's
 python3-grpcio and python3-protobuf; see docs/python.md.
 """
+from koma._version import __version__  # the project's one version, written by the build
 from koma._client import Client, Positions
 from koma._errors import KomaError
 from koma._results import CurvesResult, LipBlinkResult, SkeletalResult
 
-__all__ = ["Client", "Positions", "KomaError", "SkeletalResult", "CurvesResult",
+__all__ = ["__version__", "Client", "Positions", "KomaError", "SkeletalResult", "CurvesResult",
            "LipBlinkResult"]

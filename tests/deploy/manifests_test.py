@@ -1,9 +1,11 @@
 """Checks deploy/k8s, deploy/nginx and deploy/Dockerfile against each other and against
 koma_server's flags.
 
-Usage: manifests_test.py DEPLOY_DIR KOMA_SERVER. Prints "N passed, N failed"; exit 1 on any
-failure.
+Usage: manifests_test.py DEPLOY_DIR KOMA_SERVER [KOMA]. Prints "N passed, N failed"; exit 1 on
+any failure. Also: every pod template against the "restricted" Pod Security Standard, and the
+render-farm Indexed Job (deploy/k8s/farm) against `koma batch --help`.
 """
+import copy
 import re
 import subprocess
 import sys
@@ -11,6 +13,7 @@ import sys
 import yaml
 
 deploy, server = sys.argv[1], sys.argv[2]
+client = sys.argv[3] if len(sys.argv) > 3 else None  # koma: the batch Job's options
 checks = []
 
 
@@ -119,6 +122,113 @@ check("nginx client_max_body_size matches --max_message_bytes",
       body.group(0) if body else "missing")
 check("nginx passes gRPC and keeps upstream connections",
       "grpc_pass grpc://" in nginx and re.search(r"keepalive\s+\d+;", nginx) is not None)
+
+# The "restricted" Pod Security Standard (kubernetes.io/docs/concepts/security/
+# pod-security-standards), on every pod template: what a namespace labelled
+# pod-security.kubernetes.io/enforce=restricted admits.
+RESTRICTED_VOLUMES = {"configMap", "csi", "downwardAPI", "emptyDir", "ephemeral",
+                      "persistentVolumeClaim", "projected", "secret"}
+
+
+def restricted_violations(spec):
+    """The rules of the restricted profile (and the baseline it includes) `spec` breaks."""
+    found = []
+    pod_context = spec.get("securityContext") or {}
+    for key in ("hostNetwork", "hostPID", "hostIPC"):
+        if spec.get(key):
+            found.append(f"{key}: true")
+    for volume in spec.get("volumes") or []:
+        kinds = set(volume) - {"name"}
+        if not kinds <= RESTRICTED_VOLUMES:
+            found.append(f"volume {volume['name']}: {sorted(kinds)} not allowed")
+    if pod_context.get("sysctls"):
+        found.append("sysctls set")
+    containers = (spec.get("initContainers") or []) + spec["containers"]
+    for c in containers:
+        context = c.get("securityContext") or {}
+        name = c["name"]
+        if context.get("privileged"):
+            found.append(f"{name}: privileged")
+        if context.get("allowPrivilegeEscalation") is not False:
+            found.append(f"{name}: allowPrivilegeEscalation is not false")
+        non_root = context.get("runAsNonRoot", pod_context.get("runAsNonRoot"))
+        if non_root is not True:
+            found.append(f"{name}: runAsNonRoot is not true")
+        if context.get("runAsUser", pod_context.get("runAsUser")) == 0:
+            found.append(f"{name}: runAsUser 0")
+        seccomp = (context.get("seccompProfile") or pod_context.get("seccompProfile") or {})
+        if seccomp.get("type") not in ("RuntimeDefault", "Localhost"):
+            found.append(f"{name}: seccompProfile.type is {seccomp.get('type')}, not "
+                         "RuntimeDefault or Localhost")
+        capabilities = context.get("capabilities") or {}
+        if "ALL" not in (capabilities.get("drop") or []):
+            found.append(f"{name}: capabilities.drop lacks ALL")
+        if set(capabilities.get("add") or []) - {"NET_BIND_SERVICE"}:
+            found.append(f"{name}: capabilities.add {capabilities['add']}")
+        for port in c.get("ports") or []:
+            if port.get("hostPort"):
+                found.append(f"{name}: hostPort {port['hostPort']}")
+        if context.get("procMount", "Default") != "Default":
+            found.append(f"{name}: procMount {context['procMount']}")
+    return found
+
+
+farm_docs = load("k8s/farm/batch-indexed-job.yaml")
+for doc in docs + farm_docs:
+    template = doc.get("spec", {}).get("template")
+    if template:
+        problems = restricted_violations(template["spec"])
+        check(f"{doc['kind']} {doc['metadata']['name']} meets the restricted Pod Security "
+              "Standard", not problems, "; ".join(problems))
+
+# The checker can fail: the Deployment as it was before (no seccomp profile, capabilities
+# kept) and a privileged host-path pod break the rules it should name.
+weakened = copy.deepcopy(pod["spec"])
+del weakened["securityContext"]["seccompProfile"]
+del weakened["containers"][0]["securityContext"]["capabilities"]
+check("the restricted check names a missing seccomp profile and kept capabilities",
+      restricted_violations(weakened) == [
+          "koma: seccompProfile.type is None, not RuntimeDefault or Localhost",
+          "koma: capabilities.drop lacks ALL"], str(restricted_violations(weakened)))
+weakened["hostNetwork"] = True
+weakened["volumes"] = [{"name": "host", "hostPath": {"path": "/"}}]
+weakened["containers"][0]["securityContext"]["privileged"] = True
+check("the restricted check names host networking, host paths and privileged containers",
+      {"hostNetwork: true", "volume host: ['hostPath'] not allowed", "koma: privileged"} <=
+      set(restricted_violations(weakened)), str(restricted_violations(weakened)))
+
+# The render-farm Indexed Job (docs/operations.md, "On a render farm"): N pods, each task
+# K of N through --shard-from-env; the koma client of the image; the headless Service.
+job = farm_docs[0]
+job_spec = job["spec"]
+job_container = job_spec["template"]["spec"]["containers"][0]
+env = {e["name"]: e.get("value") for e in job_container.get("env", [])}
+check("the batch Job is Indexed", job_spec.get("completionMode") == "Indexed")
+check("KOMA_SHARD_COUNT equals completions",
+      env.get("KOMA_SHARD_COUNT") == str(job_spec["completions"]), f"{env} {job_spec}")
+check("the batch Job runs koma batch --shard-from-env",
+      job_container["command"] == ["/usr/local/bin/koma"] and
+      job_container["args"][:1] == ["batch"] and "--shard-from-env" in job_container["args"],
+      str(job_container))
+check("the image has the koma client the Job runs",
+      re.search(r"^COPY .* /usr/local/bin/koma$", runtime, re.M) is not None)
+headless = [svc for svc in by_kind["Service"] if svc["spec"].get("clusterIP") == "None"][0]
+check("the batch Job calls the headless Service on its port",
+      f"dns:///{headless['metadata']['name']}:{headless['spec']['ports'][0]['port']}" in
+      job_container["args"], str(job_container["args"]))
+mounts = {m["mountPath"] for m in job_container["volumeMounts"]}
+paths = [a for a in job_container["args"] if a.startswith("/")]
+check("the batch Job's inputs, outputs and summary are on its volume",
+      paths and all(any(p == m or p.startswith(m + "/") for m in mounts) for p in paths),
+      f"{paths} {mounts}")
+if client is not None:
+    batch_help = subprocess.run([client, "batch", job_container["args"][1], "--help"],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True).stdout
+    for arg in job_container["args"]:
+        if arg.startswith("-"):
+            check(f"koma batch {job_container['args'][1]} has the Job's option {arg}",
+                  re.search(r"(^|[\s,])" + re.escape(arg) + r"\b", batch_help) is not None,
+                  batch_help[:300])
 
 failed = checks.count(False)
 print(f"{len(checks) - failed} passed, {failed} failed")

@@ -6,10 +6,12 @@ writes a new action "<name>.anime" on the armature: every output frame t is keye
 of source frame source_frames[t] (each F-curve of the action evaluated there), with CONSTANT
 interpolation, so playback shows held drawings. The original action is kept (fake user).
 
-Needs the `koma` Python package (build/python of a koma build, docs/python.md) and Debian's
-python3-grpcio, which Debian's Blender imports. Where Blender does not find `koma` on its own,
-set the add-on's preference "koma package folder" (or the KOMA_PYTHONPATH environment variable)
-to the folder that holds the `koma` package.
+Installed from its zip (build/dist/koma_retime-VERSION.zip: Preferences > Add-ons > Install),
+it carries the pure-Python `koma` package; only grpcio and protobuf must come from Blender's
+Python (Debian's Blender imports Debian's python3-grpcio). Run from the repository's folder
+instead, it needs the `koma` package of a build (build/python, docs/python.md): set the
+add-on's preference "koma package folder" (or the KOMA_PYTHONPATH environment variable) to the
+folder that holds it. The preference and the variable win over the bundled copy.
 """
 import os
 import sys
@@ -27,11 +29,19 @@ bl_info = {
 }
 
 
+# The koma package the installable zip carries (integrations/blender/make_addon_zip.py).
+_BUNDLED = os.path.join(os.path.dirname(os.path.abspath(__file__)), "bundled")
+
+
 def _import_koma(folder=""):
-    """The koma package, after putting `folder` (or $KOMA_PYTHONPATH) on sys.path."""
-    for path in (folder, os.environ.get("KOMA_PYTHONPATH", "")):
-        if path and os.path.isdir(path) and path not in sys.path:
-            sys.path.append(path)
+    """The koma package: from `folder` (the preference), else $KOMA_PYTHONPATH, else the copy
+    bundled in the add-on's zip, else Python's own path. The first of these folders that holds
+    a `koma` package goes first on sys.path."""
+    for path in (folder, os.environ.get("KOMA_PYTHONPATH", ""), _BUNDLED):
+        if path and os.path.isdir(os.path.join(path, "koma")):
+            if path not in sys.path:
+                sys.path.insert(0, path)
+            break
     import koma
     return koma
 
@@ -42,7 +52,8 @@ class KomaPreferences(bpy.types.AddonPreferences):
     package_folder: bpy.props.StringProperty(
         name="koma package folder", subtype="DIR_PATH",
         description="Folder holding the koma Python package (a koma build's build/python); "
-                    "empty: $KOMA_PYTHONPATH or Python's own path")
+                    "empty: $KOMA_PYTHONPATH, else the copy in the add-on's zip, else "
+                    "Python's own path")
 
     def draw(self, context):
         self.layout.prop(self, "package_folder")
