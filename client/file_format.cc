@@ -16,14 +16,21 @@ FileFormat FormatFromName(const std::string& path) {
   if (absl::EndsWithIgnoreCase(path, ".bvh")) return FileFormat::kBvh;
   if (absl::EndsWithIgnoreCase(path, ".json")) return FileFormat::kMotion3;
   if (absl::EndsWithIgnoreCase(path, ".csv")) return FileFormat::kCsv;
+  for (absl::string_view ext : {".glb", ".gltf", ".vrm", ".vrma"}) {
+    if (absl::EndsWithIgnoreCase(path, ext)) return FileFormat::kGltf;
+  }
   return FileFormat::kUnknown;
 }
 
 FileFormat SniffFormat(absl::string_view text) {
+  if (absl::StartsWith(text, "glTF")) return FileFormat::kGltf;
   if (absl::StartsWith(text, kUtf8Bom)) text.remove_prefix(kUtf8Bom.size());
   text = absl::StripLeadingAsciiWhitespace(text);
   if (absl::StartsWith(text, "HIERARCHY")) return FileFormat::kBvh;
-  if (absl::StartsWith(text, "{")) return FileFormat::kMotion3;
+  if (absl::StartsWith(text, "{")) {
+    const bool gltf = absl::StrContains(text, "\"asset\"") && !absl::StrContains(text, "\"Curves\"");
+    return gltf ? FileFormat::kGltf : FileFormat::kMotion3;
+  }
   for (absl::string_view header : {"frame,", "frame;", "\"frame\",", "\"frame\";"}) {
     if (absl::StartsWith(text, header)) return FileFormat::kCsv;
   }
@@ -38,6 +45,8 @@ absl::string_view FormatName(FileFormat format) {
       return "motion3.json";
     case FileFormat::kCsv:
       return "CSV";
+    case FileFormat::kGltf:
+      return "glTF";
     case FileFormat::kUnknown:
       break;
   }
@@ -51,13 +60,14 @@ absl::Status CheckInputFormat(const std::string& path, absl::string_view text,
   if (skeletal && (found == FileFormat::kMotion3 || found == FileFormat::kCsv)) {
     return absl::InvalidArgumentError(absl::StrCat(
         InputName(path), " is a ", FormatName(found),
-        " file, not BVH: `koma skeletal` reads BVH motion capture; retime curves with `koma "
-        "curves` or `koma lipblink`"));
+        " file, not BVH or glTF: `koma skeletal` reads BVH motion capture and glTF 2.0 / VRM; "
+        "retime curves with `koma curves` or `koma lipblink`"));
   }
-  if (!skeletal && found == FileFormat::kBvh) {
+  if (!skeletal && (found == FileFormat::kBvh || found == FileFormat::kGltf)) {
     return absl::InvalidArgumentError(absl::StrCat(
-        InputName(path), " is a BVH file, not motion3.json or CSV: `koma ", command,
-        "` reads Live2D motion3.json or per-frame CSV; retime BVH clips with `koma skeletal`"));
+        InputName(path), " is a ", FormatName(found), " file, not motion3.json or CSV: `koma ",
+        command, "` reads Live2D motion3.json or per-frame CSV; retime ",
+        found == FileFormat::kBvh ? "BVH clips" : "glTF files", " with `koma skeletal`"));
   }
   return absl::OkStatus();
 }

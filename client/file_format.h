@@ -10,13 +10,15 @@
 
 namespace koma::client {
 
-enum class FileFormat { kUnknown, kBvh, kMotion3, kCsv };
+enum class FileFormat { kUnknown, kBvh, kMotion3, kCsv, kGltf };
 
-// From the name: *.bvh, *.json (motion3.json), *.csv, any case; kUnknown for "-" and others.
+// From the name: *.bvh, *.json (motion3.json), *.csv, *.glb, *.gltf, *.vrm, *.vrma (glTF),
+// any case; kUnknown for "-" and others.
 FileFormat FormatFromName(const std::string& path);
 
-// From the first bytes (after a UTF-8 byte order mark and white space): "HIERARCHY" is BVH,
-// "{" is JSON (motion3), "frame," or "frame;" (a CSV header, quoted or not) is CSV; else
+// From the first bytes (after a UTF-8 byte order mark and white space): the GLB magic "glTF"
+// is glTF, "HIERARCHY" is BVH, "{" is JSON (glTF when it has an "asset" member and no
+// "Curves", else motion3), "frame," or "frame;" (a CSV header, quoted or not) is CSV; else
 // kUnknown.
 FileFormat SniffFormat(absl::string_view text);
 

@@ -15,6 +15,7 @@
 #include "client/flag_values.h"
 #include "client/report/skeletal_report.h"
 #include "client/retime_call.h"
+#include "client/skeletal_gltf.h"
 #include "client/skeletal_convert.h"
 #include "client/skeletal_summary.h"
 #include "client/xdts_sheets.h"
@@ -78,7 +79,17 @@ absl::StatusOr<std::vector<double>> JointWeights(const std::vector<std::string>&
 absl::StatusOr<SkeletalInput> ReadSkeletalFile(const std::string& path) {
   absl::StatusOr<std::string> text = ReadFile(path);
   if (!text.ok()) return text.status();
+  return ParseSkeletalText(path, *std::move(text));
+}
+
+absl::StatusOr<SkeletalInput> ParseSkeletalText(const std::string& path, std::string text_in) {
+  std::optional<std::string> text(std::move(text_in));
   if (absl::Status s = CheckInputFormat(path, *text, "skeletal"); !s.ok()) return s;
+  if (IsGltfInput(path, *text)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        InputName(path), " is a glTF file: `koma skeletal IN.glb -o OUT.glb` retimes it whole "
+        "(this step reads BVH only)"));
+  }
   absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(*text);
   if (!clip.ok()) {
     return absl::InvalidArgumentError(
@@ -158,9 +169,10 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
     return s;
   }
   const FileFormat named = FormatFromName(args.output);
-  if (named != FileFormat::kUnknown && named != FileFormat::kBvh) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("-o ", args.output, ": koma skeletal writes BVH (-o OUT.bvh)"));
+  if (named != FileFormat::kUnknown && named != FileFormat::kBvh && named != FileFormat::kGltf) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "-o ", args.output, ": koma skeletal writes BVH (-o OUT.bvh) or, for a glTF input, glTF "
+        "(-o OUT.glb)"));
   }
   return absl::OkStatus();
 }
@@ -203,7 +215,19 @@ int RunSkeletal(const SkeletalArgs& args) {
   if (absl::Status s = CheckSkeletalFlags(args); !s.ok()) return out.UsageFailure(s);
   if (absl::Status s = CheckWritable({args.output, args.timing, args.report, args.xdts}); !s.ok())
     return out.Failure(s);
-  absl::StatusOr<SkeletalInput> input = ReadSkeletalFile(args.input);
+  absl::StatusOr<std::string> bytes = ReadFile(args.input);
+  if (!bytes.ok()) return out.Failure(bytes.status());
+  if (IsGltfInput(args.input, *bytes)) return RunSkeletalGltf(args, *std::move(bytes));
+  if (HasGltfFlags(args)) {
+    return out.UsageFailure(absl::InvalidArgumentError(
+        "--gltf-animations, --gltf-retime-none, --gltf-source-fps, --gltf-keys and "
+        "--gltf-keep-original are for glTF inputs; " + InputName(args.input) + " is not one"));
+  }
+  if (FormatFromName(args.output) == FileFormat::kGltf) {
+    return out.UsageFailure(absl::InvalidArgumentError(absl::StrCat(
+        "-o ", args.output, ": the input is BVH, and koma skeletal writes BVH back (-o OUT.bvh)")));
+  }
+  absl::StatusOr<SkeletalInput> input = ParseSkeletalText(args.input, *std::move(bytes));
   if (!input.ok()) return out.Failure(input.status());
   const SkeletalClip* clip = &input->clip;
   absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, *clip);

@@ -41,6 +41,12 @@ struct SkeletalArgs : CallFlags {
   bool timing_only = false;           // --timing-only: no motion asked for, only the sheet written
   std::optional<double> timing_fps;   // --timing-fps: the film grid; unset: server default (24)
   bool output_at_timing_rate = false;  // --output-rate timing: write the BVH at the grid rate
+  // glTF input (.glb, .gltf, .vrm, .vrma; client/skeletal_gltf.h):
+  std::vector<std::string> animations;  // --gltf-animations NAME|INDEX,...; empty: every one
+  bool retime_none = false;             // --gltf-retime-none: the file back, nothing retimed
+  std::optional<double> source_fps;     // --gltf-source-fps; unset: from the keys (or 30)
+  std::string gltf_keys;                // --gltf-keys step|linear; empty: step
+  bool keep_original = false;           // --gltf-keep-original: add "<name>.anime" beside each
 };
 
 // The clip in `path` ("-": standard input). A motion3.json or CSV is refused as such; a
@@ -53,6 +59,8 @@ struct SkeletalInput {
   std::string text;
 };
 absl::StatusOr<SkeletalInput> ReadSkeletalFile(const std::string& path);
+// The same on text already read from `path` (a glTF file is refused: RunSkeletalGltf's).
+absl::StatusOr<SkeletalInput> ParseSkeletalText(const std::string& path, std::string text);
 
 // BuildSkeletalRequest(args, input.clip); with --send-file the request carries input.text in
 // bvh_text instead of motion (the server parses it and answers the retimed file in bvh_text).

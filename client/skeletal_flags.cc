@@ -6,11 +6,14 @@ namespace koma::client {
 CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
   CLI::App* cmd =
       app.add_subcommand("skeletal", "Retime a BVH mocap clip into anime timing (RetimeSkeletal)");
-  cmd->add_option("input", args.input, "BVH file to retime; - reads standard input")
+  cmd->add_option("input", args.input,
+                  "BVH or glTF file (.glb, .gltf, .vrm, .vrma) to retime; - reads standard input")
       ->required()
-      ->type_name("IN.bvh");
-  cmd->add_option("-o,--output", args.output, "retimed BVH file to write; - writes standard output")
-      ->type_name("OUT.bvh");
+      ->type_name("IN.bvh|IN.glb");
+  cmd->add_option("-o,--output", args.output,
+                  "retimed file to write (BVH for a BVH input, the same glTF container for a glTF "
+                  "one); - writes standard output")
+      ->type_name("OUT.bvh|OUT.glb");
   cmd->add_option("--timing", args.timing,
                   "timing sheet CSV to write (output_frame,source_frame,kind,time_s); - writes "
                   "standard output")
@@ -59,6 +62,21 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
       ->type_name("source|timing")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   AddSendFileFlag(cmd, &args.send_file, "bvh_text");
+  // glTF inputs (.glb, .gltf, .vrm, .vrma): the file travels whole in `gltf`.
+  AddStringList(cmd, "--gltf-animations,--animation", &args.animations,
+                "glTF: the animations to retime, by name or index, comma-separated or repeated "
+                "(default every animation, each on its own)")
+      ->type_name("NAME|INDEX,...");
+  cmd->add_flag("--gltf-retime-none", args.retime_none,
+                "glTF: retime no animation (the file comes back as it was)");
+  AddNumber(cmd, "--gltf-source-fps", &args.source_fps, NumberBounds{0, 1000, false, false},
+            "glTF: frames per second the animations are sampled at (default or 0: the keys' "
+            "spacing where dense, else 30)");
+  AddChoice(cmd, "--gltf-keys", &args.gltf_keys, {"step", "linear"},
+            "glTF: step (default: a STEP key where each drawing starts) or linear (a LINEAR key "
+            "per output frame, for players that mishandle STEP)");
+  cmd->add_flag("--gltf-keep-original", args.keep_original,
+                "glTF: keep each animation and add the retimed one as \"<name>.anime\"");
   AddPresetFlag(cmd);
   AddCommonFlags(cmd, &args, "60");
   return cmd;

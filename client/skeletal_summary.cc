@@ -69,7 +69,8 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
   const std::vector<int> deleted(response.deleted_frames().begin(),
                                  response.deleted_frames().end());
   const std::vector<int> hidden(response.hidden_frames().begin(), response.hidden_frames().end());
-  const bool has_motion = response.has_motion() || !response.bvh_text().empty();
+  const bool has_motion =
+      response.has_motion() || !response.bvh_text().empty() || !response.gltf().empty();
   const std::string written = has_motion && !args.output.empty() && !args.timing_only
                                   ? OutputName(args.output)
                                   : "(timing only)";

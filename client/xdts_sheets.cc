@@ -22,7 +22,8 @@ using formats::XdtsSheet;
 std::string BaseName(const std::string& path) {
   const size_t slash = path.find_last_of('/');
   std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-  for (const char* extension : {".motion3.json", ".bvh", ".csv", ".json", ".xdts"}) {
+  for (const char* extension :
+       {".motion3.json", ".bvh", ".csv", ".json", ".xdts", ".glb", ".gltf", ".vrma", ".vrm"}) {
     if (base.size() > std::string(extension).size() &&
         absl::EndsWithIgnoreCase(base, extension)) {
       base.resize(base.size() - std::string(extension).size());

@@ -14,7 +14,7 @@
 namespace koma::client {
 
 // The name of a clip's sheet and layers: the file name without its folder and its extension
-// (.bvh, .motion3.json, .csv, .json); for standard input ("-") `fallback`'s, and "koma" when
+// (.bvh, .motion3.json, .csv, .json, .glb, .gltf, .vrm, .vrma); for standard input ("-") `fallback`'s, and "koma" when
 // that is "-" or empty too.
 std::string XdtsClipName(const std::string& input, const std::string& fallback);
 

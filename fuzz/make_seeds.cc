@@ -4,6 +4,7 @@
 //   bvh:        every .bvh file, and each cut to its first 4 frames (small seeds run fast);
 //   motion3:    every .motion3.json file;
 //   curve_csv:  curves_crlf.csv and each motion3 file's curves as per-frame CSV (12 frames);
+//   gltf:       the test arm of tests/testing/gltf_builder.h as .glb and .gltf;
 //   retime_skeletal, retime_curves, lip_blink: serialised requests built from those files
 //              (cut short, some with a film grid), after the slice selector byte the RPC
 //              targets read first (fuzz/rpc_fuzz_input.h): 0 = one slice, 200 = 73-byte slices.
@@ -23,6 +24,7 @@
 #include "formats/bvh.h"
 #include "formats/curve_csv.h"
 #include "formats/motion3.h"
+#include "tests/testing/gltf_builder.h"
 #include "koma/v1/retime.pb.h"
 
 namespace fs = std::filesystem;
@@ -160,6 +162,16 @@ int main(int argc, char** argv) {
     lip.set_seed(7);
     lip.set_timing_fps(24);
     WriteRequest(out / "lip_blink", stem + "_auto_grid", lip);
+  }
+  // glTF: the test arm (tests/testing/gltf_builder.h) as GLB and .gltf, LINEAR and STEP, and
+  // as a RetimeSkeletal request carrying it.
+  for (const char* interpolation : {"LINEAR", "STEP"}) {
+    const koma::testing::TestGltf arm = koma::testing::ArmGltf(interpolation);
+    WriteFile(out / "gltf" / (std::string("arm_") + interpolation + ".glb"), arm.Glb());
+    WriteFile(out / "gltf" / (std::string("arm_") + interpolation + ".gltf"), arm.GltfText());
+    koma::v1::RetimeSkeletalRequest request;
+    request.set_gltf(arm.Glb());
+    WriteRequest(out / "retime_skeletal", std::string("arm_") + interpolation + "_glb", request);
   }
   std::cout << "make_seeds: corpora written to " << out << "\n";
   return 0;

@@ -9,6 +9,7 @@ packages=(
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libabsl-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev
+  libtinygltf-dev
   prometheus-cpp-dev
 )
 # What the tests and benchmarks add (python3-grpcio: the interop test's second client;
@@ -32,12 +33,34 @@ if [ "${1:-}" != "--build-only" ]; then
   # jq, bsdextrautils (column): docs/usage.md's examples pipe into them, and the docs test
   # runs every documented command.
   packages+=(jq bsdextrautils)
+  # python3-numpy: Blender's glTF exporter and importer (io_scene_gltf2) import numpy; the glTF
+  # tests export the test BVHs through it and read koma's .glb back.
+  packages+=(python3-numpy)
   # python3-build, python3-venv: the wheel test builds the Python package's wheel offline and
   # installs it into a fresh venv; slurm-wlm, munge: the render-farm test runs a Slurm job
   # array on a controller and a node daemon it starts on localhost; nodejs: the sharding test
-  # compiles the Flamenco job type (deploy/farm/koma-batch.js) as Flamenco's manager would.
+  # compiles the Flamenco job type (deploy/farm/koma-batch.js) as Flamenco's manager would, and
+  # three.js, the second glTF consumer of tests/e2e/gltf, runs under it (npm where the nodejs
+  # package does not bring it: npm ci installs three.js from the committed lock).
   packages+=(python3-build python3-venv slurm-wlm munge nodejs)
+  if ! command -v npm >/dev/null 2>&1; then packages+=(npm); fi
+  # catatonit: `podman kube play` (deploy/test-image.sh) builds the pod's pause image from it.
+  packages+=(catatonit)
 fi
+
+# The tests' npm packages, exactly as tests/e2e/gltf/package-lock.json pins them (into
+# tests/e2e/gltf/node_modules, ignored by git); again only when the lock changed.
+install_npm_test_packages() {
+  local dir
+  dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/e2e/gltf"
+  if [ -f "$dir/node_modules/.package-lock.json" ] &&
+     cmp -s <(sed -n '/"node_modules\//,$p' "$dir/package-lock.json") \
+            <(sed -n '/"node_modules\//,$p' "$dir/node_modules/.package-lock.json"); then
+    return 0
+  fi
+  echo "install-deps: npm ci in tests/e2e/gltf (three.js for the glTF tests)"
+  (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+}
 
 missing=()
 for p in "${packages[@]}"; do
@@ -48,6 +71,7 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages present"
+  if [ "${1:-}" != "--build-only" ]; then install_npm_test_packages; fi
   exit 0
 fi
 
@@ -76,3 +100,4 @@ trap remove_policy EXIT
 # dpkg's lock: the second waits for the first instead of failing.
 "${sudo_cmd[@]}" flock /tmp/koma-install-deps.lock sh -c \
   'apt-get update -qq && apt-get install -y -qq --no-install-recommends "$@"' sh "${missing[@]}"
+if [ "${1:-}" != "--build-only" ]; then install_npm_test_packages; fi

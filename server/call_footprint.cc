@@ -45,6 +45,10 @@ int64_t ExpectedFootprint(const v1::RetimeSkeletalRequest& request, int64_t /*re
   if (request.input_case() == v1::RetimeSkeletalRequest::kBvhText) {
     return FileParseFootprint(static_cast<int64_t>(request.bvh_text().size()), /*bvh=*/true);
   }
+  if (request.input_case() == v1::RetimeSkeletalRequest::kGltf) {
+    // The bytes, tinygltf's model and the JSON document (each about the file), the buffers.
+    return FileParseFootprint(static_cast<int64_t>(request.gltf().size()), /*bvh=*/true);
+  }
   // The received bytes are freed once parsed (ParseRequest in retime_service.cc); the
   // skeleton and options are small beside the values.
   const v1::SkeletalMotion& motion = request.motion();

@@ -12,6 +12,7 @@
 #include "formats/bvh.h"
 #include "server/call_footprint.h"
 #include "server/call_reservation.h"
+#include "server/gltf_request.h"
 #include "server/lip_blink_request.h"
 #include "server/response_slice.h"
 
@@ -113,7 +114,8 @@ absl::StatusOr<std::string> Serialised(const Message& message) {
 }  // namespace
 
 bool CarriesFile(const v1::RetimeSkeletalRequest& request) {
-  return request.input_case() == v1::RetimeSkeletalRequest::kBvhText;
+  return request.input_case() == v1::RetimeSkeletalRequest::kBvhText ||
+         request.input_case() == v1::RetimeSkeletalRequest::kGltf;
 }
 bool CarriesFile(const v1::RetimeCurvesRequest& request) {
   return request.input_case() == v1::RetimeCurvesRequest::kMotion3Json ||
@@ -128,6 +130,9 @@ absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
                                       const RequestLimits& limits,
                                       v1::RetimeSkeletalResponse* response,
                                       SkeletalAnswer* described) {
+  if (request.input_case() == v1::RetimeSkeletalRequest::kGltf) {
+    return HandleRetimeSkeletalGltf(request, limits, response, described);
+  }
   KOMA_RETURN_IF_ERROR(CheckFileSize(request.bvh_text(), "bvh_text", limits));
   absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(request.bvh_text());
   if (!clip.ok()) return InField(clip.status(), "bvh_text");

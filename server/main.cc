@@ -41,8 +41,11 @@ ABSL_FLAG(int64_t, max_values, 20'000'000,
           "3 x joints)); larger requests get RESOURCE_EXHAUSTED");
 ABSL_FLAG(int, max_joints, 4096, "largest skeleton in joints");
 ABSL_FLAG(int64_t, max_file_bytes, 64 * 1024 * 1024,
-          "largest file a request may carry (bvh_text, motion3_json, csv_text) in bytes; "
+          "largest file a request may carry (bvh_text, gltf, motion3_json, csv_text) in bytes; "
           "larger files get RESOURCE_EXHAUSTED");
+ABSL_FLAG(int64_t, max_gltf_nodes, 65536,
+          "most nodes a glTF file (RetimeSkeletalRequest.gltf) may have; more get "
+          "INVALID_ARGUMENT naming nodes");
 ABSL_FLAG(int, worker_threads, 0, "threads that run retiming; 0 = one per core");
 ABSL_FLAG(int, threads_per_call, 0,
           "threads one large RetimeSkeletal call's forward kinematics may use (clips of 32768 "
@@ -91,7 +94,7 @@ constexpr const char* kEnvironmentFlags[] = {
     "log_format",       "shutdown_grace_ms",  "tls_cert",          "tls_key",
     "tls_client_ca",    "metrics_address",    "metrics_port_file", "shutdown_delay_ms",
     "inline_max_bytes", "huge_page_cache_mb", "threads_per_call",  "idle_trim_ms",
-    "max_memory_mb",    "max_file_bytes"};
+    "max_memory_mb",    "max_file_bytes",     "max_gltf_nodes"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -138,6 +141,7 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.limits.max_values = absl::GetFlag(FLAGS_max_values);
   config.limits.max_joints = absl::GetFlag(FLAGS_max_joints);
   config.limits.max_file_bytes = absl::GetFlag(FLAGS_max_file_bytes);
+  config.limits.max_gltf_nodes = absl::GetFlag(FLAGS_max_gltf_nodes);
   const int threads_per_call = absl::GetFlag(FLAGS_threads_per_call);
   config.limits.threads_per_call =
       threads_per_call > 0 ? threads_per_call

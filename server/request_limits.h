@@ -21,6 +21,9 @@ struct RequestLimits {
   // parsed whole into memory (about 8 bytes per number, ~1 to 3x the text), and what it
   // decodes to is then checked against max_values and max_joints as a decoded request is.
   int64_t max_file_bytes = 64 * 1024 * 1024;
+  // Most nodes a glTF file (RetimeSkeletalRequest.gltf) may have; the node tree is walked
+  // every sampled frame, so this bounds the work per frame beside max_values.
+  int64_t max_gltf_nodes = 65536;
   // Threads one RetimeSkeletal call's forward kinematics may use (a clip of at least
   // 2 x kFramesPerFkThread frames, core/forward_kinematics.h); 1 = the calling thread only.
   int threads_per_call = 1;

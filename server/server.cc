@@ -52,6 +52,10 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
     return invalid("--max_file_bytes: ", config.limits.max_file_bytes,
                    " must be >= 0 (0 refuses every file-carrying request)");
   }
+  if (config.limits.max_gltf_nodes < 1) {
+    return invalid("--max_gltf_nodes: ", config.limits.max_gltf_nodes,
+                   " must be >= 1 (it would refuse every glTF file)");
+  }
   if (config.limits.threads_per_call < 1) {
     // Not reachable from the flag: koma_server turns --threads_per_call=0 into one per core.
     return invalid("limits.threads_per_call: ", config.limits.threads_per_call,

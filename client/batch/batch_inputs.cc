@@ -117,7 +117,7 @@ absl::Status AddList(const std::string& list_path, Collector& collector) {
 }  // namespace
 
 std::vector<std::string> ExtensionsOf(const std::string& rpc) {
-  if (rpc == "skeletal") return {".bvh"};
+  if (rpc == "skeletal") return {".bvh", ".glb", ".gltf", ".vrm", ".vrma"};
   return {".motion3.json", ".csv"};
 }
 

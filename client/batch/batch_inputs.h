@@ -20,7 +20,8 @@ struct BatchItem {
   std::string xdts;      // the XDTS exposure sheet beside the output; empty when none
 };
 
-// File name endings the RPC reads, lower case: {".bvh"}, or {".motion3.json", ".csv"}.
+// File name endings the RPC reads, lower case: {".bvh", ".glb", ".gltf", ".vrm", ".vrma"}, or
+// {".motion3.json", ".csv"}.
 std::vector<std::string> ExtensionsOf(const std::string& rpc);
 
 // A file beside `output`: ("a/b.bvh", ".timing.csv") -> "a/b.timing.csv"; "a/b.motion3.json"

@@ -8,7 +8,10 @@
 #include "client/curve_files.h"
 #include "client/report/curves_report.h"
 #include "client/report/lip_blink_report.h"
+#include "client/file_format.h"
+#include "client/files.h"
 #include "client/report/skeletal_report.h"
+#include "client/skeletal_gltf.h"
 
 namespace koma::client::batch {
 namespace {
@@ -61,11 +64,48 @@ class SkeletalClipCall final : public Clip {
   v1::RetimeSkeletalResponse response_;
 };
 
+// A glTF file (.glb, .gltf, .vrm, .vrma): sent whole, the server's file written back.
+class GltfClipCall final : public Clip {
+ public:
+  GltfClipCall(const SkeletalArgs& args, v1::RetimeSkeletalRequest request)
+      : args_(args), request_(std::move(request)) {}
+
+  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
+             std::function<void(grpc::Status)> done) override {
+    response_.Clear();
+    stub.async()->RetimeSkeletal(context, &request_, &response_, std::move(done));
+  }
+
+  absl::Status Write(const BatchItem& item) override {
+    if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
+    SkeletalArgs args = args_;
+    args.input = item.input;
+    args.output = item.output;
+    args.timing = item.timing;
+    if (absl::Status s = WriteGltfOutputs(args, response_); !s.ok()) return s;
+    if (item.report.empty()) return absl::OkStatus();
+    return WriteGltfReport(item.report, request_, response_, item.input);
+  }
+
+ private:
+  const SkeletalArgs& args_;
+  v1::RetimeSkeletalRequest request_;
+  v1::RetimeSkeletalResponse response_;
+};
+
 class SkeletalRpc final : public Rpc {
  public:
   explicit SkeletalRpc(const SkeletalArgs& args) : args_(args) {}
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
+    if (FormatFromName(item.input) == FileFormat::kGltf) {
+      absl::StatusOr<std::string> bytes = ReadFile(item.input);
+      if (!bytes.ok()) return bytes.status();
+      absl::StatusOr<v1::RetimeSkeletalRequest> request =
+          BuildGltfRequest(args_, *std::move(bytes));
+      if (!request.ok()) return WithPath(item, request.status());
+      return std::make_unique<GltfClipCall>(args_, *std::move(request));
+    }
     absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(item.input);
     if (!clip.ok()) return clip.status();
     absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args_, *clip);

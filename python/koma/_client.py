@@ -80,6 +80,17 @@ def _read_source(source, text_starts):
     raise TypeError(f"expected a path, a file's text (str) or bytes, got {type(source).__name__}")
 
 
+_GLTF_SUFFIXES = (".glb", ".gltf", ".vrm", ".vrma")
+
+
+def _is_gltf(data, path):
+    """A glTF file: by its name, the GLB magic, or JSON with an "asset" member."""
+    if path is not None and path.lower().endswith(_GLTF_SUFFIXES):
+        return True
+    head = data.lstrip()
+    return data.startswith(b"glTF") or (head.startswith(b"{") and b'"asset"' in data)
+
+
 def _is_csv(data, path, file_format):
     if file_format is not None:
         if file_format not in ("motion3", "csv"):
@@ -172,28 +183,36 @@ class Client:
         """Inbetween omission and holds on a skeletal clip (RetimeSkeletal).
 
         Args:
-            source: a BVH file's path (str or path-like), its text (str containing a newline
-                or starting with "HIERARCHY"), its bytes, or a koma.Positions clip.
+            source: a BVH or glTF file's path (str or path-like; .glb, .gltf, .vrm and .vrma
+                are glTF), a BVH's text (str containing a newline or starting with
+                "HIERARCHY"), a file's bytes (glTF by its content), or a koma.Positions clip.
             **options: RetimeSkeletalRequest fields: omissions (steps, int), holds (steps,
                 int), max_hold (frames, int), keep_length (bool), order ("OMIT_THEN_HOLD" or
                 "HOLD_THEN_OMIT"), joint_weights (list of float), root_relative (bool),
                 camera (16 floats, column-major view-projection), return_motion (bool),
                 timing_fps (frames per second of the film grid; unset 24, 0 none),
-                output_rate ("SOURCE_RATE" or "TIMING_RATE"). Frame counts are in grid frames
-                when a grid is used.
+                output_rate ("SOURCE_RATE" or "TIMING_RATE"), and for glTF gltf_animations
+                (names or indices as str), gltf_retime_none, gltf_source_fps, gltf_keys
+                ("GLTF_KEYS_STEP" or "GLTF_KEYS_LINEAR"), gltf_keep_original. Frame counts are
+                in grid frames when a grid is used.
 
         Returns:
             SkeletalResult: with a BVH source, .output is the retimed BVH text, byte for
-            byte what `koma skeletal IN -o OUT` writes; with Positions, .response.motion
-            holds the retimed positions.
+            byte what `koma skeletal IN -o OUT` writes; with a glTF source, .output_bytes
+            (and .write(path)) the retimed file, .animations one dict per retimed animation;
+            with Positions, .response.motion holds the retimed positions.
         """
         request = retime_pb2.RetimeSkeletalRequest()
-        _options.fill(request, options, skip=("motion", "bvh_text"))
+        _options.fill(request, options, skip=("motion", "bvh_text", "gltf"))
         path = None
         if isinstance(source, Positions):
             request.motion.CopyFrom(source.to_proto())
         else:
-            request.bvh_text, path = _read_source(source, ("HIERARCHY",))
+            data, path = _read_source(source, ("HIERARCHY",))
+            if _is_gltf(data, path):
+                request.gltf = data
+            else:
+                request.bvh_text = data
         result = SkeletalResult(self._call(self._stub.RetimeSkeletal, request))
         result.source_path = path
         return result

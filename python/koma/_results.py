@@ -31,8 +31,10 @@ class _Result:
     @property
     def output(self):
         """The retimed file's text (str), or None when the request sent no file or asked
-        for no motion (return_motion=False)."""
-        return None if self.output_bytes is None else self.output_bytes.decode("utf-8")
+        for no motion (return_motion=False), or the file is binary (a GLB: output_bytes)."""
+        if self.output_bytes is None or self.output_bytes.startswith(b"glTF"):
+            return None
+        return self.output_bytes.decode("utf-8")
 
     def write(self, path):
         """Writes the retimed file to `path`, byte for byte as the server wrote it (what
@@ -48,7 +50,12 @@ class SkeletalResult(_Result):
     """A RetimeSkeletal answer.
 
     Attributes:
-        output / output_bytes: the retimed BVH (file requests), as `koma skeletal -o` writes it.
+        output / output_bytes: the retimed BVH (file requests), as `koma skeletal -o` writes it;
+            for a glTF request output_bytes is the retimed glTF file (output only for a .gltf,
+            which is text).
+        animations: for a glTF request, per retimed animation a dict: index, name,
+            source_fps, start_s, frame_count, joints, output_fps, keys_written, and its
+            source_frames (the fields above are the first one's).
         source_frames: per output frame t, the 0-based source frame it shows.
         kinds: per output frame, "ORIGINAL", "DUPLICATE" or "HELD".
         timing: the timing map as a dict {output frame: source frame}.
@@ -68,6 +75,13 @@ class SkeletalResult(_Result):
     def __init__(self, response):
         self.response = response
         self.output_bytes = response.bvh_text if response.bvh_text else None
+        if response.gltf:
+            self.output_bytes = response.gltf
+        self.animations = [{
+            "index": a.index, "name": a.name, "source_fps": a.source_fps, "start_s": a.start_s,
+            "frame_count": a.frame_count, "joints": list(a.joints), "output_fps": a.output_fps,
+            "keys_written": a.keys_written, "source_frames": list(a.timing.source_frames),
+        } for a in response.gltf_animations]
         self.source_frames = list(response.source_frames)
         self.kinds = [_kind_name(k) for k in response.kinds]
         self.timing = dict(enumerate(self.source_frames))

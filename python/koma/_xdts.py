@@ -71,7 +71,8 @@ def clip_name(source_path, fallback):
         if not path or path == "-":
             continue
         base = os.fspath(path).rsplit("/", 1)[-1]
-        for extension in (".motion3.json", ".bvh", ".csv", ".json", ".xdts"):
+        for extension in (".motion3.json", ".bvh", ".csv", ".json", ".xdts", ".glb", ".gltf",
+                          ".vrma", ".vrm"):
             if len(base) > len(extension) and base.lower().endswith(extension):
                 base = base[:-len(extension)]
                 break

@@ -24,6 +24,12 @@ TEST(FileFormatTest, Sniffs) {
   EXPECT_EQ(FormatFromName("x.motion3.json"), FileFormat::kMotion3);
   EXPECT_EQ(FormatFromName("x.Csv"), FileFormat::kCsv);
   EXPECT_EQ(FormatFromName("-"), FileFormat::kUnknown);
+  for (const char* name : {"a.glb", "a.GLTF", "avatar.vrm", "walk.vrma"}) {
+    EXPECT_EQ(FormatFromName(name), FileFormat::kGltf) << name;
+  }
+  EXPECT_EQ(SniffFormat("glTF\x02\0\0\0"), FileFormat::kGltf);
+  EXPECT_EQ(SniffFormat(" {\"asset\":{\"version\":\"2.0\"},\"nodes\":[]}"), FileFormat::kGltf);
+  EXPECT_EQ(SniffFormat("{\"Version\":3,\"Curves\":[],\"asset\":1}"), FileFormat::kMotion3);
 }
 
 TEST(FileFormatTest, NamesTheWrongFormat) {
@@ -34,9 +40,15 @@ TEST(FileFormatTest, NamesTheWrongFormat) {
                           "skeletal`")));
   EXPECT_THAT(CheckInputFormat("-", "{}", "skeletal"),
               StatusIs(absl::StatusCode::kInvalidArgument,
-                       Eq("standard input is a motion3.json file, not BVH: `koma skeletal` reads "
-                          "BVH motion capture; retime curves with `koma curves` or `koma "
-                          "lipblink`")));
+                       Eq("standard input is a motion3.json file, not BVH or glTF: `koma "
+                          "skeletal` reads BVH motion capture and glTF 2.0 / VRM; retime curves "
+                          "with `koma curves` or `koma lipblink`")));
+  EXPECT_THAT(CheckInputFormat("a.glb", "glTF\x02", "curves"),
+              StatusIs(absl::StatusCode::kInvalidArgument,
+                       Eq("a.glb is a glTF file, not motion3.json or CSV: `koma curves` reads "
+                          "Live2D motion3.json or per-frame CSV; retime glTF files with `koma "
+                          "skeletal`")));
+  EXPECT_THAT(CheckInputFormat("a.gltf", "{\"asset\": {\"version\": \"2.0\"}}", "skeletal"), IsOk());
   EXPECT_THAT(
       CheckInputFormat("x.csv", "frame,a\n0,1\n", "skeletal"),
       StatusIs(absl::StatusCode::kInvalidArgument, ::testing::StartsWith("x.csv is a CSV file")));

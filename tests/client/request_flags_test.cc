@@ -21,6 +21,8 @@
 #include "absl/strings/str_replace.h"
 #include "client/cli.h"
 #include "client/curve_files.h"
+#include "client/file_format.h"
+#include "client/skeletal_gltf.h"
 #include "koma/v1/retime.pb.h"
 #include "tests/testing/status_matchers.h"
 
@@ -39,6 +41,7 @@ const std::string kTalk = std::string(KOMA_SAMPLES_DIR) + "/talk_blink.motion3.j
 // Fields deliberately without a flag, with the reason.
 const std::map<std::string, std::string> kExcluded = {
     {"RetimeSkeletalRequest.motion", "the whole clip: the input file"},
+    {"RetimeSkeletalRequest.gltf", "a glTF input file itself, always sent whole"},
     {"RetimeCurvesRequest.curves", "the whole curve set: the input file"},
     {"LipBlinkRequest.curves", "the whole curve set: the input file"},
 };
@@ -51,6 +54,7 @@ const std::set<std::string> kSendFileFields = {
     "LipBlinkRequest.motion3_json",   "LipBlinkRequest.csv_text",
     "LipBlinkRequest.csv_fps"};
 const std::string kCsv = std::string(KOMA_TESTDATA_DIR) + "/curves_crlf.csv";
+const std::string kWave = std::string(KOMA_SAMPLES_DIR) + "/wave.glb";
 constexpr char kInputFile[] = "<the input file>";
 
 // Singular message fields whose fields are settings, each with its own flag.
@@ -95,6 +99,11 @@ const std::map<std::string, FieldCase>& Cases() {
       {"RetimeSkeletalRequest.return_motion", {{"false"}, "false", {"--timing", "t.csv"}}},
       {"RetimeSkeletalRequest.timing_fps", {{"30"}, "30"}},
       {"RetimeSkeletalRequest.output_rate", {{"timing"}, "TIMING_RATE"}},
+      {"RetimeSkeletalRequest.gltf_animations", {{"Wave,0"}, "\"Wave\", \"0\"", {}, "", kWave}},
+      {"RetimeSkeletalRequest.gltf_retime_none", {{}, "true", {}, "", kWave}},
+      {"RetimeSkeletalRequest.gltf_source_fps", {{"24"}, "24", {}, "", kWave}},
+      {"RetimeSkeletalRequest.gltf_keys", {{"linear"}, "GLTF_KEYS_LINEAR", {}, "", kWave}},
+      {"RetimeSkeletalRequest.gltf_keep_original", {{}, "true", {}, "", kWave}},
       // RetimeCurves
       {"RetimeCurvesRequest.key_frames", {{"0,10,25"}, "0, 10, 25"}},
       {"RetimeCurvesRequest.frames_per_drawing", {{"2"}, "2"}},
@@ -214,6 +223,13 @@ std::string FieldText(const Message& request, const FieldPath& path) {
   return ValueText(*message, field, -1);
 }
 
+std::string FileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 // The request `koma COMMAND INPUT -o OUT <flags>` sends, through the real parser and the
 // commands' own builders (input: the command's sample unless given).
 absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(const std::string& request_name,
@@ -229,6 +245,12 @@ absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(const std::string&
   if (const int code = ParseCommandLine(argv, &line); code != -1) {
     return absl::InvalidArgumentError("parse exit code " + std::to_string(code) + " for " +
                                       absl::StrJoin(argv, " "));
+  }
+  if (line.command == "skeletal" && FormatFromName(line.skeletal.input) == FileFormat::kGltf) {
+    absl::StatusOr<v1::RetimeSkeletalRequest> r =
+        BuildGltfRequest(line.skeletal, FileBytes(line.skeletal.input));
+    if (!r.ok()) return r.status();
+    return std::unique_ptr<Message>(new v1::RetimeSkeletalRequest(*r));
   }
   if (line.command == "skeletal") {
     absl::StatusOr<SkeletalInput> file = ReadSkeletalFile(line.skeletal.input);
@@ -252,12 +274,6 @@ absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(const std::string&
       new v1::LipBlinkRequest(BuildLipBlinkFileRequest(line.lip_blink, *file)));
 }
 
-std::string FileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // A bytes field's value, as is.
 std::string RawBytes(const Message& message, const FieldDescriptor* field) {
@@ -276,8 +292,8 @@ TEST(RequestFlagsTest, WalksEveryField) {
   for (const auto& [key, unused] : Cases()) {
     EXPECT_TRUE(walked.count(key)) << key << ": a case for a field the proto does not have";
   }
-  // 12 + 10 + 23 fields today; the count catches a settings message walked wrongly.
-  EXPECT_EQ(paths.size(), 45u);
+  // 17 + 10 + 23 fields today; the count catches a settings message walked wrongly.
+  EXPECT_EQ(paths.size(), 50u);
 }
 
 TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {

@@ -10,7 +10,7 @@ import grpc
 import pytest
 
 import koma
-from conftest import Server, source_path
+from conftest import Server, run_cli, source_path
 
 PITCH = source_path("samples", "pitch.bvh")
 
@@ -270,3 +270,38 @@ def test_import_path_is_the_built_package():
     from koma.v1 import retime_pb2
     assert "bvh_text" in retime_pb2.RetimeSkeletalRequest.DESCRIPTOR.fields_by_name
     assert "csv_fps" in retime_pb2.LipBlinkRequest.DESCRIPTOR.fields_by_name
+
+
+WAVE = source_path("samples", "wave.glb")
+
+
+def test_gltf_path_and_bytes_give_the_cli_file(server, client, tmp_path):
+    """A glTF file (path or bytes) travels whole; output_bytes is the retimed file, byte for
+    byte what `koma skeletal IN.glb -o OUT.glb` writes for the same options."""
+    by_path = client.retime_skeletal(WAVE, omissions=5,
+                                     gltf_keys="GLTF_KEYS_LINEAR")
+    by_bytes = client.retime_skeletal(pathlib.Path(WAVE).read_bytes(), omissions=5,
+                                      gltf_keys="GLTF_KEYS_LINEAR")
+    assert by_path.output_bytes == by_bytes.output_bytes
+    assert by_path.output_bytes.startswith(b"glTF") and by_path.output is None
+    assert [a["name"] for a in by_path.animations] == ["Wave"]
+    wave = by_path.animations[0]
+    assert wave["source_fps"] == 30 and wave["frame_count"] == 61
+    assert wave["joints"][:3] == ["Hips", "Spine", "Head"]
+    assert wave["keys_written"] == 61 and by_path.counts["omissions_applied"] == 5
+    assert wave["source_frames"] == by_path.source_frames
+    out = tmp_path / "wave_anime.glb"
+    run_cli("skeletal", WAVE, "-o", str(out), "--omit", "5", "--gltf-keys", "linear",
+            "--server", server.address)
+    assert out.read_bytes() == by_path.output_bytes
+    by_path.write(tmp_path / "written.glb")
+    assert (tmp_path / "written.glb").read_bytes() == by_path.output_bytes
+
+
+def test_gltf_options_are_checked_by_the_server(client):
+    with pytest.raises(koma.KomaError) as error:
+        client.retime_skeletal(WAVE, gltf_animations=["Run"])
+    assert error.value.code == grpc.StatusCode.INVALID_ARGUMENT
+    assert 'gltf_animations[0]: "Run" is neither' in str(error.value)
+    none = client.retime_skeletal(WAVE, gltf_retime_none=True)
+    assert none.animations == [] and none.output_bytes.startswith(b"glTF")

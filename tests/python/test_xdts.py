@@ -300,3 +300,16 @@ def test_a_100000_frame_clip(server, tmp_path):
     sources = timing_rows(timing.read_text())
     assert sheet["duration"] == len(sources) == grid_rows(100000, 30)
     assert sheet["cells"][0][1] == drawings_from_sources(sources)
+
+
+def test_gltf_sheet_is_the_first_animations_timing(server, client, tmp_path):
+    clip = source_path("samples/wave.glb")
+    xdts, timing = tmp_path / "a.xdts", tmp_path / "t.csv"
+    run_cli("skeletal", clip, "-o", str(tmp_path / "o.glb"), "--timing", str(timing), "--xdts",
+            str(xdts), "--server", server.address)
+    sheet = read_checked(xdts)
+    assert sheet["name"] == "wave" and [n for n, _ in sheet["cells"]] == ["wave"]
+    assert sheet["cells"][0][1] == drawings_from_sources(timing_rows(timing.read_text()))
+    out = tmp_path / "py.xdts"
+    client.retime_skeletal(clip).write_xdts(out)
+    assert out.read_bytes() == xdts.read_bytes()
