@@ -41,6 +41,7 @@ void AddGlobalOptions(CLI::App& app, TlsFiles& tls) {
                  "TOML file of defaults, e.g. [skeletal] omissions = 6 / server = \"host:50051\"; "
                  "command-line flags win (also $KOMA_CONFIG)")
       ->type_name("FILE");
+  app.config_formatter(std::make_shared<ConfigToml>());
   app.set_version_flag("--version", std::string("koma ") + kVersion,
                        "print the version (koma MAJOR.MINOR.PATCH) and exit");
 }

@@ -5,14 +5,26 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string_view>
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "client/cli.h"
 #include "client/cli_options.h"
 #include "client/flag_values.h"
+#include "formats/text_encoding.h"
 
 namespace koma::client {
+
+std::vector<CLI::ConfigItem> ConfigToml::from_config(std::istream& in) const {
+  // CLI11 reads the first key from the stream's first byte: step over a byte order mark.
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string_view bom = formats::kUtf8Bom;
+  std::istringstream rest(text.compare(0, bom.size(), bom) == 0 ? text.substr(bom.size()) : text);
+  return CLI::ConfigTOML::from_config(rest);
+}
 
 std::string ConfigFilePath(const std::vector<std::string>& args) {
   std::string path;
@@ -54,14 +66,19 @@ std::string DidYouMean(const std::string& typed, const std::vector<std::string>&
 int CheckConfigFile(const CLI::App& top, const CLI::App& commands, const std::string& path,
                     const std::string& who) {
   const std::string help = who + " --help";
-  std::ifstream in(path);
-  if (!in) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
     return PrintUsageError(
         who, absl::StrCat("--config ", path, ": cannot read: ", std::strerror(errno)), help);
   }
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (const absl::Status encoding = formats::SkipUtf8Bom(text).status(); !encoding.ok()) {
+    return PrintUsageError(who, absl::StrCat("--config ", path, ": ", encoding.message()), help);
+  }
+  std::istringstream in(text);
   std::vector<CLI::ConfigItem> items;
   try {
-    items = CLI::ConfigTOML().from_config(in);
+    items = ConfigToml().from_config(in);
   } catch (const CLI::ParseError& e) {
     return PrintUsageError(who, absl::StrCat("--config ", path, ": ", e.what()), help);
   }

@@ -4,7 +4,11 @@
 #include <string>
 #include <vector>
 
+#include <algorithm>
+
 #include "absl/strings/str_cat.h"
+#include "absl/strings/match.h"
+#include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "client/channel.h"
 #include "client/command_output.h"
@@ -16,6 +20,7 @@
 #include "client/xdts_sheets.h"
 #include "formats/xdts.h"
 #include "client/retime_call.h"
+#include "core/timing_groups.h"
 #include "formats/drawing_sheet.h"
 #include "koma/v1/retime.grpc.pb.h"
 
@@ -41,7 +46,118 @@ absl::Status AddCurveOverrides(const std::vector<std::string>& entries,
   return absl::OkStatus();
 }
 
+// --group / --group-on / --no-default-groups -> request.timing_groups (the default grouping
+// spelt out when --group-on changes one of its groups).
+absl::Status AddTimingGroups(const CurvesArgs& args, v1::RetimeCurvesRequest& request) {
+  std::vector<TimingGroupFlag> groups = args.groups;
+  if (groups.empty() && !args.group_on.empty() && !!args.default_groups) {
+    for (const CurveTimingGroup& g : DefaultLive2dTimingGroups()) {
+      groups.push_back({g.name, g.ids, std::nullopt, std::nullopt, std::nullopt, {}});
+    }
+  }
+  for (const std::string& entry : args.group_on) {
+    const size_t equals = entry.rfind('=');
+    if (equals == std::string::npos || equals == 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("--group-on: \"", entry, "\" is not NAME=N, e.g. hair=2"));
+    }
+    const std::string name = entry.substr(0, equals);
+    absl::StatusOr<int64_t> n =
+        ParseWholeNumber("--group-on " + name, entry.substr(equals + 1), 1, INT32_MAX);
+    if (!n.ok()) return n.status();
+    auto it = std::find_if(groups.begin(), groups.end(),
+                           [&name](const TimingGroupFlag& g) { return g.name == name; });
+    if (it == groups.end()) {
+      std::string names;
+      for (const TimingGroupFlag& g : groups) absl::StrAppend(&names, names.empty() ? "" : ", ", g.name);
+      return absl::InvalidArgumentError(absl::StrCat(
+          "--group-on: no timing group \"", name, "\" (groups: ",
+          names.empty() ? "none" : names, name == kDefaultTimingGroupName ? "; body is --on" : "",
+          ")"));
+    }
+    it->frames_per_drawing = static_cast<int>(*n);
+  }
+  for (const TimingGroupFlag& flag : groups) {
+    v1::CurveTimingGroup* g = request.add_timing_groups();
+    g->set_name(flag.name);
+    for (const std::string& id : flag.ids) g->add_ids(id);
+    if (flag.frames_per_drawing) g->set_frames_per_drawing(*flag.frames_per_drawing);
+    if (flag.tame) g->set_tame(*flag.tame);
+    if (flag.tsume) g->set_tsume(*flag.tsume);
+    for (int key : flag.key_frames) g->add_key_frames(key);
+  }
+  if (!args.default_groups) request.set_default_timing_groups(false);
+  return absl::OkStatus();
+}
+
+// "on=2,tame=1.5" of --segment-overrides or --group into out's n, tame and tsume; false when a
+// setting is not KEY=VALUE with a known KEY (the caller reports the usage).
+template <typename Settings>
+absl::StatusOr<bool> ParseDrawingSettings(const std::string& flag_name, const std::string& text,
+                                          Settings& out) {
+  for (absl::string_view setting : absl::StrSplit(text, ',')) {
+    const std::vector<std::string> kv = absl::StrSplit(setting, absl::MaxSplits('=', 1));
+    if (kv.size() != 2) return false;
+    const std::string& key = kv[0];
+    const std::string flag = absl::StrCat(flag_name, " ", key);
+    if (key == "on" || key == "frames-per-drawing" || key == "frames_per_drawing") {
+      absl::StatusOr<int64_t> n = ParseWholeNumber(flag, kv[1], 1);
+      if (!n.ok()) return n.status();
+      out.frames_per_drawing = static_cast<int>(*n);
+    } else if (key == "tame" || key == "tsume") {
+      absl::StatusOr<double> s = ParseNumber(flag, kv[1], AtLeast(1));
+      if (!s.ok()) return s.status();
+      (key == "tame" ? out.tame : out.tsume) = *s;
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
+
+absl::StatusOr<TimingGroupFlag> ParseTimingGroup(const std::string& text) {
+  constexpr char kFlag[] = "--group";
+  const std::string usage = absl::StrCat(
+      kFlag, ": \"", text,
+      "\" is not NAME=ID,...[:on=N,tame=S,tsume=S,keys=F/F/...], e.g. "
+      "hair=ParamHair*,ParamBust*:on=2");
+  const size_t equals = text.find('=');
+  if (equals == std::string::npos || equals == 0) return absl::InvalidArgumentError(usage);
+  TimingGroupFlag out;
+  out.name = text.substr(0, equals);
+  const size_t colon = text.find(':', equals);
+  const std::string ids = text.substr(equals + 1, colon == std::string::npos ? std::string::npos
+                                                                              : colon - equals - 1);
+  for (absl::string_view id : absl::StrSplit(ids, ',')) {
+    if (id.empty()) return absl::InvalidArgumentError(usage);
+    out.ids.emplace_back(id);
+  }
+  if (colon != std::string::npos) {
+    // keys=F/F/F (the group's named key poses; '/' since ',' separates the settings), then
+    // on, tame and tsume as for --segment-overrides.
+    std::vector<std::string> settings;
+    for (absl::string_view setting : absl::StrSplit(text.substr(colon + 1), ',')) {
+      if (!absl::StartsWith(setting, "keys=")) {
+        settings.emplace_back(setting);
+        continue;
+      }
+      for (absl::string_view key : absl::StrSplit(setting.substr(5), '/')) {
+        absl::StatusOr<int64_t> frame =
+            ParseWholeNumber(absl::StrCat(kFlag, " keys"), std::string(key), 0, INT32_MAX);
+        if (!frame.ok()) return frame.status();
+        out.key_frames.push_back(static_cast<int>(*frame));
+      }
+    }
+    if (!settings.empty()) {
+      absl::StatusOr<bool> known = ParseDrawingSettings(kFlag, absl::StrJoin(settings, ","), out);
+      if (!known.ok()) return known.status();
+      if (!*known) return absl::InvalidArgumentError(usage);
+    }
+  }
+  return out;
+}
 
 absl::StatusOr<SegmentOverrideFlag> ParseSegmentOverride(const std::string& text) {
   constexpr char kFlag[] = "--segment-overrides";
@@ -57,23 +173,9 @@ absl::StatusOr<SegmentOverrideFlag> ParseSegmentOverride(const std::string& text
   out.segment = static_cast<int>(*segment);
   const std::string rest = text.substr(colon + 1);
   if (rest.empty()) return absl::InvalidArgumentError(usage);
-  for (absl::string_view setting : absl::StrSplit(rest, ',')) {
-    const std::vector<std::string> kv = absl::StrSplit(setting, absl::MaxSplits('=', 1));
-    if (kv.size() != 2) return absl::InvalidArgumentError(usage);
-    const std::string& key = kv[0];
-    const std::string flag = absl::StrCat(kFlag, " ", key);
-    if (key == "on" || key == "frames-per-drawing" || key == "frames_per_drawing") {
-      absl::StatusOr<int64_t> n = ParseWholeNumber(flag, kv[1], 1);
-      if (!n.ok()) return n.status();
-      out.frames_per_drawing = static_cast<int>(*n);
-    } else if (key == "tame" || key == "tsume") {
-      absl::StatusOr<double> s = ParseNumber(flag, kv[1], AtLeast(1));
-      if (!s.ok()) return s.status();
-      (key == "tame" ? out.tame : out.tsume) = *s;
-    } else {
-      return absl::InvalidArgumentError(usage);
-    }
-  }
+  absl::StatusOr<bool> known = ParseDrawingSettings(kFlag, rest, out);
+  if (!known.ok()) return known.status();
+  if (!*known) return absl::InvalidArgumentError(usage);
   return out;
 }
 
@@ -94,6 +196,8 @@ absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesRequest(const CurvesArgs& arg
     if (flag.tsume) o->set_tsume(*flag.tsume);
   }
   if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
+  if (!args.merge_key_poses) request.set_merge_key_poses(false);
+  if (absl::Status s = AddTimingGroups(args, request); !s.ok()) return s;
   return request;
 }
 
@@ -142,8 +246,25 @@ absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
     }
   }
   if (!args.timing.empty() && response.timings_size() > 0) {
-    const std::string sheet =
-        formats::WriteDrawingSheetCsv(TimingFromProto(response.timings(0)), input.curves.fps);
+    // One track per timing group (the default group's first), each at its own n.
+    std::vector<DrawingTiming> timings;
+    std::vector<std::string> names;
+    if (response.timing_groups_size() == 0) {
+      timings.push_back(TimingFromProto(response.timings(0)));
+      names.emplace_back(kDefaultTimingGroupName);
+    }
+    for (const v1::CurveTimingGroupResult& group : response.timing_groups()) {
+      if (group.curves_size() == 0) continue;  // no curves, no track
+      if (group.timing() < 0 || group.timing() >= response.timings_size()) {
+        return absl::InternalError(absl::StrCat("the server answered timing group \"",
+                                                group.name(), "\" with timing ", group.timing()));
+      }
+      timings.push_back(TimingFromProto(response.timings(group.timing())));
+      names.push_back(group.name());
+    }
+    std::vector<formats::DrawingSheetTrack> tracks;
+    for (size_t k = 0; k < timings.size(); ++k) tracks.push_back({names[k], &timings[k]});
+    const std::string sheet = formats::WriteGroupedDrawingSheetCsv(tracks, input.curves.fps);
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }
   if (!args.xdts.empty()) {

@@ -27,6 +27,18 @@ struct SegmentOverrideFlag {
 };
 absl::StatusOr<SegmentOverrideFlag> ParseSegmentOverride(const std::string& text);
 
+// One --group value: "NAME=ID,ID*,...[:on=N,tame=S,tsume=S,keys=F/F/...]" (a timing group:
+// its curves by id or pattern, its own n and spacing, and its named key poses).
+struct TimingGroupFlag {
+  std::string name;
+  std::vector<std::string> ids;
+  std::optional<int> frames_per_drawing;
+  std::optional<double> tame;
+  std::optional<double> tsume;
+  std::vector<int> key_frames;
+};
+absl::StatusOr<TimingGroupFlag> ParseTimingGroup(const std::string& text);
+
 struct CurvesArgs : CurveFileArgs {
   std::string timing;                     // drawing sheet CSV to write; empty: none; "-"
   std::optional<int> frames_per_drawing;  // --on / --frames-per-drawing; unset: server's 3
@@ -36,6 +48,10 @@ struct CurvesArgs : CurveFileArgs {
   std::vector<std::string> curve_on;      // --curve-on / --curve-overrides ID=N, repeatable
   std::vector<SegmentOverrideFlag> segment_overrides;  // --segment-overrides, repeatable
   bool timing_only = false;  // --timing-only: write only the drawing sheet
+  bool merge_key_poses = true;  // --no-merge-keys (false): every keyframe time a key pose
+  std::vector<TimingGroupFlag> groups;  // --group, repeatable, in order of precedence
+  std::vector<std::string> group_on;    // --group-on NAME=N: a group's n (also face, hair)
+  bool default_groups = true;           // --no-default-groups (false): one group
 };
 
 // The request for `curves` with every flag of `args` applied. INVALID_ARGUMENT naming the

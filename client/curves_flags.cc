@@ -1,5 +1,6 @@
 #include "client/cli_options.h"
 #include "client/command_flags.h"
+#include "client/curves_command.h"
 
 namespace koma::client {
 
@@ -47,6 +48,31 @@ CLI::App* AddCurvesCommand(CLI::App& app, CurvesArgs& args) {
          "(0-based); repeatable")
       ->type_name("SEG:KEY=V,...")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  cmd->add_flag("--merge-key-poses,!--no-merge-keys", args.merge_key_poses,
+                "keyframes closer than a drawing form one key pose, so no drawing is shorter "
+                "than --on (default); --no-merge-keys: every keyframe time is a key pose");
+  cmd->add_option_function<std::vector<std::string>>(
+         "--group,--timing-groups",
+         [&args](const std::vector<std::string>& values) {
+           args.groups.clear();
+           for (const std::string& value : values) {
+             absl::StatusOr<TimingGroupFlag> parsed = ParseTimingGroup(value);
+             if (!parsed.ok()) ThrowFlagError(parsed.status());
+             args.groups.push_back(*parsed);
+           }
+         },
+         "NAME=ID,...[:on=N,tame=S,tsume=S,keys=F/F/...]: a timing group, its curves by id or "
+         "pattern (ParamHair*) timed on their own key poses; repeatable, the first match wins; "
+         "replaces the default groups (face, hair; the rest is body)")
+      ->type_name("NAME=IDS[:KEY=V,...]")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  AddStringList(cmd, "--group-on", &args.group_on,
+                "NAME=N: frames per drawing of a timing group (of --group, or the default face "
+                "and hair); repeatable or comma-separated")
+      ->type_name("NAME=N,...");
+  cmd->add_flag("--default-timing-groups,!--no-default-groups", args.default_groups,
+                "without --group, Live2D's standard ids in the groups face and hair, the rest "
+                "body (default); --no-default-groups: every curve on the same key poses");
   AddCurveFileFlags(cmd, args, "the drawings are");
   return cmd;
 }

@@ -33,6 +33,28 @@ std::string Histogram(const v1::RetimedCurve& curve) {
   return absl::StrJoin(parts, ", ");
 }
 
+// ", 5 merged from 23 keyframe times" when some key pose stands for several keyframe times.
+std::string MergedText(const google::protobuf::RepeatedField<int32_t>& merged) {
+  int poses = 0, times = 0;
+  for (int count : merged) {
+    times += count;
+    if (count > 1) ++poses;
+  }
+  if (poses == 0) return "";
+  return absl::StrFormat(", %d merged from %d keyframe times", poses, times);
+}
+
+// The timing group of each timing index (its name), when the answer has groups.
+std::map<int, std::string> GroupOfTiming(const v1::RetimeCurvesResponse& response) {
+  std::map<int, std::string> names;
+  for (const v1::CurveTimingGroupResult& g : response.timing_groups()) {
+    for (int c : g.curves()) {
+      if (c >= 0 && c < response.curves_size()) names[response.curves(c).timing()] = g.name();
+    }
+  }
+  return names;
+}
+
 }  // namespace
 
 std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
@@ -41,8 +63,18 @@ std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
       absl::StrFormat("%s: %zu curves, %d frames at %.4g fps -> %s\n", InputName(args.input),
                       curves.curves.size(), curves.frame_count, curves.fps,
                       args.timing_only ? std::string("(timing only)") : OutputName(args.output));
-  absl::StrAppendFormat(&text, "  key poses (%d): %s\n", response.key_frames_size(),
+  absl::StrAppendFormat(&text, "  key poses (%d%s): %s\n", response.key_frames_size(),
+                        MergedText(response.key_frames_merged()),
                         absl::StrJoin(response.key_frames(), ", "));
+  if (response.timing_groups_size() > 0) {
+    std::vector<std::string> groups;
+    for (const v1::CurveTimingGroupResult& g : response.timing_groups()) {
+      groups.push_back(absl::StrFormat("%s (%d curves, %s, %d key poses%s)", g.name(),
+                                       g.curves_size(), OnName(g.frames_per_drawing()),
+                                       g.key_frames_size(), MergedText(g.key_frames_merged())));
+    }
+    absl::StrAppend(&text, "  timing groups: ", absl::StrJoin(groups, "; "), "\n");
+  }
   if (response.timing_fps() > 0) {
     absl::StrAppendFormat(
         &text,
@@ -55,12 +87,15 @@ std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
   for (const v1::RetimedCurve& curve : response.curves()) {
     curves_by_timing[curve.timing()].push_back(&curve);
   }
+  const std::map<int, std::string> group_of_timing = GroupOfTiming(response);
   for (const auto& [index, members] : curves_by_timing) {
     if (index < 0 || index >= response.timings_size()) continue;
     const v1::DrawingTiming& timing = response.timings(index);
     std::vector<std::string> ids;
     for (const v1::RetimedCurve* curve : members) ids.push_back(curve->id());
-    absl::StrAppendFormat(&text, "  %s: %d drawings (holds %s) for %s\n",
+    const auto group = group_of_timing.find(index);
+    absl::StrAppendFormat(&text, "  %s%s: %d drawings (holds %s) for %s\n",
+                          group == group_of_timing.end() ? "" : group->second + " ",
                           OnName(timing.frames_per_drawing()), timing.drawing_start_size(),
                           Histogram(*members.front()), absl::StrJoin(ids, ", "));
   }
@@ -86,6 +121,23 @@ nlohmann::json CurvesSummaryJson(const CurvesArgs& args, const CurveSet& curves,
   j["key_frames"] = std::vector<int>(response.key_frames().begin(), response.key_frames().end());
   j["key_grid_frames"] =
       std::vector<int>(response.key_grid_frames().begin(), response.key_grid_frames().end());
+  j["key_frames_merged"] = std::vector<int>(response.key_frames_merged().begin(),
+                                            response.key_frames_merged().end());
+  j["timing_groups"] = nlohmann::json::array();
+  for (const v1::CurveTimingGroupResult& g : response.timing_groups()) {
+    std::vector<std::string> ids;
+    for (int c : g.curves()) {
+      if (c >= 0 && c < response.curves_size()) ids.push_back(response.curves(c).id());
+    }
+    j["timing_groups"].push_back(
+        {{"name", g.name()},
+         {"curves", ids},
+         {"frames_per_drawing", g.frames_per_drawing()},
+         {"timing", g.timing()},
+         {"key_frames", std::vector<int>(g.key_frames().begin(), g.key_frames().end())},
+         {"key_frames_merged",
+          std::vector<int>(g.key_frames_merged().begin(), g.key_frames_merged().end())}});
+  }
   j["timings"] = nlohmann::json::array();
   for (const v1::DrawingTiming& timing : response.timings()) {
     j["timings"].push_back({{"frames_per_drawing", timing.frames_per_drawing()},

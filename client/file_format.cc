@@ -4,13 +4,9 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "client/files.h"
+#include "formats/text_encoding.h"
 
 namespace koma::client {
-namespace {
-
-constexpr absl::string_view kUtf8Bom = "\xEF\xBB\xBF";
-
-}  // namespace
 
 FileFormat FormatFromName(const std::string& path) {
   if (absl::EndsWithIgnoreCase(path, ".bvh")) return FileFormat::kBvh;
@@ -24,7 +20,8 @@ FileFormat FormatFromName(const std::string& path) {
 
 FileFormat SniffFormat(absl::string_view text) {
   if (absl::StartsWith(text, "glTF")) return FileFormat::kGltf;
-  if (absl::StartsWith(text, kUtf8Bom)) text.remove_prefix(kUtf8Bom.size());
+  const absl::string_view bom(formats::kUtf8Bom.data(), formats::kUtf8Bom.size());
+  if (absl::StartsWith(text, bom)) text.remove_prefix(bom.size());
   text = absl::StripLeadingAsciiWhitespace(text);
   if (absl::StartsWith(text, "HIERARCHY")) return FileFormat::kBvh;
   if (absl::StartsWith(text, "{")) {

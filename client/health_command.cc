@@ -25,7 +25,13 @@ int RunHealth(const HealthArgs& args) {
   const std::string name =
       grpc::health::v1::HealthCheckResponse::ServingStatus_Name(response.status());
   if (args.json) {
-    out.Success("", {{"server", args.server}, {"service", args.service}, {"serving_status", name}},
+    // "status" is the serving status itself, not "ok": a script reading it must not see a
+    // server that answers NOT_SERVING as healthy (the exit code says the same).
+    out.Success("",
+                {{"status", name},
+                 {"server", args.server},
+                 {"service", args.service},
+                 {"serving_status", name}},
                 false);
   } else if (!args.quiet) {
     std::printf("%s\n", name.c_str());

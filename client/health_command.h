@@ -8,7 +8,8 @@
 
 namespace koma::client {
 
-// --json: {"status": "ok", "serving_status": "SERVING", ...}; --quiet: print nothing, the exit
+// --json: {"status": "SERVING", "serving_status": "SERVING", ...} (status is the serving
+// status: SERVING, NOT_SERVING, UNKNOWN or SERVICE_UNKNOWN; "error" when the call failed); --quiet: print nothing, the exit
 // code tells. A health check's deadline is short: 5 s.
 struct HealthArgs : CallFlags {
   HealthArgs() { deadline_seconds = 5.0; }

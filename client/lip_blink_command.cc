@@ -5,7 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "convert/curve_text.h"
 #include "client/channel.h"
 #include "client/command_output.h"
 #include "client/curves_convert.h"
@@ -66,7 +68,33 @@ v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSe
   }
   if (args.seed) request.set_seed(*args.seed);
   if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
+  v1::LipBlinkVoiceSettings* voice = request.mutable_voice_settings();
+  if (args.noise_floor_dbfs) voice->set_noise_floor_dbfs(*args.noise_floor_dbfs);
+  if (args.noise_percentile) voice->set_noise_percentile(*args.noise_percentile);
+  if (args.start_above_floor_db) voice->set_start_above_floor_db(*args.start_above_floor_db);
+  if (args.stay_above_floor_db) voice->set_stay_above_floor_db(*args.stay_above_floor_db);
+  if (args.min_speech_dbfs) voice->set_min_speech_dbfs(*args.min_speech_dbfs);
+  if (args.bridge_gap_frames) voice->set_bridge_gap_frames(*args.bridge_gap_frames);
+  if (args.min_speech_frames) voice->set_min_speech_frames(*args.min_speech_frames);
+  if (args.open_below_peak_db) voice->set_open_below_peak_db(*args.open_below_peak_db);
+  if (args.closed_below_peak_db) voice->set_closed_below_peak_db(*args.closed_below_peak_db);
+  if (args.hysteresis_db) voice->set_hysteresis_db(*args.hysteresis_db);
+  if (voice->ByteSizeLong() == 0) request.clear_voice_settings();
+  if (args.voice_motion_fps) request.set_voice_motion_fps(*args.voice_motion_fps);
+  if (!args.voice_output.empty()) {
+    request.set_voice_output(args.voice_output == "csv" ? v1::VOICE_OUTPUT_CSV
+                                                        : v1::VOICE_OUTPUT_MOTION3_JSON);
+  }
   return request;
+}
+
+// True when any flag only a voice uses is given.
+bool HasVoiceFlags(const LipBlinkArgs& args) {
+  return args.noise_floor_dbfs || args.noise_percentile || args.start_above_floor_db ||
+         args.stay_above_floor_db || args.min_speech_dbfs || args.bridge_gap_frames ||
+         args.min_speech_frames || args.open_below_peak_db || args.closed_below_peak_db ||
+         args.hysteresis_db || args.voice_motion_fps || !args.voice_output.empty() ||
+         !args.motion.empty() || !args.cues.empty();
 }
 
 v1::LipBlinkRequest BuildLipBlinkFileRequest(const LipBlinkArgs& args, const CurveInput& input) {
@@ -79,9 +107,145 @@ absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args) {
   if (args.output.empty()) {
     return absl::InvalidArgumentError("-o/--output OUT.motion3.json or OUT.csv is required");
   }
+  if (!args.audio.empty() && !args.rhubarb.empty()) {
+    return absl::InvalidArgumentError("--audio and --rhubarb: give one voice, not both");
+  }
+  if (!args.input.empty() && !args.motion.empty()) {
+    return absl::InvalidArgumentError(absl::StrCat("IN (", args.input, ") and --motion (",
+                                                   args.motion, ") name two motions; give one"));
+  }
+  if (!HasVoice(args)) {
+    if (args.input.empty()) {
+      return absl::InvalidArgumentError(
+          "IN is required (a motion3.json or CSV), or --audio FILE / --rhubarb FILE");
+    }
+    if (HasVoiceFlags(args)) {
+      return absl::InvalidArgumentError(
+          "--motion, --cues, --voice-*: need a voice, --audio FILE or --rhubarb FILE");
+    }
+  } else if (!args.report.empty()) {
+    return absl::InvalidArgumentError(
+        "--report: not available with --audio or --rhubarb (the report shows an input curve; "
+        "the voice's loudness and speech are in --json's \"voice\")");
+  }
+  if (HasVoice(args)) {
+    return CheckOneOnStdout({{"-o", args.output}, {"--cues", args.cues}, {"--xdts", args.xdts}},
+                            args.json);
+  }
   return CheckOneOnStdout(
       {{"-o", args.output}, {"--report", args.report}, {"--xdts", args.xdts}}, args.json);
 }
+
+v1::LipBlinkRequest BuildLipBlinkVoiceRequest(const LipBlinkArgs& args, std::string voice,
+                                              const CurveInput* input, bool csv_output) {
+  CurveSet empty;
+  v1::LipBlinkRequest request = BuildLipBlinkRequest(args, input ? input->curves : empty);
+  request.clear_curves();
+  if (input != nullptr) {
+    PutCurveFile(args, *input, &request);
+  } else {
+    request.set_voice_motion_fps(args.voice_motion_fps.value_or(args.csv_fps));
+    request.set_voice_output(csv_output ? v1::VOICE_OUTPUT_CSV : v1::VOICE_OUTPUT_MOTION3_JSON);
+  }
+  if (!args.audio.empty()) {
+    request.set_audio(std::move(voice));
+  } else {
+    request.set_rhubarb_cues(std::move(voice));
+    // Unset: the server follows the cues' drawings.
+    if (args.mode.empty()) request.mutable_mouth()->clear_mode();
+  }
+  return request;
+}
+
+absl::Status WriteLipBlinkVoiceOutputs(const LipBlinkArgs& args, bool csv_output,
+                                       double source_fps, const v1::LipBlinkResponse& response) {
+  std::string text;
+  if (response.has_csv_text()) {
+    if (!csv_output) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "-o ", OutputName(args.output),
+          ": a CSV motion cannot be written as motion3.json (no motion3 document)"));
+    }
+    text = response.csv_text();
+  } else if (csv_output) {
+    absl::StatusOr<convert::CurveInput> written =
+        convert::ParseCurveText(response.motion3_json(), /*csv=*/false, 0);
+    if (!written.ok()) return absl::InternalError(written.status().message());
+    const std::vector<std::optional<CurveReplacement>> unchanged(written->curves.curves.size());
+    absl::StatusOr<std::string> csv = convert::CurveOutputText(*written, unchanged, /*csv=*/true);
+    if (!csv.ok()) return csv.status();
+    text = *std::move(csv);
+  } else {
+    text = response.motion3_json();
+  }
+  if (absl::Status s = WriteFile(args.output, text); !s.ok()) return s;
+  if (!args.cues.empty()) {
+    const bool tsv = absl::EndsWithIgnoreCase(args.cues, ".tsv");
+    if (absl::Status s =
+            WriteFile(args.cues, tsv ? response.rhubarb_tsv() : response.rhubarb_json());
+        !s.ok()) {
+      return s;
+    }
+  }
+  if (args.xdts.empty()) return absl::OkStatus();
+  // Named after the motion, else the voice (a new motion has no file of its own).
+  const std::string& motion = args.motion.empty() ? args.input : args.motion;
+  const std::string& voice = args.audio.empty() ? args.rhubarb : args.audio;
+  absl::StatusOr<formats::XdtsSheet> sheet = LipBlinkXdtsSheet(
+      response, source_fps, XdtsClipName(motion.empty() ? voice : motion, args.xdts));
+  if (!sheet.ok()) return sheet.status();
+  return WriteFile(args.xdts, formats::WriteXdts(*sheet));
+}
+
+namespace {
+
+int RunLipBlinkVoice(const LipBlinkArgs& args, const CommandOutput& out) {
+  const std::string& voice_path = args.audio.empty() ? args.rhubarb : args.audio;
+  const std::string& motion_path = args.motion.empty() ? args.input : args.motion;
+  std::optional<CurveInput> input;
+  if (!motion_path.empty()) {
+    absl::StatusOr<CurveInput> read =
+        ReadCurveInput(motion_path, args.csv_fps, CurveFormat::kAuto, "lipblink");
+    if (!read.ok()) return out.Failure(read.status());
+    input = *std::move(read);
+  }
+  bool csv_output = false;
+  if (input) {
+    absl::StatusOr<CurveFormat> format =
+        CurveOutputFormat(args.output, CurveFormatFromFlag(args.format), *input);
+    if (!format.ok()) return out.UsageFailure(format.status());
+    csv_output = *format == CurveFormat::kCsv;
+  } else {
+    const CurveFormat format = CurveFormatFromFlag(
+        args.voice_output.empty() ? args.format : args.voice_output);
+    csv_output =
+        format == CurveFormat::kCsv || (format == CurveFormat::kAuto && IsCsvPath(args.output));
+  }
+  if (absl::Status s = CheckWritable({args.output, args.cues, args.xdts}); !s.ok()) {
+    return out.Failure(s);
+  }
+  absl::StatusOr<std::string> voice = ReadFile(voice_path);
+  if (!voice.ok()) return out.Failure(voice.status());
+  const v1::LipBlinkRequest request =
+      BuildLipBlinkVoiceRequest(args, *std::move(voice), input ? &*input : nullptr, csv_output);
+  v1::LipBlinkResponse response;
+  if (int code = CallRetime(args, out, &v1::Retime::Stub::LipBlink, request, &response);
+      code >= 0) {
+    return code;
+  }
+  // The written motion's rate: the input's, or the new motion's (voice_motion_fps).
+  const double source_fps = input ? input->curves.fps : request.voice_motion_fps();
+  if (absl::Status s = WriteLipBlinkVoiceOutputs(args, csv_output, source_fps, response);
+      !s.ok()) {
+    return out.Failure(s);
+  }
+  out.Success(LipBlinkVoiceSummaryText(args, response) + XdtsLine(args.xdts),
+              LipBlinkVoiceSummaryJson(args, response),
+              IsStdio(args.output) || IsStdio(args.cues) || IsStdio(args.xdts));
+  return kExitOk;
+}
+
+}  // namespace
 
 absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& input,
                                   const v1::LipBlinkResponse& response) {
@@ -113,6 +277,7 @@ absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& in
 int RunLipBlink(const LipBlinkArgs& args) {
   const CommandOutput out("lipblink", args.json, args.quiet, args.server);
   if (absl::Status s = CheckLipBlinkFlags(args); !s.ok()) return out.UsageFailure(s);
+  if (HasVoice(args)) return RunLipBlinkVoice(args, out);
   absl::StatusOr<CurveInput> input =
       ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, "lipblink");
   if (!input.ok()) return out.Failure(input.status());

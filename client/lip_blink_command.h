@@ -23,7 +23,7 @@ namespace koma::client {
 struct LipBlinkArgs : CurveFileArgs {
   // mouth (MouthSettings)
   std::vector<std::string> mouth_ids;     // --mouth / --mouth-ids; empty: ParamMouthOpenY
-  std::string mode = "random";            // --mode / --mouth-mode random|follow
+  std::string mode;  // --mode / --mouth-mode random|follow; empty: random (follow for --rhubarb)
   std::optional<int> frames_per_shape;    // --on / --mouth-frames-per-shape
   std::optional<double> mouth_mid_ratio;  // --mouth-mid-ratio r, 0 < r < 1
   std::optional<double> mouth_min;        // --mouth-min: the closed level
@@ -45,7 +45,36 @@ struct LipBlinkArgs : CurveFileArgs {
   std::optional<int> auto_blink_hold;         // --auto-blink-hold 1..3
   std::vector<FlagInterval> auto_blink_keep;  // --auto-blink-keep BEGIN-END,...
   std::optional<uint64_t> seed;               // --seed; unset: the server's default
+  // A voice instead of a moving mouth curve (LipBlinkRequest.audio / .rhubarb_cues):
+  std::string audio;    // --audio FILE: a recording (WAV, FLAC, Ogg, MP3, ...)
+  std::string rhubarb;  // --rhubarb FILE: Rhubarb Lip Sync's mouth cues (JSON or TSV)
+  std::string motion;   // --motion FILE: the motion the mouth goes into (= IN)
+  std::string cues;     // --cues OUT.json|OUT.tsv: the mouth as Rhubarb cues
+  // voice_settings (LipBlinkVoiceSettings): --voice-settings-<field>
+  std::optional<double> noise_floor_dbfs, noise_percentile, start_above_floor_db,
+      stay_above_floor_db, min_speech_dbfs, open_below_peak_db, closed_below_peak_db,
+      hysteresis_db;
+  std::optional<int> bridge_gap_frames, min_speech_frames;
+  std::optional<double> voice_motion_fps;  // --voice-motion-fps; unset: --fps
+  std::string voice_output;                // --voice-output motion3|csv; empty: from -o
 };
+
+// True when --audio or --rhubarb is given.
+inline bool HasVoice(const LipBlinkArgs& args) {
+  return !args.audio.empty() || !args.rhubarb.empty();
+}
+
+// A voice request: `voice` (the --audio or --rhubarb file's bytes) with the motion `input`
+// (sent as its file, so the server adds a missing mouth curve and keeps every other curve) or,
+// without one, a new motion at --fps in the format of -o.
+v1::LipBlinkRequest BuildLipBlinkVoiceRequest(const LipBlinkArgs& args, std::string voice,
+                                              const CurveInput* input, bool csv_output);
+
+// Writes -o (and --cues, --xdts) from a voice answer: the server's file, as CSV when -o asks
+// for CSV and the server wrote motion3.json. `source_fps`: the written motion's frames per
+// second (the input motion's, or voice_motion_fps for a new one), the XDTS sheet's source rate.
+absl::Status WriteLipBlinkVoiceOutputs(const LipBlinkArgs& args, bool csv_output,
+                                       double source_fps, const v1::LipBlinkResponse& response);
 
 v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSet& curves);
 

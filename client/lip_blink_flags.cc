@@ -6,7 +6,10 @@ namespace koma::client {
 CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   CLI::App* cmd =
       app.add_subcommand("lipblink", "Three-drawing mouth flaps and anime blinks (LipBlink)");
-  AddCurveInputFlag(cmd, &args.input);
+  cmd->add_option("input", args.input,
+                  "motion3.json, or CSV (frame,<id>,... per frame); - reads standard input "
+                  "(optional with --audio or --rhubarb)")
+      ->type_name("IN");
   cmd->add_option("-o,--output", args.output,
                   "motion3.json or .csv to write; - writes standard output")
       ->type_name("OUT");
@@ -58,6 +61,46 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
                  "frames an automatic blink stays closed, then half-open (default 2)");
   AddIntervals(cmd, "--auto-blink-keep", &args.auto_blink_keep,
                "frames automatic blinks must not touch, BEGIN-END,...");
+  // voice
+  cmd->add_option("--audio", args.audio,
+                  "a voice recording (WAV, FLAC, Ogg Vorbis/Opus, MP3): speech and mouth "
+                  "drawings from it; without IN, a new motion at --fps")
+      ->type_name("FILE");
+  cmd->add_option("--rhubarb", args.rhubarb,
+                  "Rhubarb Lip Sync mouth cues (its JSON or TSV) in place of --audio")
+      ->type_name("FILE");
+  cmd->add_option("--motion", args.motion, "the motion the voice's mouth goes into (same as IN)")
+      ->type_name("FILE");
+  cmd->add_option("--cues", args.cues,
+                  "with --audio/--rhubarb: the mouth as Rhubarb cues, OUT.tsv as TSV, else JSON")
+      ->type_name("OUT");
+  const auto db = [cmd](const char* name, std::optional<double>* out, NumberBounds bounds,
+                        const char* help) { AddNumber(cmd, name, out, bounds, help)->type_name("DB"); };
+  db("--voice-settings-noise-floor-dbfs", &args.noise_floor_dbfs, {},
+     "the room noise's loudness, dBFS <= 0 (default: the --voice-settings-noise-percentile)");
+  AddNumber(cmd, "--voice-settings-noise-percentile", &args.noise_percentile, OpenInterval(0, 100),
+            "percentile of the frames' loudness taken as the noise floor (default 10)");
+  db("--voice-settings-start-above-floor-db", &args.start_above_floor_db, Above(0),
+     "speech starts at a frame this many dB above the floor (default 9)");
+  db("--voice-settings-stay-above-floor-db", &args.stay_above_floor_db, Above(0),
+     "and lasts while frames stay this many dB above it (default: a fifth of the "
+     "recording's range, 2 to the start)");
+  db("--voice-settings-min-speech-dbfs", &args.min_speech_dbfs, {},
+     "neither threshold below this, dBFS (default -55)");
+  AddWholeNumber(cmd, "--voice-settings-bridge-gap-frames", &args.bridge_gap_frames, 0, INT32_MAX,
+                 "gaps of at most this many frames inside speech are bridged (default 4)");
+  AddWholeNumber(cmd, "--voice-settings-min-speech-frames", &args.min_speech_frames, 1, INT32_MAX,
+                 "shorter speech is dropped (default 2)");
+  db("--voice-settings-open-below-peak-db", &args.open_below_peak_db, Above(0),
+     "follow: open within this many dB of the speech's loud level (default 6)");
+  db("--voice-settings-closed-below-peak-db", &args.closed_below_peak_db, Above(0),
+     "follow: closed more than this many dB below it (default 15)");
+  db("--voice-settings-hysteresis-db", &args.hysteresis_db, AtLeast(0),
+     "follow: a frame changes drawing only past a boundary by half of this (default 3)");
+  AddNumber(cmd, "--voice-motion-fps", &args.voice_motion_fps, Above(0),
+            "frames per second of the motion written for a voice alone (default --fps, 30)");
+  AddChoice(cmd, "--voice-output", &args.voice_output, {"motion3", "csv"},
+            "the file of a voice alone (default: from -o's name)");
   AddSeed(cmd, "--seed", &args.seed,
           "seed of the random mouth shapes and auto-blinks, 0 .. 2^64-1 (default 0x6b6f6d61)");
   AddCurveFileFlags(cmd, args, "mouth and blink holds are");

@@ -6,10 +6,17 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "client/files.h"
+#include "convert/curve_text.h"
 #include "convert/curves_convert.h"
 
 namespace koma::client {
 namespace {
+
+// --mode as the server applies it: unset is random, or follow for Rhubarb cues.
+std::string MouthModeName(const LipBlinkArgs& args) {
+  if (!args.mode.empty()) return args.mode;
+  return args.rhubarb.empty() ? "random" : "follow";
+}
 
 // Frame numbers of the response: the curves' frames, or film-grid frames (timing_fps > 0),
 // which the summary also gives in seconds.
@@ -65,7 +72,7 @@ std::string LipBlinkSummaryText(const LipBlinkArgs& args, const CurveSet& curves
                                 const v1::LipBlinkResponse& response) {
   std::string text = absl::StrFormat("%s: %d frames at %.4g fps -> %s (seed %d, %s mouth)\n",
                                      InputName(args.input), curves.frame_count, curves.fps,
-                                     OutputName(args.output), response.seed(), args.mode);
+                                     OutputName(args.output), response.seed(), MouthModeName(args));
   const Frames frames{response.timing_fps()};
   if (frames.grid_fps > 0) {
     absl::StrAppendFormat(
@@ -88,7 +95,7 @@ nlohmann::json LipBlinkSummaryJson(const LipBlinkArgs& args, const CurveSet& cur
   j["frames"] = curves.frame_count;
   j["fps"] = curves.fps;
   j["seed"] = response.seed();
-  j["mouth_mode"] = args.mode;
+  j["mouth_mode"] = MouthModeName(args);
   j["timing_fps"] = response.timing_fps();
   j["mouths"] = nlohmann::json::array();
   for (const v1::MouthTrack& mouth : response.mouths()) {
@@ -121,6 +128,71 @@ nlohmann::json LipBlinkSummaryJson(const LipBlinkArgs& args, const CurveSet& cur
                          {"mid_level", eye.mid_level()},
                          {"open_level", eye.open_level()}});
   }
+  return j;
+}
+
+namespace {
+
+// The motion the server wrote (for its frame count and rate).
+CurveSet WrittenCurves(const LipBlinkArgs& args, const v1::LipBlinkResponse& response) {
+  const bool csv = response.has_csv_text();
+  absl::StatusOr<convert::CurveInput> input = convert::ParseCurveText(
+      csv ? response.csv_text() : response.motion3_json(), csv, args.csv_fps);
+  return input.ok() ? input->curves : CurveSet{};
+}
+
+LipBlinkArgs VoiceArgs(const LipBlinkArgs& args) {
+  LipBlinkArgs named = args;
+  named.input = args.audio.empty() ? args.rhubarb : args.audio;
+  return named;
+}
+
+}  // namespace
+
+std::string LipBlinkVoiceSummaryText(const LipBlinkArgs& args,
+                                     const v1::LipBlinkResponse& response) {
+  const v1::LipBlinkVoiceAnalysis& v = response.voice();
+  std::string text;
+  if (!args.audio.empty()) {
+    absl::StrAppendFormat(&text, "%s: %.3f s, %d Hz, %d channel%s", InputName(args.audio),
+                          v.duration_s(), v.sample_rate(), v.channels(),
+                          v.channels() == 1 ? "" : "s");
+  } else {
+    absl::StrAppendFormat(&text, "%s: %.3f s of Rhubarb cues", InputName(args.rhubarb),
+                          v.duration_s());
+  }
+  const std::string& motion = args.motion.empty() ? args.input : args.motion;
+  absl::StrAppend(&text, motion.empty() ? ", a new motion\n"
+                                        : absl::StrCat(", into ", InputName(motion), "\n"));
+  if (!args.audio.empty()) {
+    absl::StrAppendFormat(&text,
+                          "  loudness: noise floor %.1f dBFS; speech starts above %.1f dBFS, "
+                          "stays above %.1f dBFS; loud %.1f dBFS\n",
+                          v.noise_floor_dbfs(), v.start_dbfs(), v.stay_dbfs(), v.loud_dbfs());
+  }
+  text += LipBlinkSummaryText(VoiceArgs(args), WrittenCurves(args, response), response);
+  if (!args.cues.empty()) absl::StrAppend(&text, "  cues: ", OutputName(args.cues), "\n");
+  return text;
+}
+
+nlohmann::json LipBlinkVoiceSummaryJson(const LipBlinkArgs& args,
+                                        const v1::LipBlinkResponse& response) {
+  nlohmann::json j =
+      LipBlinkSummaryJson(VoiceArgs(args), WrittenCurves(args, response), response);
+  if (!args.cues.empty()) j["outputs"]["cues"] = args.cues;
+  const v1::LipBlinkVoiceAnalysis& v = response.voice();
+  j["voice"] = {{"kind", args.audio.empty() ? "rhubarb" : "audio"},
+                {"sample_rate", v.sample_rate()},
+                {"channels", v.channels()},
+                {"duration_s", v.duration_s()},
+                {"frame_fps", v.frame_fps()},
+                {"noise_floor_dbfs", v.noise_floor_dbfs()},
+                {"start_dbfs", v.start_dbfs()},
+                {"stay_dbfs", v.stay_dbfs()},
+                {"loud_dbfs", v.loud_dbfs()},
+                {"speech", Intervals(v.speech())}};
+  const std::string& motion = args.motion.empty() ? args.input : args.motion;
+  if (!motion.empty()) j["voice"]["motion"] = motion;
   return j;
 }
 

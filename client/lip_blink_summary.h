@@ -18,6 +18,13 @@ std::string LipBlinkSummaryText(const LipBlinkArgs& args, const CurveSet& curves
 nlohmann::json LipBlinkSummaryJson(const LipBlinkArgs& args, const CurveSet& curves,
                                    const v1::LipBlinkResponse& response);
 
+// A voice request's (--audio / --rhubarb): the recording, its analysis and the written
+// motion's frames, then the lines and fields of the two above; the JSON adds "voice".
+std::string LipBlinkVoiceSummaryText(const LipBlinkArgs& args,
+                                     const v1::LipBlinkResponse& response);
+nlohmann::json LipBlinkVoiceSummaryJson(const LipBlinkArgs& args,
+                                        const v1::LipBlinkResponse& response);
+
 }  // namespace koma::client
 
 #endif  // KOMA_CLIENT_LIP_BLINK_SUMMARY_H_

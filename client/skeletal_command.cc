@@ -19,6 +19,7 @@
 #include "client/skeletal_convert.h"
 #include "client/skeletal_summary.h"
 #include "client/xdts_sheets.h"
+#include "core/film_grid.h"
 #include "formats/bvh.h"
 #include "formats/timing_sheet.h"
 #include "formats/xdts.h"
@@ -196,9 +197,15 @@ absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& 
     } else if (args.output_at_timing_rate && response.timing_fps() > 0) {
       frame_time = 1.0 / response.timing_fps();
     }
-    const std::string sheet =
-        formats::WriteTimingSheetCsv(TimingMapFromResponse(response), frame_time,
-                                     response.timing_fps() > 0 ? &grid_frames : nullptr);
+    // Times on the rate koma recognises (the film's, or a whole fps within the grid's 1e-4):
+    // frame 72 of a 0.0416667 s Frame Time is at 3 s, not 3.0000024.
+    const double film_fps = response.timing_fps() > 0
+                                ? response.timing_fps()
+                                : args.timing_fps.value_or(kDefaultTimingFps);
+    const std::string sheet = formats::WriteTimingSheetCsv(
+        TimingMapFromResponse(response), frame_time,
+        response.timing_fps() > 0 ? &grid_frames : nullptr,
+        formats::RecognisedFps(frame_time, film_fps));
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }
   if (!args.xdts.empty()) {

@@ -52,6 +52,36 @@ int LongestRun(const v1::RetimeSkeletalResponse& response) {
   return runs.empty() ? 0 : *std::max_element(runs.begin(), runs.end());
 }
 
+// With a film grid: the longest run of one drawing over the retimed grid sequence, in grid
+// frames (max_hold's unit). Grid frame grid_frames[t] shows source_frames[t].
+int LongestGridRun(const v1::RetimeSkeletalResponse& response) {
+  int longest = 0;
+  int run = 0;
+  for (int t = 0; t < response.grid_frames_size(); ++t) {
+    if (t > 0 && response.grid_frames(t) == response.grid_frames(t - 1)) continue;  // same g
+    const bool same_drawing = t > 0 && response.source_frames(t) == response.source_frames(t - 1);
+    run = same_drawing ? run + 1 : 1;
+    longest = std::max(longest, run);
+  }
+  return longest;
+}
+
+// "(1 skipped; 4 later held over, now HELD; 1 later omitted)": what became of the duplicates
+// that are not DUPLICATE output frames, so the line adds up; "" when nothing did.
+std::string DuplicateFates(const v1::RetimeSkeletalResponse& response) {
+  std::vector<std::string> fates;
+  if (response.duplicates_skipped() > 0) {
+    fates.push_back(absl::StrCat(response.duplicates_skipped(), " skipped"));
+  }
+  if (response.duplicates_held() > 0) {
+    fates.push_back(absl::StrCat(response.duplicates_held(), " later held over, now HELD"));
+  }
+  if (response.duplicates_omitted() > 0) {
+    fates.push_back(absl::StrCat(response.duplicates_omitted(), " later omitted"));
+  }
+  return fates.empty() ? "" : absl::StrCat(" (", absl::StrJoin(fates, "; "), ")");
+}
+
 // Seconds per output frame: the motion's when returned, else what it would have been.
 double OutputFrameTime(const SkeletalArgs& args, const SkeletalClip& clip,
                        const v1::RetimeSkeletalResponse& response) {
@@ -80,25 +110,29 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
                       1.0 / clip.frame_time, written, response.source_frames_size());
   absl::StrAppendFormat(&text, "  omitted    %3d inbetweens; source frames gone: %s\n",
                         response.omissions_applied(), Ranges(deleted));
+  const bool grid = response.timing_fps() > 0;
+  // Counts of the retiming are in grid frames with a film grid (docs/semantics.md).
+  const char* unit = grid ? "grid frames" : "frames";
   absl::StrAppendFormat(
-      &text, "  duplicated %3d frames to keep the length%s; DUPLICATE at output frames %s\n",
-      response.duplicates_applied(),
-      response.duplicates_skipped() > 0
-          ? absl::StrCat(" (", response.duplicates_skipped(), " skipped)")
-          : "",
+      &text, "  duplicated %3d %s to keep the length%s; DUPLICATE at output frames %s\n",
+      response.duplicates_applied(), unit, DuplicateFates(response),
       Ranges(OutputFramesOfKind(response, v1::DUPLICATE)));
   absl::StrAppendFormat(&text, "  held       %3d hold steps; HELD at output frames %s\n",
                         response.holds_applied(), Ranges(OutputFramesOfKind(response, v1::HELD)));
   absl::StrAppendFormat(&text, "                 source frames hidden by holds: %s\n",
                         Ranges(hidden));
-  absl::StrAppendFormat(
-      &text, "  longest hold %d frames; requested omissions %d, holds %d, max_hold %d%s\n",
-      LongestRun(response), response.omissions_requested(), response.holds_requested(),
-      response.max_hold(), response.timing_fps() > 0 ? " (grid frames)" : "");
+  // Every number with its unit: the longest hold in max_hold's unit and in milliseconds.
+  const double out_ms = 1000.0 * OutputFrameTime(args, clip, response);
+  const int longest = grid ? LongestGridRun(response) : LongestRun(response);
+  const double longest_ms = grid ? 1000.0 * longest / response.timing_fps() : longest * out_ms;
+  absl::StrAppendFormat(&text,
+                        "  longest hold %d %s (%.0f ms); requested omissions %d, holds %d, "
+                        "max_hold %d %s\n",
+                        longest, unit, longest_ms, response.omissions_requested(),
+                        response.holds_requested(), response.max_hold(), unit);
   if (response.timing_fps() > 0 && response.source_frames_size() > 0) {
     // What the grid did, in the units a viewer sees.
     std::vector<int> runs = RunLengths(response);
-    const double out_ms = 1000.0 * OutputFrameTime(args, clip, response);
     std::sort(runs.begin(), runs.end());
     absl::StrAppendFormat(
         &text,
@@ -140,6 +174,9 @@ nlohmann::json SkeletalSummaryJson(const SkeletalArgs& args, const SkeletalClip&
   j["holds_applied"] = response.holds_applied();
   j["max_hold"] = response.max_hold();
   j["longest_hold"] = LongestRun(response);
+  j["longest_hold_ms"] = LongestRun(response) * 1000.0 * OutputFrameTime(args, clip, response);
+  j["duplicates_omitted"] = response.duplicates_omitted();
+  j["duplicates_held"] = response.duplicates_held();
   j["deleted_frames"] =
       std::vector<int>(response.deleted_frames().begin(), response.deleted_frames().end());
   j["hidden_frames"] =

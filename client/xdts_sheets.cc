@@ -23,7 +23,8 @@ std::string BaseName(const std::string& path) {
   const size_t slash = path.find_last_of('/');
   std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
   for (const char* extension :
-       {".motion3.json", ".bvh", ".csv", ".json", ".xdts", ".glb", ".gltf", ".vrma", ".vrm"}) {
+       {".motion3.json", ".bvh", ".csv", ".json", ".xdts", ".glb", ".gltf", ".vrma", ".vrm",
+        ".wav", ".flac", ".ogg", ".oga", ".opus", ".mp3", ".tsv"}) {
     if (base.size() > std::string(extension).size() &&
         absl::EndsWithIgnoreCase(base, extension)) {
       base.resize(base.size() - std::string(extension).size());
@@ -102,6 +103,21 @@ std::vector<int> BlinkRows(const v1::EyeTrack& eye, int rows) {
   return out;
 }
 
+// The layer of timing `t` (before its " (on N)"): with timing groups, its group's name, or
+// "GROUP: ID, ..." for a timing of the group's curve overrides; without, `only` when it is the
+// sheet's one track, else its curves' ids.
+std::string CurvesTrackName(const v1::RetimeCurvesResponse& response, int t,
+                            const std::vector<std::string>& ids, const std::string& only) {
+  for (const v1::CurveTimingGroupResult& group : response.timing_groups()) {
+    for (const int c : group.curves()) {
+      if (c < 0 || c >= response.curves_size() || response.curves(c).timing() != t) continue;
+      if (group.timing() == t) return group.name();
+      return absl::StrCat(group.name(), ": ", absl::StrJoin(ids, ", "));
+    }
+  }
+  return only.empty() ? absl::StrJoin(ids, ", ") : only;
+}
+
 }  // namespace
 
 std::string XdtsClipName(const std::string& input, const std::string& fallback) {
@@ -168,8 +184,8 @@ absl::StatusOr<XdtsSheet> CurvesXdtsSheet(const v1::RetimeCurvesResponse& respon
     if (ids[i].empty()) continue;
     const v1::DrawingTiming& timing = response.timings(i);
     XdtsCellTrack track;
-    track.name = absl::StrCat(tracks == 1 ? name : absl::StrJoin(ids[i], ", "), " (on ",
-                              timing.frames_per_drawing(), ")");
+    track.name = absl::StrCat(CurvesTrackName(response, i, ids[i], tracks == 1 ? name : ""),
+                              " (on ", timing.frames_per_drawing(), ")");
     track.cells.resize(static_cast<size_t>(rows));
     for (int r = 0; r < rows; ++r) {
       int drawing = 0;

@@ -14,8 +14,9 @@
 namespace koma::client {
 
 // The name of a clip's sheet and layers: the file name without its folder and its extension
-// (.bvh, .motion3.json, .csv, .json, .glb, .gltf, .vrm, .vrma); for standard input ("-") `fallback`'s, and "koma" when
-// that is "-" or empty too.
+// (.bvh, .motion3.json, .csv, .json, .glb, .gltf, .vrm, .vrma, and a voice's .wav, .flac,
+// .ogg, .oga, .opus, .mp3, .tsv); for standard input ("-") `fallback`'s, and "koma" when that
+// is "-" or empty too.
 std::string XdtsClipName(const std::string& input, const std::string& fallback);
 
 // RetimeSkeletal: one Cell track named `name`. Rows: with a grid, the grid frames of the

@@ -68,6 +68,8 @@ TimingMap TimingMapFromResponse(const v1::RetimeSkeletalResponse& response) {
   map.duplicates_applied = response.duplicates_applied();
   map.duplicates_skipped = response.duplicates_skipped();
   map.holds_applied = response.holds_applied();
+  map.duplicates_omitted = response.duplicates_omitted();
+  map.duplicates_held = response.duplicates_held();
   return map;
 }
 

@@ -36,9 +36,13 @@ std::vector<SegmentParams> DefaultSegmentParams(const KomaUchiOptions& options,
 
 // Drawings of one segment [keys[x], keys[x + 1]]: each starts where the previous one's hold
 // ends, the first exactly on the key, and samples tau_j = G_x + L * E_j.
-void AppendSegment(int key, int next_key, const SegmentParams& params, DrawingTiming& timing) {
+// Between merged key poses a segment gets floor(L / n) drawings (none shorter than n), between
+// named ones ceil(L / n) (none longer than n).
+void AppendSegment(int key, int next_key, const SegmentParams& params, bool merged_poses,
+                   DrawingTiming& timing) {
   const int length = next_key - key;
-  const std::vector<int> holds = HoldLengths(length, params.frames_per_drawing);
+  const std::vector<int> holds = merged_poses ? PoseHoldLengths(length, params.frames_per_drawing)
+                                              : HoldLengths(length, params.frames_per_drawing);
   const std::vector<double> spacing =
       Spacing(static_cast<int>(holds.size()), params.tame, params.tsume);
   int frame = key;
@@ -54,14 +58,14 @@ void AppendSegment(int key, int next_key, const SegmentParams& params, DrawingTi
 }
 
 DrawingTiming BuildTiming(const std::vector<int>& keys, const std::vector<SegmentParams>& params,
-                          int frames_per_drawing) {
+                          int frames_per_drawing, bool merged_poses) {
   const int frame_count = keys.back() + 1;
   DrawingTiming timing;
   timing.frames_per_drawing = frames_per_drawing;
   timing.drawing_of_frame.resize(static_cast<size_t>(frame_count));
   timing.source_frame.resize(static_cast<size_t>(frame_count));
   for (size_t x = 0; x < params.size(); ++x) {
-    AppendSegment(keys[x], keys[x + 1], params[x], timing);
+    AppendSegment(keys[x], keys[x + 1], params[x], merged_poses, timing);
   }
   // The last key pose is a drawing of its own, held for its one frame.
   const int last = frame_count - 1;
@@ -133,7 +137,8 @@ RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const Drawin
 
 }  // namespace
 
-std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set) {
+std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set,
+                          const std::vector<int>* members) {
   const int last = set.frame_count - 1;
   // One mark per frame rather than a sort: O(frame_count + keyframes), already unique.
   std::vector<bool> is_key(static_cast<size_t>(set.frame_count), false);
@@ -148,11 +153,16 @@ std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set) {
     is_key[static_cast<size_t>(std::clamp(std::round(frame), 0.0, static_cast<double>(last)))] =
         true;
   };
+  const auto mark_curve = [&mark_time](const Curve& curve) {
+    if (curve.dense()) return;
+    mark_time(curve.start.frame);
+    for (const CurveSegment& segment : curve.segments) mark_time(segment.end.frame);
+  };
   if (options.key_frames.empty()) {
-    for (const Curve& curve : set.curves) {
-      if (curve.dense()) continue;
-      mark_time(curve.start.frame);
-      for (const CurveSegment& segment : curve.segments) mark_time(segment.end.frame);
+    if (members == nullptr) {
+      for (const Curve& curve : set.curves) mark_curve(curve);
+    } else {
+      for (int c : *members) mark_curve(set.curves[static_cast<size_t>(c)]);
     }
   }
   std::vector<int> keys;
@@ -162,46 +172,114 @@ std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set) {
   return keys;
 }
 
-GridKeyPoses KeyPosesOnGrid(const KomaUchiOptions& options, const CurveSet& set) {
+bool MergesKeyPoses(const KomaUchiOptions& options) {
+  return options.merge_key_poses && options.key_frames.empty();
+}
+
+GridKeyPoses KeyPosesOnGrid(const KomaUchiOptions& options, const CurveSet& set,
+                            const std::vector<int>* members) {
   GridKeyPoses out;
-  out.source = KeyPoses(options, set);
+  const std::vector<int> keys = KeyPoses(options, set, members);
   const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, options.timing_fps);
-  if (!grid) {
-    out.grid = out.source;
+  const int last_grid = grid ? grid->GridFrameCount(set.frame_count) - 1 : keys.back();
+  // A key pose's frame on the timing's frames: its nearest grid frame, or itself.
+  const auto frame_of = [&grid, last_grid](int key) {
+    return grid ? std::min(grid->NearestGridFrame(key), last_grid) : key;
+  };
+  if (!MergesKeyPoses(options)) {
+    if (!grid) {
+      out.source = keys;
+      out.grid = keys;
+      return out;
+    }
+    for (size_t i = 0; i + 1 < keys.size(); ++i) {
+      const int g = frame_of(keys[i]);
+      if (g >= last_grid || (!out.grid.empty() && g <= out.grid.back())) continue;
+      out.source.push_back(keys[i]);
+      out.grid.push_back(g);
+    }
+    out.source.push_back(keys.back());  // the clip's last frame: the last grid frame
+    out.grid.push_back(last_grid);
     return out;
   }
-  const int last_grid = grid->GridFrameCount(set.frame_count) - 1;
-  const std::vector<int> keys = std::move(out.source);
-  out.source.clear();
+  // Merged poses: a keyframe time less than n frames after the pose before it joins that pose
+  // (which keeps its time, the earliest), one less than n frames before the clip's end joins
+  // the last frame's pose. So consecutive poses are at least n frames apart.
+  const int n = options.frames_per_drawing;
+  int joining_end = 0;  // keyframe times that joined the clip's last frame
   for (size_t i = 0; i + 1 < keys.size(); ++i) {
-    const int g = std::min(grid->NearestGridFrame(keys[i]), last_grid);
-    if (g >= last_grid || (!out.grid.empty() && g <= out.grid.back())) continue;
-    out.source.push_back(keys[i]);
-    out.grid.push_back(g);
+    const int g = frame_of(keys[i]);
+    if (!out.grid.empty() && g - out.grid.back() < n) {
+      ++out.merged.back();
+    } else if (!out.grid.empty() && last_grid - g < n) {
+      ++joining_end;
+    } else {
+      out.source.push_back(keys[i]);
+      out.grid.push_back(g);
+      out.merged.push_back(1);
+    }
   }
-  out.source.push_back(keys.back());  // the clip's last frame: the last grid frame
+  out.source.push_back(keys.back());
   out.grid.push_back(last_grid);
+  out.merged.push_back(1 + joining_end);
   return out;
 }
 
-KomaUchiResult RetimeCurves(const CurveSet& set, const KomaUchiOptions& options) {
-  KomaUchiResult result;
-  const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, options.timing_fps);
-  GridKeyPoses key_poses = KeyPosesOnGrid(options, set);
-  result.key_frames = std::move(key_poses.source);
-  if (grid) {
-    result.timing_fps = grid->timing_fps();
-    result.key_grid_frames = key_poses.grid;
+KomaUchiOptions GroupOptions(const KomaUchiOptions& options, const CurveTimingGroup& group) {
+  KomaUchiOptions out;
+  out.key_frames = group.key_frames;
+  out.merge_key_poses = options.merge_key_poses;
+  out.frames_per_drawing = group.frames_per_drawing.value_or(options.frames_per_drawing);
+  out.tame = group.tame.value_or(options.tame);
+  out.tsume = group.tsume.value_or(options.tsume);
+  out.curve_frames_per_drawing = options.curve_frames_per_drawing;
+  out.timing_fps = options.timing_fps;
+  return out;  // segment overrides are the default group's
+}
+
+std::vector<std::vector<int>> GroupMembers(const KomaUchiOptions& options, const CurveSet& set) {
+  std::vector<std::vector<int>> members(options.groups.size() + 1);
+  for (size_t c = 0; c < set.curves.size(); ++c) {
+    members[static_cast<size_t>(GroupOf(options.groups, set.curves[c].id))].push_back(
+        static_cast<int>(c));
   }
+  return members;
+}
+
+namespace {
+
+// One group's key poses, timings (appended to result.timings) and curves (into their slots of
+// result.curves). `options` are the group's own (GroupOptions, or the request's for the
+// default group).
+TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& members,
+                              const KomaUchiOptions& options, KomaUchiResult& result) {
+  TimingGroupResult group;
+  group.curves = members;
+  group.frames_per_drawing = options.frames_per_drawing;
+  group.timing = -1;
+  const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, options.timing_fps);
+  GridKeyPoses key_poses = KeyPosesOnGrid(options, set, &members);
+  group.key_frames = std::move(key_poses.source);
+  group.key_merged = std::move(key_poses.merged);
+  if (grid) group.key_grid_frames = key_poses.grid;
+  const bool merged_poses = MergesKeyPoses(options);
+  // A named group no curve matched has key poses but no timing (an answer with no curve in
+  // named groups then has exactly the timings of one without groups).
+  if (members.empty() && !result.timings.empty()) return group;
   // The keys the timings are built on: grid frames with a grid, else source frames.
-  const std::vector<int>& keys = grid ? key_poses.grid : result.key_frames;
+  const std::vector<int>& keys = grid ? key_poses.grid : group.key_frames;
   const std::vector<SegmentParams> defaults = DefaultSegmentParams(options, keys.size() - 1);
-  result.timings.push_back(BuildTiming(keys, defaults, options.frames_per_drawing));
-  // Each distinct per-curve n (ascending) gets a timing with that n in every segment (the
-  // segments' tame and tsume still apply), unless that is timing 0 itself: n is the default
-  // and no segment override changes it.
+  const int first_timing = static_cast<int>(result.timings.size());
+  group.timing = first_timing;
+  result.timings.push_back(BuildTiming(keys, defaults, options.frames_per_drawing, merged_poses));
+  // Each distinct per-curve n (ascending) of the group's curves gets a timing with that n in
+  // every segment (the segments' tame and tsume still apply), unless that is the group's first
+  // timing itself: n is the default and no segment override changes it.
   std::set<int> curve_ns;
-  for (const auto& [id, n] : options.curve_frames_per_drawing) curve_ns.insert(n);
+  for (int c : members) {
+    const auto own = options.curve_frames_per_drawing.find(set.curves[c].id);
+    if (own != options.curve_frames_per_drawing.end()) curve_ns.insert(own->second);
+  }
   std::map<int, int> timing_of_n;
   for (int n : curve_ns) {
     std::vector<SegmentParams> params = defaults;
@@ -211,23 +289,51 @@ KomaUchiResult RetimeCurves(const CurveSet& set, const KomaUchiOptions& options)
       p.frames_per_drawing = n;
     }
     if (same_as_default) {
-      timing_of_n[n] = 0;
+      timing_of_n[n] = first_timing;
       continue;
     }
     timing_of_n[n] = static_cast<int>(result.timings.size());
-    result.timings.push_back(BuildTiming(keys, params, n));
+    result.timings.push_back(BuildTiming(keys, params, n, merged_poses));
   }
-  std::vector<std::map<int, int>> histograms;  // on grid frames with a grid
-  for (DrawingTiming& timing : result.timings) {
-    histograms.push_back(HoldHistogram(timing));
-    if (grid) timing = ExpandToSource(timing, *grid, set.frame_count);
+  std::map<int, std::map<int, int>> histograms;  // per timing index; on grid frames with a grid
+  for (size_t t = static_cast<size_t>(first_timing); t < result.timings.size(); ++t) {
+    histograms[static_cast<int>(t)] = HoldHistogram(result.timings[t]);
+    if (grid) result.timings[t] = ExpandToSource(result.timings[t], *grid, set.frame_count);
   }
-  result.curves.reserve(set.curves.size());
-  for (const Curve& curve : set.curves) {
+  for (int c : members) {
+    const Curve& curve = set.curves[c];
     const auto own = options.curve_frames_per_drawing.find(curve.id);
-    const int t = own == options.curve_frames_per_drawing.end() ? 0 : timing_of_n[own->second];
-    result.curves.push_back(
-        RetimeOne(curve, set.beziers_restricted, result.timings[t], t, histograms[t]));
+    const int t =
+        own == options.curve_frames_per_drawing.end() ? first_timing : timing_of_n[own->second];
+    result.curves[c] = RetimeOne(curve, set.beziers_restricted, result.timings[t], t, histograms[t]);
+  }
+  return group;
+}
+
+}  // namespace
+
+KomaUchiResult RetimeCurves(const CurveSet& set, const KomaUchiOptions& options) {
+  KomaUchiResult result;
+  const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, options.timing_fps);
+  if (grid) result.timing_fps = grid->timing_fps();
+  const std::vector<std::vector<int>> members = GroupMembers(options, set);
+  result.curves.resize(set.curves.size());
+  // The default group first: its key poses are the answer's, its first timing is timings[0].
+  TimingGroupResult body = RetimeGroup(set, members.back(), options, result);
+  body.name = std::string(kDefaultTimingGroupName);
+  result.key_frames = body.key_frames;
+  result.key_grid_frames = body.key_grid_frames;
+  result.key_merged = body.key_merged;
+  std::vector<TimingGroupResult> named;
+  for (size_t g = 0; g < options.groups.size(); ++g) {
+    named.push_back(RetimeGroup(set, members[g], GroupOptions(options, options.groups[g]), result));
+    named.back().name = options.groups[g].name;
+  }
+  // Listed only when some curve is in a named group: a request whose curves are all in the
+  // default group answers as one without groups.
+  if (members.back().size() < set.curves.size()) {
+    result.groups.push_back(std::move(body));
+    for (TimingGroupResult& g : named) result.groups.push_back(std::move(g));
   }
   return result;
 }

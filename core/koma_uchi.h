@@ -11,6 +11,7 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "core/curves.h"
+#include "core/timing_groups.h"
 
 namespace koma {
 
@@ -24,9 +25,16 @@ struct SegmentOverride {
 
 struct KomaUchiOptions {
   // Key poses in frames, strictly increasing, within [0, frame_count - 1]. Empty: every
-  // keyframe time of every keyframe curve, rounded to the nearest frame. The first and last
-  // frame are always key poses (added if missing).
+  // keyframe time of every keyframe curve, rounded to the nearest frame, merged into poses
+  // (merge_key_poses). The first and last frame are always key poses (added if missing).
   std::vector<int> key_frames;
+  // With key_frames empty: keyframe times closer than n frames (grid frames with a grid) to
+  // the pose before them form one key pose at the earliest of them, those closer than n to
+  // the clip's end join its last frame, and each segment gets floor(L / n) drawings (at least
+  // one), so no drawing is shorter than n but the clip's last frame (docs/semantics.md, "Key
+  // poses"). False: every keyframe time is a key pose and segments get ceil(L / n) drawings,
+  // as named key poses do.
+  bool merge_key_poses = true;
   int frames_per_drawing = 3;  // n: 1 = on ones, 2 = on twos, 3 = on threes
   double tame = 1.0;           // s_a >= 1: gaps grow by s_a per drawing away from G_x
   double tsume = 1.0;          // s_b >= 1: gaps shrink by s_b per drawing toward G_{x+1}
@@ -39,6 +47,9 @@ struct KomaUchiOptions {
   // frames, key poses snap to the nearest grid frame, and each drawing starts at its exact
   // grid time.
   double timing_fps = 0.0;
+  // Timing groups (core/timing_groups.h): each matched curve is timed with its group's key
+  // poses, n and spacing; curves no group matches (the default group) with the options above.
+  std::vector<CurveTimingGroup> groups;
 };
 
 // INVALID_ARGUMENT naming the option and value: keys unsorted, duplicate or outside the
@@ -47,9 +58,10 @@ struct KomaUchiOptions {
 // which the clip spans fewer than 2 frames (OUT_OF_RANGE).
 absl::Status ValidateKomaUchiOptions(const KomaUchiOptions& options, const CurveSet& set);
 
-// The key poses actually used: options.key_frames (or the default) plus 0 and
-// frame_count - 1, sorted, unique.
-std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set);
+// The key poses actually used: options.key_frames (or the keyframe times of the curves
+// `members` lists, all when null) plus 0 and frame_count - 1, sorted, unique. Before merging.
+std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set,
+                          const std::vector<int>* members = nullptr);
 
 // The key poses on the film grid of options.timing_fps: each snaps to its nearest grid frame
 // (within the clip's grid frames); when several snap to one grid frame the first is kept,
@@ -59,12 +71,32 @@ std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set);
 struct GridKeyPoses {
   std::vector<int> source;
   std::vector<int> grid;
+  // With merged key poses (MergesKeyPoses): per key pose, how many keyframe times (distinct
+  // frames) it stands for, 1 for a pose no other joined. Empty otherwise.
+  std::vector<int> merged;
 };
-GridKeyPoses KeyPosesOnGrid(const KomaUchiOptions& options, const CurveSet& set);
+// True when the key poses are the keyframes merged into poses: options.merge_key_poses and no
+// key_frames named.
+bool MergesKeyPoses(const KomaUchiOptions& options);
+GridKeyPoses KeyPosesOnGrid(const KomaUchiOptions& options, const CurveSet& set,
+                            const std::vector<int>* members = nullptr);
+
+// The options a timing group's curves are timed with: the group's n, spacing and key poses,
+// the request's for what the group leaves unset; no segment overrides (those are the default
+// group's).
+KomaUchiOptions GroupOptions(const KomaUchiOptions& options, const CurveTimingGroup& group);
+
+// Per group of options.groups, then the default group last: the indices of its curves, in
+// the set's order.
+std::vector<std::vector<int>> GroupMembers(const KomaUchiOptions& options, const CurveSet& set);
 
 // Hold lengths of one segment of `length` frames at n frames per drawing: ceil(length / n)
 // holds, as even as possible, longer ones first (10 at n = 3 -> 3, 3, 2, 2).
 std::vector<int> HoldLengths(int length, int frames_per_drawing);
+
+// Hold lengths between merged key poses: max(1, floor(length / n)) holds, as even as possible,
+// longer ones first, so none is shorter than n when length >= n (10 at n = 3 -> 4, 3, 3).
+std::vector<int> PoseHoldLengths(int length, int frames_per_drawing);
 
 // E_0 .. E_{D-1} of docs/semantics.md, "RetimeCurves": E_0 = 0, strictly increasing, j / D when
 // tame = tsume = 1, geometric with ratio tame in the first half and 1 / tsume in the second.
@@ -98,12 +130,27 @@ struct RetimedCurve {
   std::map<int, int> hold_histogram;
 };
 
+// One timing group's answer.
+struct TimingGroupResult {
+  std::string name;
+  std::vector<int> curves;  // indices into set.curves, ascending
+  int frames_per_drawing = 3;
+  int timing = 0;  // index into KomaUchiResult::timings of its n's timing; -1: no curves
+  std::vector<int> key_frames;       // its key poses, source frames
+  std::vector<int> key_grid_frames;  // with a grid
+  std::vector<int> key_merged;       // GridKeyPoses::merged
+};
+
 struct KomaUchiResult {
   std::vector<int> key_frames;         // the key poses used
   std::vector<DrawingTiming> timings;  // [0] is the default timing; others per distinct n
   std::vector<RetimedCurve> curves;    // in the order of set.curves
   double timing_fps = 0.0;             // the film grid used; 0: none (source frames)
   std::vector<int> key_grid_frames;    // with a grid: per key pose, its grid frame
+  std::vector<int> key_merged;         // GridKeyPoses::merged of the key poses used
+  // When some curve is in a named timing group: the default group (its key poses are the
+  // ones above, its first timing timings[0]), then options.groups in order. Else empty.
+  std::vector<TimingGroupResult> groups;
 };
 
 // Requires ValidateCurveSet and ValidateKomaUchiOptions OK.

@@ -24,16 +24,17 @@ absl::Status CheckStrength(double strength, const std::string& path) {
       absl::StrCat(path, ": ", strength, " must be finite and >= 1 (1 = even spacing)"));
 }
 
-absl::Status CheckKeyFrames(const std::vector<int>& keys, int frame_count) {
+absl::Status CheckKeyFrames(const std::vector<int>& keys, int frame_count,
+                            const std::string& path = "key_frames") {
   for (size_t i = 0; i < keys.size(); ++i) {
     if (keys[i] < 0 || keys[i] > frame_count - 1) {
-      return absl::InvalidArgumentError(absl::StrCat("key_frames[", i, "]: ", keys[i],
+      return absl::InvalidArgumentError(absl::StrCat(path, "[", i, "]: ", keys[i],
                                                      " is outside [0, ", frame_count - 1,
                                                      "] (frame_count ", frame_count, ")"));
     }
     if (i > 0 && keys[i] <= keys[i - 1]) {
       return absl::InvalidArgumentError(
-          absl::StrCat("key_frames[", i, "]: ", keys[i], " must be greater than key_frames[", i - 1,
+          absl::StrCat(path, "[", i, "]: ", keys[i], " must be greater than ", path, "[", i - 1,
                        "] = ", keys[i - 1], " (strictly increasing)"));
     }
   }
@@ -98,6 +99,49 @@ absl::Status CheckGrid(double timing_fps, const CurveSet& set) {
   return absl::OkStatus();
 }
 
+// Names non-empty, unique and not the default group's; at least one id pattern, none empty;
+// the group's own n, strengths and key poses as the request's are checked.
+absl::Status CheckGroups(const std::vector<CurveTimingGroup>& groups, int frame_count) {
+  std::map<std::string, size_t> first_of_name;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const CurveTimingGroup& group = groups[g];
+    const std::string path = absl::StrCat("timing_groups[", g, "]");
+    if (group.name.empty()) {
+      return absl::InvalidArgumentError(absl::StrCat(path, ".name: required, not set"));
+    }
+    if (group.name == kDefaultTimingGroupName) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(path, ".name: \"", group.name,
+                       "\" is the default group's (curves no group matches); choose another"));
+    }
+    const auto [it, inserted] = first_of_name.emplace(group.name, g);
+    if (!inserted) {
+      return absl::InvalidArgumentError(absl::StrCat(path, ".name: \"", group.name,
+                                                     "\" is already timing_groups[", it->second,
+                                                     "]'s"));
+    }
+    if (group.ids.empty()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(path, ".ids: empty (give curve ids or patterns such as \"ParamHair*\")"));
+    }
+    for (size_t i = 0; i < group.ids.size(); ++i) {
+      if (group.ids[i].empty()) {
+        return absl::InvalidArgumentError(absl::StrCat(path, ".ids[", i, "]: empty"));
+      }
+    }
+    if (group.frames_per_drawing.has_value()) {
+      KOMA_RETURN_IF_ERROR(
+          CheckFramesPerDrawing(*group.frames_per_drawing, path + ".frames_per_drawing"));
+    }
+    if (group.tame.has_value()) KOMA_RETURN_IF_ERROR(CheckStrength(*group.tame, path + ".tame"));
+    if (group.tsume.has_value()) {
+      KOMA_RETURN_IF_ERROR(CheckStrength(*group.tsume, path + ".tsume"));
+    }
+    KOMA_RETURN_IF_ERROR(CheckKeyFrames(group.key_frames, frame_count, path + ".key_frames"));
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::Status ValidateKomaUchiOptions(const KomaUchiOptions& options, const CurveSet& set) {
@@ -107,8 +151,14 @@ absl::Status ValidateKomaUchiOptions(const KomaUchiOptions& options, const Curve
   KOMA_RETURN_IF_ERROR(CheckKeyFrames(options.key_frames, set.frame_count));
   KOMA_RETURN_IF_ERROR(CheckCurveOverrides(options.curve_frames_per_drawing, set));
   KOMA_RETURN_IF_ERROR(CheckGrid(options.timing_fps, set));
-  // Segments exist only once the key poses are known (they are valid by now).
-  const int segment_count = static_cast<int>(KeyPosesOnGrid(options, set).grid.size()) - 1;
+  KOMA_RETURN_IF_ERROR(CheckGroups(options.groups, set.frame_count));
+  // Segments exist only once the key poses are known (they are valid by now): the default
+  // group's, from its own curves.
+  const std::vector<int> body = GroupMembers(options, set).back();
+  const int segment_count =
+      static_cast<int>(
+          KeyPosesOnGrid(options, set, options.groups.empty() ? nullptr : &body).grid.size()) -
+      1;
   return CheckSegmentOverrides(options.segment_overrides, segment_count);
 }
 

@@ -117,6 +117,31 @@ Levels LevelsOf(absl::Span<const double> curve, const EyeOptions& options) {
 
 bool Detectable(const Levels& l) { return l.open - l.closed >= kFlatRange; }
 
+// Linked: each detected blink's closing phase starts where the first eye's starts. The mean
+// leaves "open" only once the eyes together have closed by delta, so an eye that starts
+// closing a frame or two before the others would show its half-closed values before the
+// snap (1, 0.833, 1, 0: a flicker). Each eye's closing phase begins after its own last open
+// frame before the blink (as unlinked), and the blink's closing phase is the earliest of
+// them, never reaching back into the previous blink's repaint (PaintEnds) or before frame 0.
+void StartClosingWithTheFirstEye(const std::vector<absl::Span<const double>>& eyes,
+                                 const std::vector<Levels>& levels, const std::vector<bool>& used,
+                                 double delta, int frame_count, std::vector<Blink>& blinks) {
+  const std::vector<int> ends = lip_blink_internal::PaintEnds(blinks, frame_count);
+  for (size_t i = 0; i < blinks.size(); ++i) {
+    Blink& b = blinks[i];
+    const int lower = i > 0 ? ends[i - 1] : 0;
+    int begin = b.closing_begin;
+    for (size_t c = 0; c < eyes.size(); ++c) {
+      if (!used[c]) continue;
+      const double open_at_least = levels[c].open - delta * (levels[c].open - levels[c].closed);
+      int f = b.closing_begin;  // this eye's closing phase: back to its last open frame
+      while (f > lower && eyes[c][f - 1] < open_at_least) --f;
+      begin = std::min(begin, f);
+    }
+    b.closing_begin = begin;
+  }
+}
+
 // Linked: the per-frame mean of (e - E_min) / (E_max - E_min), thresholds delta and 1 - delta,
 // over the curves that can carry a timing: not flat (a motion that animates only the left
 // eye still blinks both; a flat open curve in the mean would keep it from ever closing) and
@@ -125,8 +150,10 @@ std::vector<Blink> DetectLinked(const std::vector<absl::Span<const double>>& eye
                                 const std::vector<Levels>& levels, int frame_count, double delta) {
   std::vector<double> mean(static_cast<size_t>(frame_count), 0.0);
   int used = 0;
+  std::vector<bool> in_mean(eyes.size(), false);
   for (size_t c = 0; c < eyes.size(); ++c) {
     if (levels[c].flat || !Detectable(levels[c])) continue;
+    in_mean[c] = true;
     // Times the reciprocal rather than a division per frame (several times slower); IEEE
     // multiplication gives the same bits everywhere all the same.
     const double scale = 1.0 / (levels[c].open - levels[c].closed);
@@ -136,7 +163,9 @@ std::vector<Blink> DetectLinked(const std::vector<absl::Span<const double>>& eye
   }
   if (used == 0) return {};
   for (double& m : mean) m /= used;
-  return lip_blink_internal::DetectBlinks(mean, delta, 1.0 - delta);
+  std::vector<Blink> blinks = lip_blink_internal::DetectBlinks(mean, delta, 1.0 - delta);
+  StartClosingWithTheFirstEye(eyes, levels, in_mean, delta, frame_count, blinks);
+  return blinks;
 }
 
 std::vector<Blink> DetectOne(absl::Span<const double> eye, const Levels& l, double delta) {

@@ -58,6 +58,11 @@ struct TimingMap {
   int duplicates_applied = 0;  // duplicates inserted (keep_length)
   int duplicates_skipped = 0;  // deletes after which no gap could take a duplicate
   int holds_applied = 0;       // holds done (stops early when no candidate remains)
+  // What became of the duplicates afterwards (they are kDuplicate in `kinds` only when
+  // neither happened): a later delete of step A removed the output frame, or a hold of step B
+  // overwrote it (it is then kHeld). duplicates_applied = the kDuplicate frames + both.
+  int duplicates_omitted = 0;
+  int duplicates_held = 0;
 
   friend bool operator==(const TimingMap& a, const TimingMap& b);
 };

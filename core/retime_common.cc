@@ -51,7 +51,8 @@ bool operator==(const TimingMap& a, const TimingMap& b) {
   return a.source_frames == b.source_frames && a.kinds == b.kinds && a.deleted == b.deleted &&
          a.hidden == b.hidden && a.omissions_applied == b.omissions_applied &&
          a.duplicates_applied == b.duplicates_applied &&
-         a.duplicates_skipped == b.duplicates_skipped && a.holds_applied == b.holds_applied;
+         a.duplicates_skipped == b.duplicates_skipped && a.holds_applied == b.holds_applied &&
+         a.duplicates_omitted == b.duplicates_omitted && a.duplicates_held == b.duplicates_held;
 }
 
 namespace retime_internal {

@@ -124,7 +124,8 @@ class FastRetimer {
   void PushHoldEntry(int32_t v);
   void StartStep(Step step);
   // Removes run v's first frame; unlinks the run (recording `step`) if it empties.
-  void PopFront(int32_t v, Step step);
+  // Returns the kind the popped frame had (kDuplicate: a duplicate omitted or held over).
+  FrameKind PopFront(int32_t v, Step step);
 
   // Step A's heaps are loaded with a bound (see LoadOmitHeap); when the best entry is not
   // trusted, the heap is reloaded from every live run without one.
@@ -301,17 +302,18 @@ void FastRetimer::LoadOmitHeap(CandidateHeap& heap, bool duplicates, int64_t pop
   heap.Heapify();
 }
 
-void FastRetimer::PopFront(int32_t v, Step step) {
+FrameKind FastRetimer::PopFront(int32_t v, Step step) {
   Run& run = runs_[v];
+  const FrameKind popped = run.front;
   if (run.duplicates > 0) {
     run.front = FrameKind::kDuplicate;
     --run.duplicates;
-    return;
+    return popped;
   }
   if (run.helds > 0) {
     run.front = FrameKind::kHeld;
     --run.helds;
-    return;
+    return popped;
   }
   // The run empties: source frame v is no longer shown. v is never the first run (only
   // interior heads are edited), so prev exists; the new head of next is next itself.
@@ -322,6 +324,7 @@ void FastRetimer::PopFront(int32_t v, Step step) {
     runs_[run.next].prev = run.prev;
     runs_[run.next].head_ssd = NewHeadSsd(run.prev, run.next);
   }
+  return popped;
 }
 
 // After an edit of run v (prev and next are its neighbours BEFORE the edit), the candidates
@@ -343,7 +346,7 @@ void FastRetimer::RunOmissions(TimingMap& map) {
     const int32_t v = static_cast<int32_t>(best->run);
     const int32_t prev = runs_[v].prev;
     const int32_t next = runs_[v].next;
-    PopFront(v, Step::kOmit);
+    if (PopFront(v, Step::kOmit) == FrameKind::kDuplicate) ++map.duplicates_omitted;
     PushOmitEntries(prev);
     PushOmitEntries(v);
     PushOmitEntries(next);
@@ -380,7 +383,7 @@ void FastRetimer::RunHolds(TimingMap& map) {
     const int32_t prev = runs_[v].prev;
     const int32_t next = runs_[v].next;
     ++runs_[prev].helds;  // v's first frame now shows prev, at the end of prev's run
-    PopFront(v, Step::kHold);
+    if (PopFront(v, Step::kHold) == FrameKind::kDuplicate) ++map.duplicates_held;
     PushHoldEntry(next);
     ++map.holds_applied;
   }

@@ -58,6 +58,8 @@ GridRetimed ExpandGridTiming(const TimingMap& grid_map, const std::vector<int32_
   map.duplicates_applied = grid_map.duplicates_applied;
   map.duplicates_skipped = grid_map.duplicates_skipped;
   map.holds_applied = grid_map.holds_applied;
+  map.duplicates_omitted = grid_map.duplicates_omitted;
+  map.duplicates_held = grid_map.duplicates_held;
   return out;
 }
 

@@ -45,7 +45,8 @@ bool StillShown(const Sequence& s, int32_t frame) {
 }
 
 // Step A.1. Returns false (and changes nothing) when every candidate has SSD 0.
-bool DeleteFastestFrame(const FrameDistance& distance, Sequence& s, std::vector<Step>& gone_in) {
+bool DeleteFastestFrame(const FrameDistance& distance, Sequence& s, std::vector<Step>& gone_in,
+                        TimingMap& map) {
   const int len = static_cast<int>(s.source.size());
   const std::vector<double> ssd = CurrentSsd(distance, s);
   int best = -1;
@@ -54,6 +55,7 @@ bool DeleteFastestFrame(const FrameDistance& distance, Sequence& s, std::vector<
   }
   if (best < 0 || ssd[best] == 0.0) return false;
   const int32_t removed = s.source[best];
+  if (s.kinds[best] == FrameKind::kDuplicate) ++map.duplicates_omitted;
   s.source.erase(s.source.begin() + best);
   s.kinds.erase(s.kinds.begin() + best);
   if (!StillShown(s, removed)) gone_in[removed] = Step::kOmit;
@@ -78,7 +80,7 @@ bool DuplicateStillestGap(const FrameDistance& distance, const RetimeOptions& op
 
 // Step B, once. Returns false when no candidate remains.
 bool HoldStillestFrame(const FrameDistance& distance, const RetimeOptions& options, Sequence& s,
-                       std::vector<Step>& gone_in) {
+                       std::vector<Step>& gone_in, TimingMap& map) {
   const int len = static_cast<int>(s.source.size());
   const std::vector<double> ssd = CurrentSsd(distance, s);
   int best = -1;
@@ -89,6 +91,7 @@ bool HoldStillestFrame(const FrameDistance& distance, const RetimeOptions& optio
   }
   if (best < 0) return false;
   const int32_t overwritten = s.source[best];
+  if (s.kinds[best] == FrameKind::kDuplicate) ++map.duplicates_held;
   s.source[best] = s.source[best - 1];
   s.kinds[best] = FrameKind::kHeld;
   if (!StillShown(s, overwritten)) gone_in[overwritten] = Step::kHold;
@@ -98,7 +101,7 @@ bool HoldStillestFrame(const FrameDistance& distance, const RetimeOptions& optio
 void RunOmissions(const FrameDistance& distance, const RetimeOptions& options, Sequence& s,
                   std::vector<Step>& gone_in, TimingMap& map) {
   for (int i = 0; i < options.omissions; ++i) {
-    if (!DeleteFastestFrame(distance, s, gone_in)) return;  // nothing moves: stop step A
+    if (!DeleteFastestFrame(distance, s, gone_in, map)) return;  // nothing moves: stop step A
     ++map.omissions_applied;
     if (!options.keep_length) continue;
     if (DuplicateStillestGap(distance, options, s)) {
@@ -112,7 +115,7 @@ void RunOmissions(const FrameDistance& distance, const RetimeOptions& options, S
 void RunHolds(const FrameDistance& distance, const RetimeOptions& options, Sequence& s,
               std::vector<Step>& gone_in, TimingMap& map) {
   for (int i = 0; i < options.holds; ++i) {
-    if (!HoldStillestFrame(distance, options, s, gone_in)) return;
+    if (!HoldStillestFrame(distance, options, s, gone_in, map)) return;
     ++map.holds_applied;
   }
 }

@@ -1,5 +1,6 @@
 // Holds and tame/tsume spacing of one segment between key poses (docs/semantics.md,
 // "RetimeCurves").
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <vector>
@@ -46,6 +47,17 @@ std::vector<int> HoldLengths(int length, int frames_per_drawing) {
   const int drawings = length / frames_per_drawing + (length % frames_per_drawing != 0 ? 1 : 0);
   const int base = length / drawings;    // <= n, since length <= D * n
   const int longer = length % drawings;  // that many holds of base + 1 (<= n), first
+  std::vector<int> holds(static_cast<size_t>(drawings), base);
+  for (int j = 0; j < longer; ++j) ++holds[j];
+  return holds;
+}
+
+std::vector<int> PoseHoldLengths(int length, int frames_per_drawing) {
+  assert(frames_per_drawing >= 1);
+  if (length <= 0) return {};
+  const int drawings = std::max(1, length / frames_per_drawing);  // D = max(1, floor(L / n))
+  const int base = length / drawings;    // >= n when length >= n
+  const int longer = length % drawings;  // that many holds of base + 1, first
   std::vector<int> holds(static_cast<size_t>(drawings), base);
   for (int j = 0; j < longer; ++j) ++holds[j];
   return holds;

@@ -16,6 +16,7 @@
 #include "formats/bvh_lexer.h"
 #include "formats/error_text.h"
 #include "formats/number_format.h"
+#include "formats/text_encoding.h"
 
 namespace koma::formats {
 namespace {
@@ -297,6 +298,10 @@ class BvhParser {
 
 }  // namespace
 
-absl::StatusOr<SkeletalClip> ParseBvh(std::string_view text) { return BvhParser(text).Parse(); }
+absl::StatusOr<SkeletalClip> ParseBvh(std::string_view text) {
+  // A UTF-8 byte order mark is skipped (line numbers are unchanged); UTF-16 is refused.
+  KOMA_ASSIGN_OR_RETURN(text, SkipUtf8Bom(text));
+  return BvhParser(text).Parse();
+}
 
 }  // namespace koma::formats

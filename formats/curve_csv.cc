@@ -14,13 +14,12 @@
 #include "core/status_macros.h"
 #include "formats/error_text.h"
 #include "formats/number_format.h"
+#include "formats/text_encoding.h"
 
 namespace koma::formats {
 namespace {
 
 constexpr std::string_view kFrameHeader = "frame";
-
-constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
 
 // One CSV record: its fields (unquoted) and the line it starts on (1-based).
 struct Record {
@@ -212,7 +211,8 @@ absl::StatusOr<CurveSet> ParseCurveCsv(std::string_view text, double fps) {
     return absl::InvalidArgumentError(
         absl::StrCat("fps: expected a number > 0, got ", FormatDouble(fps)));
   }
-  if (text.substr(0, kUtf8Bom.size()) == kUtf8Bom) text.remove_prefix(kUtf8Bom.size());
+  // A UTF-8 byte order mark is skipped (Excel's "CSV UTF-8"); UTF-16 is refused.
+  KOMA_ASSIGN_OR_RETURN(text, SkipUtf8Bom(text));
   const char separator = DetectSeparator(text);
   KOMA_ASSIGN_OR_RETURN(const std::vector<Record> records, SplitRecords(text, separator));
   if (records.empty()) return LineError(1, "missing header \"frame,<id>,...\"");

@@ -254,6 +254,55 @@ absl::StatusOr<GltfPath> ParsePath(const std::string& text, const std::string& p
                                     " is not translation, rotation, scale or weights"));
 }
 
+// tinygltf skips some malformed entries instead of failing (a channel without "sampler", say),
+// which would shift every index after them against the JSON the writer edits: the counts must
+// agree, entry for entry.
+size_t JsonSize(const Json& json, const char* key) {
+  const auto it = json.find(key);
+  return it != json.end() && it->is_array() ? it->size() : 0;
+}
+
+absl::Status CheckCount(absl::string_view path, size_t in_json, size_t read) {
+  if (in_json == read) return absl::OkStatus();
+  return Invalid(path, absl::StrCat(in_json, " entries, of which tinygltf read ", read,
+                                    ": an entry is malformed (a required member missing or of "
+                                    "the wrong type)"));
+}
+
+absl::Status CheckCounts(const Json& json, const tinygltf::Model& model) {
+  for (const char* key : {"accessors", "animations", "bufferViews", "buffers", "images", "meshes",
+                          "nodes", "skins", "scenes", "materials", "textures"}) {
+    const auto it = json.find(key);
+    if (it != json.end() && !it->is_array()) return Invalid(key, "not an array");
+  }
+  KOMA_RETURN_IF_ERROR(CheckCount("accessors", JsonSize(json, "accessors"), model.accessors.size()));
+  KOMA_RETURN_IF_ERROR(
+      CheckCount("animations", JsonSize(json, "animations"), model.animations.size()));
+  KOMA_RETURN_IF_ERROR(
+      CheckCount("bufferViews", JsonSize(json, "bufferViews"), model.bufferViews.size()));
+  KOMA_RETURN_IF_ERROR(CheckCount("buffers", JsonSize(json, "buffers"), model.buffers.size()));
+  KOMA_RETURN_IF_ERROR(CheckCount("images", JsonSize(json, "images"), model.images.size()));
+  KOMA_RETURN_IF_ERROR(CheckCount("meshes", JsonSize(json, "meshes"), model.meshes.size()));
+  KOMA_RETURN_IF_ERROR(CheckCount("nodes", JsonSize(json, "nodes"), model.nodes.size()));
+  KOMA_RETURN_IF_ERROR(CheckCount("skins", JsonSize(json, "skins"), model.skins.size()));
+  for (size_t a = 0; a < model.animations.size(); ++a) {
+    const Json& animation = json["animations"][a];
+    if (!animation.is_object()) return Invalid(absl::StrCat("animations[", a, "]"), "not an object");
+    const std::string path = absl::StrCat("animations[", a, "]");
+    KOMA_RETURN_IF_ERROR(CheckCount(path + ".channels", JsonSize(animation, "channels"),
+                                    model.animations[a].channels.size()));
+    KOMA_RETURN_IF_ERROR(CheckCount(path + ".samplers", JsonSize(animation, "samplers"),
+                                    model.animations[a].samplers.size()));
+  }
+  for (size_t s = 0; s < model.skins.size(); ++s) {
+    const Json& skin = json["skins"][s];
+    if (!skin.is_object()) return Invalid(absl::StrCat("skins[", s, "]"), "not an object");
+    KOMA_RETURN_IF_ERROR(CheckCount(absl::StrCat("skins[", s, "].joints"),
+                                    JsonSize(skin, "joints"), model.skins[s].joints.size()));
+  }
+  return absl::OkStatus();
+}
+
 absl::Status ReadAnimation(const tinygltf::Model& model, size_t index, int64_t& keys_left,
                            GltfAnimation& out) {
   const tinygltf::Animation& animation = model.animations[index];
@@ -385,6 +434,7 @@ absl::StatusOr<GltfDocument> ReadGltf(std::string_view bytes, const GltfReadLimi
   KOMA_RETURN_IF_ERROR(CheckGltfJson(document.json, limits));
   KOMA_RETURN_IF_ERROR(CheckSelfContained(document.json, document.binary));
   KOMA_ASSIGN_OR_RETURN(const tinygltf::Model model, LoadModel(bytes, document.binary));
+  KOMA_RETURN_IF_ERROR(CheckCounts(document.json, model));
   document.buffers.reserve(model.buffers.size());
   for (const tinygltf::Buffer& buffer : model.buffers) {
     document.buffers.emplace_back(buffer.data.begin(), buffer.data.end());

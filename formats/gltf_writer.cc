@@ -195,6 +195,10 @@ absl::StatusOr<std::string> WriteGltf(const GltfDocument& document,
                                       const std::vector<GltfAnimationKeys>& keys,
                                       bool keep_original) {
   Json json = document.json;
+  // Members created here are dropped again if they stay empty; the file's own stay as they were.
+  const bool had_animations = json.contains("animations");
+  const bool had_accessors = json.contains("accessors");
+  const bool had_views = json.contains("bufferViews");
   std::vector<std::string> buffers = document.buffers;
   std::vector<bool> buffer_changed(buffers.size(), false);
   std::set<int> replaced;
@@ -363,9 +367,9 @@ absl::StatusOr<std::string> WriteGltf(const GltfDocument& document,
     }
   }
   for (Json& animation : appended) animations.push_back(std::move(animation));
-  if (animations.empty()) json.erase("animations");
-  if (accessors.empty()) json.erase("accessors");
-  if (views.empty()) json.erase("bufferViews");
+  if (animations.empty() && !had_animations) json.erase("animations");
+  if (accessors.empty() && !had_accessors) json.erase("accessors");
+  if (views.empty() && !had_views) json.erase("bufferViews");
 
   // 4. Buffers: lengths, and data: URIs (or the GLB's BIN chunk) for the changed ones.
   std::string bin;

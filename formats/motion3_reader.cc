@@ -12,6 +12,7 @@
 #include "formats/motion3.h"
 #include "formats/motion3_internal.h"
 #include "formats/number_format.h"
+#include "formats/text_encoding.h"
 
 namespace koma::formats {
 namespace {
@@ -180,6 +181,9 @@ bool operator==(const Motion3Counts& a, const Motion3Counts& b) {
 bool operator!=(const Motion3Counts& a, const Motion3Counts& b) { return !(a == b); }
 
 absl::StatusOr<Motion3File> ParseMotion3(std::string_view text) {
+  // UTF-16 is refused by name. A UTF-8 byte order mark needs no skipping: nlohmann's lexer
+  // skips it itself, and its error offsets then count bytes from the file's start.
+  KOMA_RETURN_IF_ERROR(SkipUtf8Bom(text).status());
   KOMA_RETURN_IF_ERROR(CheckDepth(text));
   Motion3File file;
   KOMA_ASSIGN_OR_RETURN(file.document, ParseJson(text));

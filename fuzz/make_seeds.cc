@@ -163,6 +163,26 @@ int main(int argc, char** argv) {
     lip.set_timing_fps(24);
     WriteRequest(out / "lip_blink", stem + "_auto_grid", lip);
   }
+  // Recordings: each as it is and cut to its first 4 KiB (a header and a few blocks), for the
+  // audio decoder and, with Rhubarb cues, as LipBlink voice requests.
+  for (const std::string ending : {".flac", ".wav"}) {
+    for (const fs::path& path : FilesEndingIn(inputs, ending)) {
+      const std::string bytes = ReadFile(path);
+      const std::string stem = path.stem().string();
+      WriteFile(out / "audio" / path.filename(), bytes);
+      WriteFile(out / "audio" / (stem + "_4k" + ending), bytes.substr(0, 4096));
+      koma::v1::LipBlinkRequest voice;
+      voice.set_audio(bytes.substr(0, 4096));
+      WriteRequest(out / "lip_blink", stem + "_voice", voice);
+    }
+  }
+  koma::v1::LipBlinkRequest cues;
+  cues.set_rhubarb_cues("0.00\tX\n0.05\tD\n0.27\tC\n0.40\tB\n1.25\tX\n");
+  WriteRequest(out / "lip_blink", "rhubarb_tsv", cues);
+  cues.set_rhubarb_cues(
+      "{\"mouthCues\": [{\"start\": 0, \"end\": 0.5, \"value\": \"X\"}, "
+      "{\"start\": 0.5, \"end\": 0.9, \"value\": \"D\"}]}");
+  WriteRequest(out / "lip_blink", "rhubarb_json", cues);
   // glTF: the test arm (tests/testing/gltf_builder.h) as GLB and .gltf, LINEAR and STEP, and
   // as a RetimeSkeletal request carrying it.
   for (const char* interpolation : {"LINEAR", "STEP"}) {

@@ -1,19 +1,47 @@
 #!/usr/bin/env bash
 # Installs missing Debian packages, configures and builds koma in ./build (or $KOMA_BUILD_DIR).
+#   build.sh              every dependency (scripts/install-deps.sh) and every target: the
+#                         programs, the tests, the benchmarks, the Python package (test.sh)
+#   build.sh --programs   only what the main job needs: the build dependencies
+#                         (install-deps.sh --build-only) and the two programs, koma_server and
+#                         koma (run-sample.sh). A new build folder is configured without the
+#                         tests and benchmarks (their packages may be missing); an existing one
+#                         keeps its configuration, so a later `build.sh` builds the rest.
 # The build type is $KOMA_BUILD_TYPE, else the build folder's own (a rerun never switches a
 # configured Release build to another type and rebuilds it all), else RelWithDebInfo.
 # With KOMA_BUILD_LOG=FILE the compiler output goes to FILE (its tail is shown on failure).
-# The build also assembles the Python package in $build/python (python/CMakeLists.txt: stubs
-# from proto/ by Debian's protoc + grpc_python_plugin); use it with PYTHONPATH=$build/python.
+# The full build also assembles the Python package in $build/python (python/CMakeLists.txt:
+# stubs from proto/ by Debian's protoc + grpc_python_plugin); use it with
+# PYTHONPATH=$build/python.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${KOMA_BUILD_DIR:-$root/build}
-"$root/scripts/install-deps.sh"
+programs_only=0
+case "${1:-}" in
+  --programs) programs_only=1 ;;
+  "") ;;
+  *) echo "usage: build.sh [--programs]" >&2; exit 2 ;;
+esac
+if [ "$programs_only" = 1 ]; then
+  "$root/scripts/install-deps.sh" --build-only
+else
+  "$root/scripts/install-deps.sh"
+fi
 configured_type=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
 build_type=${KOMA_BUILD_TYPE:-${configured_type:-RelWithDebInfo}}
 build_steps() {
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="$build_type"
-  cmake --build "$build" -j"$(nproc)"
+  if [ "$programs_only" = 1 ]; then
+    local options=()
+    if [ ! -f "$build/CMakeCache.txt" ]; then
+      options=(-DKOMA_BUILD_TESTS=OFF -DKOMA_BUILD_BENCH=OFF)
+    fi
+    cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="$build_type" "${options[@]}"
+    cmake --build "$build" -j"$(nproc)" --target koma_server koma
+  else
+    cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="$build_type" -DKOMA_BUILD_TESTS=ON \
+      -DKOMA_BUILD_BENCH=ON
+    cmake --build "$build" -j"$(nproc)"
+  fi
 }
 if [ -n "${KOMA_BUILD_LOG:-}" ]; then
   echo "building koma in $build (compiler output: $KOMA_BUILD_LOG)"

@@ -11,6 +11,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev
   libtinygltf-dev
   prometheus-cpp-dev
+  libsndfile1-dev
 )
 # What the tests and benchmarks add (python3-grpcio: the interop test's second client;
 # buildah, podman, runc, debootstrap: deploy/test-image.sh builds and runs the image;
@@ -33,6 +34,10 @@ if [ "${1:-}" != "--build-only" ]; then
   # jq, bsdextrautils (column): docs/usage.md's examples pipe into them, and the docs test
   # runs every documented command.
   packages+=(jq bsdextrautils)
+  # espeak-ng, sox, libsox-fmt-all, sndfile-programs: the LipBlink audio tests speak known
+  # sentences, join them with known silences and noise, and write them as WAV, FLAC, Ogg
+  # Vorbis/Opus and MP3 (tests/testing/voice_recordings.py); nothing is downloaded.
+  packages+=(espeak-ng sox libsox-fmt-all sndfile-programs)
   # python3-numpy: Blender's glTF exporter and importer (io_scene_gltf2) import numpy; the glTF
   # tests export the test BVHs through it and read koma's .glb back.
   packages+=(python3-numpy)

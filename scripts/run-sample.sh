@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# The main job on the bundled samples: install, build, start koma_server on a loopback port,
+# The main job on the bundled samples: install the build dependencies only, build the two
+# programs only (koma_server and koma: scripts/build.sh --programs; test.sh builds the rest),
+# start koma_server on a loopback port,
 # retime samples/pitch.bvh (RetimeSkeletal), samples/arm_head.motion3.json (RetimeCurves) and
 # samples/talk_blink.motion3.json (LipBlink) through the koma client, write the results and
 # their timing sheets to out/, print the summaries and the paths of their HTML reports, stop
@@ -9,7 +11,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${KOMA_BUILD_DIR:-$root/build}
 out=${KOMA_OUT_DIR:-$root/out}
 mkdir -p "$out"
-KOMA_BUILD_LOG="$out/build.log" "$root/scripts/build.sh"
+KOMA_BUILD_LOG="$out/build.log" "$root/scripts/build.sh" --programs
 
 port_file=$(mktemp)
 "$build/server/koma_server" --address=127.0.0.1:0 --port_file="$port_file" \

@@ -74,11 +74,20 @@ int64_t ExpectedFootprint(const v1::RetimeCurvesRequest& request, int64_t reques
 
 int64_t ExpectedFootprint(const v1::LipBlinkRequest& request, int64_t request_bytes,
                           const RequestLimits& limits) {
+  // A voice is held as received while it is decoded (its analysis, a few dozen bytes per film
+  // grid frame, is reserved by the voice handler once the header gives its length); what the
+  // rest of the request needs is estimated on the rest of its bytes.
+  const int64_t voice_bytes =
+      static_cast<int64_t>(request.audio().size() + request.rhubarb_cues().size());
+  request_bytes -= voice_bytes;
+  if (request.input_case() == v1::LipBlinkRequest::INPUT_NOT_SET && voice_bytes > 0) {
+    return kFixedBytes + 2 * voice_bytes;  // the motion koma writes is small beside it
+  }
   if (request.input_case() != v1::LipBlinkRequest::kCurves &&
       request.input_case() != v1::LipBlinkRequest::INPUT_NOT_SET) {
-    return FileParseFootprint(request_bytes, /*bvh=*/false);
+    return voice_bytes + FileParseFootprint(request_bytes, /*bvh=*/false);
   }
-  return CurvesFootprint(request.curves(), request_bytes, limits);
+  return voice_bytes + CurvesFootprint(request.curves(), request_bytes, limits);
 }
 
 }  // namespace koma::server

@@ -56,7 +56,48 @@ KomaUchiOptions ConvertOptions(const v1::RetimeCurvesRequest& request) {
     options.segment_overrides.push_back(out);
   }
   options.timing_fps = request.has_timing_fps() ? request.timing_fps() : kDefaultTimingFps;
+  options.merge_key_poses = !request.has_merge_key_poses() || request.merge_key_poses();
+  for (const v1::CurveTimingGroup& in : request.timing_groups()) {
+    CurveTimingGroup out;
+    out.name = in.name();
+    out.ids.assign(in.ids().begin(), in.ids().end());
+    if (in.has_frames_per_drawing()) out.frames_per_drawing = in.frames_per_drawing();
+    if (in.has_tame()) out.tame = in.tame();
+    if (in.has_tsume()) out.tsume = in.tsume();
+    out.key_frames.assign(in.key_frames().begin(), in.key_frames().end());
+    options.groups.push_back(std::move(out));
+  }
+  if (request.timing_groups_size() == 0 &&
+      (!request.has_default_timing_groups() || request.default_timing_groups())) {
+    options.groups = DefaultLive2dTimingGroups();
+  }
   return options;
+}
+
+// Each timing group builds its own timings (a few arrays over every frame) and matches its
+// patterns against every id: both count against --max_values as the clip's values do.
+absl::Status CheckGroupWork(const CurveSet& set, const KomaUchiOptions& options,
+                            const RequestLimits& limits) {
+  if (options.groups.empty()) return absl::OkStatus();
+  const int64_t groups = static_cast<int64_t>(options.groups.size());
+  const int64_t timing_work = (groups + 1) * set.frame_count;
+  if (timing_work > limits.max_values) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("timing_groups: ", groups, " groups + the default x ", set.frame_count,
+                     " frames = ", timing_work, " exceeds the server limit --max_values=",
+                     limits.max_values));
+  }
+  int64_t pattern_bytes = 0;
+  for (const CurveTimingGroup& group : options.groups) {
+    for (const std::string& id : group.ids) pattern_bytes += static_cast<int64_t>(id.size()) + 1;
+  }
+  const int64_t match_work = pattern_bytes * static_cast<int64_t>(set.curves.size());
+  if (match_work > limits.max_values) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "timing_groups: ", pattern_bytes, " bytes of id patterns x ", set.curves.size(),
+        " curves = ", match_work, " exceeds the server limit --max_values=", limits.max_values));
+  }
+  return absl::OkStatus();
 }
 
 // With a film grid finer than the curves' own rate, the timings have more frames than the
@@ -94,6 +135,7 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
   KOMA_ASSIGN_OR_RETURN(job.set, CurveSetFromProto(request.curves(), "curves", limits));
   job.options = ConvertOptions(request);
   KOMA_RETURN_IF_ERROR(ConvertCurveOverrides(request, job.set, job.options));
+  KOMA_RETURN_IF_ERROR(CheckGroupWork(job.set, job.options, limits));
   KOMA_RETURN_IF_ERROR(ValidateKomaUchiOptions(job.options, job.set));
   KOMA_RETURN_IF_ERROR(CheckGridSize(job.set, job.options.timing_fps, limits));
   return job;
@@ -157,6 +199,18 @@ void FillCurvesResponse(const CurveSet& set, const KomaUchiResult& result,
   response->set_timing_fps(result.timing_fps);
   response->mutable_key_grid_frames()->Add(result.key_grid_frames.begin(),
                                            result.key_grid_frames.end());
+  response->mutable_key_frames_merged()->Add(result.key_merged.begin(), result.key_merged.end());
+  for (const TimingGroupResult& group : result.groups) {
+    v1::CurveTimingGroupResult* out = response->add_timing_groups();
+    out->set_name(group.name);
+    out->mutable_curves()->Add(group.curves.begin(), group.curves.end());
+    out->set_frames_per_drawing(group.frames_per_drawing);
+    out->mutable_key_frames()->Add(group.key_frames.begin(), group.key_frames.end());
+    out->mutable_key_grid_frames()->Add(group.key_grid_frames.begin(),
+                                        group.key_grid_frames.end());
+    out->mutable_key_frames_merged()->Add(group.key_merged.begin(), group.key_merged.end());
+    out->set_timing(group.timing);
+  }
 }
 
 absl::Status HandleRetimeCurves(const v1::RetimeCurvesRequest& request, const RequestLimits& limits,

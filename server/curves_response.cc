@@ -8,6 +8,7 @@
 
 #include "absl/base/config.h"
 #include "koma/v1/motion.pb.h"
+#include "koma/v1/retime.pb.h"
 #include "server/response_slice.h"
 #include "server/wire_bytes.h"
 
@@ -199,12 +200,28 @@ CurvesResponseEncoder::CurvesResponseEncoder(const CurveSet& set, const KomaUchi
   key_grid_frames_ = PackedInt32Bytes(result.key_grid_frames);
   tail_size_ = (Bits(result.timing_fps) != 0 ? 9 : 0) + PackedField(key_grid_frames_);
   size_ += tail_size_;
+  v1::RetimeCurvesResponse late;
+  late.mutable_key_frames_merged()->Add(result.key_merged.begin(), result.key_merged.end());
+  for (const TimingGroupResult& group : result.groups) {
+    v1::CurveTimingGroupResult* out = late.add_timing_groups();
+    out->set_name(group.name);
+    out->mutable_curves()->Add(group.curves.begin(), group.curves.end());
+    out->set_frames_per_drawing(group.frames_per_drawing);
+    out->mutable_key_frames()->Add(group.key_frames.begin(), group.key_frames.end());
+    out->mutable_key_grid_frames()->Add(group.key_grid_frames.begin(),
+                                        group.key_grid_frames.end());
+    out->mutable_key_frames_merged()->Add(group.key_merged.begin(), group.key_merged.end());
+    out->set_timing(group.timing);
+  }
+  late.SerializeToString(&late_tail_);
+  size_ += late_tail_.size();
 }
 
 void CurvesResponseEncoder::WriteTo(uint8_t* out) const {
   out = WriteHead(out);
   for (size_t c = 0; c < curves_.size(); ++c) out = WriteCurve(c, out);
-  WriteTail(out);
+  out = WriteTail(out);
+  std::memcpy(out, late_tail_.data(), late_tail_.size());
 }
 
 uint8_t* CurvesResponseEncoder::WriteTail(uint8_t* out) const {
@@ -247,7 +264,8 @@ uint8_t* CurvesResponseEncoder::WriteCurve(size_t c, uint8_t* out) const {
 }
 
 std::vector<grpc::Slice> EncodeInSlices(const CurvesResponseEncoder& encoder,
-                                        KomaUchiResult& result, size_t slice_bytes) {
+                                        KomaUchiResult& result, size_t slice_bytes,
+                                        std::string file_field) {
   std::vector<grpc::Slice> slices;
   size_t next = 0;  // the first curve not yet written
   do {
@@ -269,6 +287,8 @@ std::vector<grpc::Slice> EncodeInSlices(const CurvesResponseEncoder& encoder,
     if (tail) out = encoder.WriteTail(out);
     slices.push_back(std::move(slice));
   } while (next < encoder.curve_count());
+  if (!file_field.empty()) slices.emplace_back(std::move(file_field));
+  if (!encoder.late_tail().empty()) slices.emplace_back(encoder.late_tail());
   return slices;
 }
 

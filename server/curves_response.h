@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/curves.h"
@@ -45,6 +46,10 @@ class CurvesResponseEncoder {
   // The fields after the curves (the film grid's: timing_fps, key_grid_frames).
   size_t tail_size() const { return tail_size_; }
   uint8_t* WriteTail(uint8_t* out) const;
+  // The fields numbered after a file request's file (6 or 7), which goes between the tail and
+  // these: key_frames_merged and timing_groups (20, 21). A few hundred bytes, serialised by
+  // protobuf itself.
+  const std::string& late_tail() const { return late_tail_; }
 
  private:
   struct TimingSizes {
@@ -65,6 +70,7 @@ class CurvesResponseEncoder {
   size_t head_size_ = 0;
   size_t key_grid_frames_ = 0;  // packed varints, bytes
   size_t tail_size_ = 0;
+  std::string late_tail_;
   std::vector<TimingSizes> timings_;
   std::vector<CurveSizes> curves_;
   size_t size_ = 0;
@@ -77,8 +83,11 @@ class CurvesResponseEncoder {
 // freed as soon as its bytes are written, so a large result and its response are never both
 // held in full (for 500 curves x 10k frames each is ~80 MiB). Its key frames and timings are
 // left as they were.
+// `file_field` (a file request's serialised file field, CurvesFileField) goes between the tail
+// and the late tail, in a slice of its own.
 std::vector<grpc::Slice> EncodeInSlices(const CurvesResponseEncoder& encoder,
-                                        KomaUchiResult& result, size_t slice_bytes);
+                                        KomaUchiResult& result, size_t slice_bytes,
+                                        std::string file_field = std::string());
 
 }  // namespace koma::server
 

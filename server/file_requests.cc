@@ -192,6 +192,16 @@ absl::StatusOr<std::string> CurvesFileField(const CurveFile& file,
   return Serialised(field);
 }
 
+absl::StatusOr<CurveFile> ParseLipBlinkFile(const v1::LipBlinkRequest& request,
+                                             const RequestLimits& limits) {
+  return ParseCurveFile(request, limits);
+}
+
+absl::Status CheckLipBlinkFileSize(const std::string& bytes, absl::string_view field,
+                                   const RequestLimits& limits) {
+  return CheckFileSize(bytes, field, limits);
+}
+
 absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const RequestLimits& limits,
                                 v1::LipBlinkResponse* response) {
   KOMA_ASSIGN_OR_RETURN(const CurveFile file, ParseCurveFile(request, limits));
@@ -199,6 +209,10 @@ absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const Reques
   Decode(request, file, &decoded);
   KOMA_RETURN_IF_ERROR(ReserveDecoded(decoded, CurveFileBytes(request), /*bvh=*/false, limits));
   KOMA_RETURN_IF_ERROR(HandleLipBlink(decoded, limits, response));
+  return PutLipBlinkFile(file, response);
+}
+
+absl::Status PutLipBlinkFile(const CurveFile& file, v1::LipBlinkResponse* response) {
   // As `koma lipblink` writes its output: the converted curves replace theirs by id.
   const std::vector<Curve>& curves = file.input.curves.curves;
   std::vector<std::optional<convert::CurveReplacement>> replacements(curves.size());

@@ -62,6 +62,16 @@ absl::StatusOr<std::string> CurvesFileField(const CurveFile& file,
 absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const RequestLimits& limits,
                                 v1::LipBlinkResponse* response);
 
+// The parts a voice request (server/lip_blink_voice.h) shares: the request's motion file
+// parsed (with the size limit), the size limit for another field, and the converted file
+// written into `response` (csv_text or motion3_json, the response's curves replacing theirs by
+// id, every other curve kept).
+absl::StatusOr<CurveFile> ParseLipBlinkFile(const v1::LipBlinkRequest& request,
+                                             const RequestLimits& limits);
+absl::Status CheckLipBlinkFileSize(const std::string& bytes, absl::string_view field,
+                                   const RequestLimits& limits);
+absl::Status PutLipBlinkFile(const CurveFile& file, v1::LipBlinkResponse* response);
+
 }  // namespace koma::server
 
 #endif  // KOMA_SERVER_FILE_REQUESTS_H_

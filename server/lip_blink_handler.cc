@@ -8,6 +8,7 @@
 #include "server/curve_convert.h"
 #include "server/file_requests.h"
 #include "server/lip_blink_request.h"
+#include "server/lip_blink_voice.h"
 
 namespace koma::server {
 namespace {
@@ -99,11 +100,31 @@ absl::StatusOr<std::vector<double>> ConversionInput(const LipBlinkJob& job, int 
   return values;
 }
 
+// A voice job's mouth: the closed level at every source frame (the voice replaces the curve),
+// and each analysis frame's drawing level as the conversion's input.
+void VoiceInputs(const LipBlinkJob& job, std::vector<double>* source, std::vector<double>* input) {
+  const double closed = job.mouth.min.value_or(0.0);
+  const double open = job.mouth.max.value_or(1.0);
+  const double mid = closed + job.mouth.mid_ratio * (open - closed);
+  source->assign(static_cast<size_t>(job.set.frame_count), closed);
+  input->clear();
+  input->reserve(job.voice->follow.size());
+  for (MouthShape shape : job.voice->follow) {
+    input->push_back(shape == MouthShape::kClosed ? closed
+                                                  : (shape == MouthShape::kMid ? mid : open));
+  }
+}
+
 absl::Status RunMouths(const LipBlinkJob& job, v1::LipBlinkResponse* response) {
   for (size_t m = 0; m < job.mouth_curves.size(); ++m) {
     const int index = job.mouth_curves[m];
-    KOMA_ASSIGN_OR_RETURN(const std::vector<double> source, Sample(job, index));
-    KOMA_ASSIGN_OR_RETURN(const std::vector<double> input, ConversionInput(job, index, source));
+    std::vector<double> source, input;
+    if (job.voice) {
+      VoiceInputs(job, &source, &input);
+    } else {
+      KOMA_ASSIGN_OR_RETURN(source, Sample(job, index));
+      KOMA_ASSIGN_OR_RETURN(input, ConversionInput(job, index, source));
+    }
     // Mouth curve m draws from its own stream, seed + m, so adding a curve leaves the
     // others' shapes as they were.
     const MouthResult mouth = ConvertMouth(input, job.mouth, job.seed + m);
@@ -141,8 +162,15 @@ absl::Status RunEyes(const LipBlinkJob& job, v1::LipBlinkResponse* response) {
 
 absl::Status HandleLipBlink(const v1::LipBlinkRequest& request, const RequestLimits& limits,
                             v1::LipBlinkResponse* response) {
+  if (request.voice_case() != v1::LipBlinkRequest::VOICE_NOT_SET) {
+    return HandleLipBlinkVoice(request, limits, response);
+  }
   if (CarriesFile(request)) return HandleLipBlinkFile(request, limits, response);
   KOMA_ASSIGN_OR_RETURN(const LipBlinkJob job, ValidateLipBlinkRequest(request, limits));
+  return RunLipBlinkJob(job, response);
+}
+
+absl::Status RunLipBlinkJob(const LipBlinkJob& job, v1::LipBlinkResponse* response) {
   KOMA_RETURN_IF_ERROR(RunMouths(job, response));
   KOMA_RETURN_IF_ERROR(RunEyes(job, response));
   response->set_seed(job.seed);

@@ -43,6 +43,11 @@ ABSL_FLAG(int, max_joints, 4096, "largest skeleton in joints");
 ABSL_FLAG(int64_t, max_file_bytes, 64 * 1024 * 1024,
           "largest file a request may carry (bvh_text, gltf, motion3_json, csv_text) in bytes; "
           "larger files get RESOURCE_EXHAUSTED");
+ABSL_FLAG(double, max_audio_seconds, 7200,
+          "longest LipBlink recording (audio) in seconds, by its header and by its samples; "
+          "longer ones get RESOURCE_EXHAUSTED");
+ABSL_FLAG(int, max_audio_channels, 64,
+          "most channels of a LipBlink recording (audio); more get RESOURCE_EXHAUSTED");
 ABSL_FLAG(int64_t, max_gltf_nodes, 65536,
           "most nodes a glTF file (RetimeSkeletalRequest.gltf) may have; more get "
           "INVALID_ARGUMENT naming nodes");
@@ -94,7 +99,8 @@ constexpr const char* kEnvironmentFlags[] = {
     "log_format",       "shutdown_grace_ms",  "tls_cert",          "tls_key",
     "tls_client_ca",    "metrics_address",    "metrics_port_file", "shutdown_delay_ms",
     "inline_max_bytes", "huge_page_cache_mb", "threads_per_call",  "idle_trim_ms",
-    "max_memory_mb",    "max_file_bytes",     "max_gltf_nodes"};
+    "max_memory_mb",    "max_file_bytes",     "max_gltf_nodes",    "max_audio_seconds",
+    "max_audio_channels"};
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -141,6 +147,8 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.limits.max_values = absl::GetFlag(FLAGS_max_values);
   config.limits.max_joints = absl::GetFlag(FLAGS_max_joints);
   config.limits.max_file_bytes = absl::GetFlag(FLAGS_max_file_bytes);
+  config.limits.max_audio_seconds = absl::GetFlag(FLAGS_max_audio_seconds);
+  config.limits.max_audio_channels = absl::GetFlag(FLAGS_max_audio_channels);
   config.limits.max_gltf_nodes = absl::GetFlag(FLAGS_max_gltf_nodes);
   const int threads_per_call = absl::GetFlag(FLAGS_threads_per_call);
   config.limits.threads_per_call =

@@ -21,6 +21,11 @@ struct RequestLimits {
   // parsed whole into memory (about 8 bytes per number, ~1 to 3x the text), and what it
   // decodes to is then checked against max_values and max_joints as a decoded request is.
   int64_t max_file_bytes = 64 * 1024 * 1024;
+  // LipBlink's recordings (LipBlinkRequest.audio, also within max_file_bytes): the longest
+  // decoded, in seconds (the header's claim and the samples; memory grows with its film-grid
+  // frames, CPU time with its samples), and the most channels.
+  double max_audio_seconds = 7200.0;
+  int max_audio_channels = 64;
   // Most nodes a glTF file (RetimeSkeletalRequest.gltf) may have; the node tree is walked
   // every sampled frame, so this bounds the work per frame beside max_values.
   int64_t max_gltf_nodes = 65536;

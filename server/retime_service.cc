@@ -98,9 +98,10 @@ absl::StatusOr<int64_t> SerialiseInto(CurvesAnswer& answer, grpc::ByteBuffer* by
     return absl::InternalError(absl::StrCat("response: cannot be serialised: ", size,
                                             " bytes is over protobuf's 2 GiB message limit"));
   }
-  std::vector<grpc::Slice> slices = EncodeInSlices(encoder, answer.result, kCurvesSliceBytes);
-  // A file request's retimed file: its field (6 or 7) follows the encoder's (1-5).
-  if (!answer.file_field.empty()) slices.emplace_back(std::move(answer.file_field));
+  // A file request's retimed file: its field (6 or 7) follows the encoder's 1-5 and precedes
+  // its 20-21.
+  std::vector<grpc::Slice> slices = EncodeInSlices(encoder, answer.result, kCurvesSliceBytes,
+                                                   std::move(answer.file_field));
   grpc::ByteBuffer(slices.data(), slices.size()).Swap(bytes);
   return static_cast<int64_t>(size);
 }

@@ -52,6 +52,13 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
     return invalid("--max_file_bytes: ", config.limits.max_file_bytes,
                    " must be >= 0 (0 refuses every file-carrying request)");
   }
+  if (!(config.limits.max_audio_seconds > 0 && config.limits.max_audio_seconds <= 1e6)) {
+    return invalid("--max_audio_seconds: ", config.limits.max_audio_seconds,
+                   " must be in (0, 1000000]");
+  }
+  if (config.limits.max_audio_channels < 1) {
+    return invalid("--max_audio_channels: ", config.limits.max_audio_channels, " must be >= 1");
+  }
   if (config.limits.max_gltf_nodes < 1) {
     return invalid("--max_gltf_nodes: ", config.limits.max_gltf_nodes,
                    " must be >= 1 (it would refuse every glTF file)");

@@ -118,8 +118,11 @@ struct Retimed {
   std::vector<int32_t> grid_samples;  // with a grid: per grid frame, its source frame
 };
 
-// The response fields after the motion (14 and up): the film grid's, empty without one.
-void FillGridFields(const Retimed& retimed, v1::RetimeSkeletalResponse* response) {
+// The response fields after the motion (14 and up): what became of the duplicates (50, 51),
+// and the film grid's, empty without one.
+void FillTailFields(const Retimed& retimed, v1::RetimeSkeletalResponse* response) {
+  response->set_duplicates_omitted(retimed.map.duplicates_omitted);
+  response->set_duplicates_held(retimed.map.duplicates_held);
   if (!retimed.job.grid) return;
   response->set_timing_fps(retimed.job.grid->timing_fps());
   response->mutable_grid_frames()->Add(retimed.grid_frames.begin(), retimed.grid_frames.end());
@@ -195,7 +198,7 @@ absl::Status RetimeSkeletalAnswer(const v1::RetimeSkeletalRequest& request,
   v1::RetimeSkeletalResponse head;
   FillHead(retimed.job, retimed.map, retimed.input_ssd, &head);
   v1::RetimeSkeletalResponse tail;
-  FillGridFields(retimed, &tail);
+  FillTailFields(retimed, &tail);
   const SkeletalResponseEncoder encoder(head, tail, retimed.job.return_motion, request.motion(),
                                         OutputFrameTime(request.motion(), retimed.job),
                                         retimed.job.channel_form, ValuesPerFrame(retimed.job),
@@ -219,7 +222,7 @@ absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
   if (retimed.job.return_motion) {
     FillMotion(request.motion(), retimed.job, retimed.map, response->mutable_motion());
   }
-  FillGridFields(retimed, response);
+  FillTailFields(retimed, response);
   return absl::OkStatus();
 }
 

@@ -6,8 +6,8 @@
 //
 // The bytes are exactly what a RetimeSkeletalResponse with the same fields and the motion
 // filled in gives from SerializeToString: protobuf writes fields in number order, so the
-// fields before the motion (1-12, `head`), the motion (13), then those after it (14 and up,
-// the film grid's, `tail`); the frame values (the data oneof, 4 or 5) are the motion's last
+// fields before the motion (1-12, `head`), the motion (13), then those after it (14 and up:
+// the film grid's and the duplicates' fates, `tail`); the frame values (the data oneof, 4 or 5) are the motion's last
 // field (tests/server/skeletal_response_test.cc compares the two).
 #ifndef KOMA_SERVER_SKELETAL_RESPONSE_H_
 #define KOMA_SERVER_SKELETAL_RESPONSE_H_

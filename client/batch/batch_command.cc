@@ -45,7 +45,9 @@ constexpr double kManifestSaveEveryS = 5.0;  // a killed client loses at most th
 // Options of the single-file commands that name one file or choose how one summary is
 // printed: a batch has its own (-o OUTDIR, --timing as a switch, --summary).
 constexpr const char* kPerFileOptions[] = {"input",    "-o",           "--timing", "--timing-only",
-                                           "--format", "--return-motion", "--report", "--xdts"};
+                                           "--format", "--return-motion", "--report", "--xdts",
+                                           "--audio",  "--rhubarb",    "--motion", "--cues",
+                                           "--voice-output"};
 
 // The batch's own options on the RPC's subcommand (the RPC's --server, --deadline, --quiet and
 // --json stay, bound to its args). Returns them, to leave them out of the fingerprint.
@@ -351,10 +353,10 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
 // The --config file's [skeletal] section is `koma batch skeletal`'s as it is `koma
 // skeletal`'s: CLI11 looks a section up among the subcommands of the app that reads the
 // file, which here sit under "batch".
-class BatchConfig final : public CLI::ConfigTOML {
+class BatchConfig final : public ConfigToml {
  public:
   std::vector<CLI::ConfigItem> from_config(std::istream& in) const override {
-    std::vector<CLI::ConfigItem> read = CLI::ConfigTOML::from_config(in);
+    std::vector<CLI::ConfigItem> read = ConfigToml::from_config(in);
     for (CLI::ConfigItem& item : read) {
       if (!item.parents.empty()) item.parents.insert(item.parents.begin(), "batch");
     }

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <string_view>
 #include <system_error>
 
 #include "absl/status/status.h"
@@ -12,6 +13,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
+#include "formats/text_encoding.h"
 
 namespace koma::client::batch {
 namespace fs = std::filesystem;
@@ -85,6 +87,8 @@ class Collector {
     item.input = path;
     item.relative = relative;
     item.output = (fs::path(out_dir_) / relative).string();
+    // A recording's output is the motion written from it.
+    if (IsAudioPath(relative)) item.output = BesidePath(item.output, AudioExtensions(), ".motion3.json");
     items_.push_back(std::move(item));
   }
 
@@ -102,6 +106,14 @@ absl::Status AddList(const std::string& list_path, Collector& collector) {
   }
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
+    if (number == 1) {
+      // A UTF-8 byte order mark (Notepad writes one) is skipped; UTF-16 is refused by name.
+      absl::StatusOr<std::string_view> text = formats::SkipUtf8Bom(line);
+      if (!text.ok()) {
+        return absl::InvalidArgumentError(absl::StrCat("@", list_path, ": ", text.status().message()));
+      }
+      line = std::string(*text);
+    }
     const std::string path(absl::StripAsciiWhitespace(line));
     if (path.empty() || path[0] == '#') continue;
     if (absl::Status s = collector.Add(path, absl::StrCat(list_path, ":", number)); !s.ok()) {
@@ -116,9 +128,26 @@ absl::Status AddList(const std::string& list_path, Collector& collector) {
 
 }  // namespace
 
+const std::vector<std::string>& AudioExtensions() {
+  static const std::vector<std::string> extensions = {".wav", ".flac", ".ogg",
+                                                      ".oga", ".opus", ".mp3"};
+  return extensions;
+}
+
+bool IsAudioPath(const std::string& path) {
+  for (const std::string& extension : AudioExtensions()) {
+    if (absl::EndsWithIgnoreCase(path, extension)) return true;
+  }
+  return false;
+}
+
 std::vector<std::string> ExtensionsOf(const std::string& rpc) {
   if (rpc == "skeletal") return {".bvh", ".glb", ".gltf", ".vrm", ".vrma"};
-  return {".motion3.json", ".csv"};
+  std::vector<std::string> extensions = {".motion3.json", ".csv"};
+  if (rpc == "lipblink") {
+    extensions.insert(extensions.end(), AudioExtensions().begin(), AudioExtensions().end());
+  }
+  return extensions;
 }
 
 std::string BesidePath(const std::string& output, const std::vector<std::string>& extensions,

@@ -21,8 +21,13 @@ struct BatchItem {
 };
 
 // File name endings the RPC reads, lower case: {".bvh", ".glb", ".gltf", ".vrm", ".vrma"}, or
-// {".motion3.json", ".csv"}.
+// {".motion3.json", ".csv"} and for lipblink also the recordings' (AudioExtensions).
 std::vector<std::string> ExtensionsOf(const std::string& rpc);
+
+// Recordings `koma batch lipblink` sends as LipBlinkRequest.audio, each written as
+// NAME.motion3.json: .wav, .flac, .ogg, .oga, .opus, .mp3 (any case).
+const std::vector<std::string>& AudioExtensions();
+bool IsAudioPath(const std::string& path);
 
 // A file beside `output`: ("a/b.bvh", ".timing.csv") -> "a/b.timing.csv"; "a/b.motion3.json"
 // -> "a/b.timing.csv" (the first of `extensions` that ends the name is replaced; otherwise

@@ -5,11 +5,12 @@
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "client/batch/batch_inputs.h"
 #include "client/curve_files.h"
+#include "client/files.h"
 #include "client/report/curves_report.h"
 #include "client/report/lip_blink_report.h"
 #include "client/file_format.h"
-#include "client/files.h"
 #include "client/report/skeletal_report.h"
 #include "client/skeletal_gltf.h"
 
@@ -34,6 +35,16 @@ absl::Status MakeParentFolder(const std::string& path) {
   return absl::OkStatus();
 }
 
+// The batch's skeletal flags with this clip's own input, output and timing sheet.
+SkeletalArgs ArgsFor(const SkeletalArgs& batch_args, const BatchItem& item) {
+  SkeletalArgs args = batch_args;
+  args.input = item.input;
+  args.output = item.output;
+  args.timing = item.timing;
+  args.xdts = item.xdts;
+  return args;
+}
+
 class SkeletalClipCall final : public Clip {
  public:
   SkeletalClipCall(const SkeletalArgs& args, SkeletalClip clip, v1::RetimeSkeletalRequest request)
@@ -47,11 +58,7 @@ class SkeletalClipCall final : public Clip {
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
-    SkeletalArgs args = args_;
-    args.input = item.input;
-    args.output = item.output;
-    args.timing = item.timing;
-    args.xdts = item.xdts;
+    const SkeletalArgs args = ArgsFor(args_, item);
     if (absl::Status s = WriteSkeletalOutputs(args, clip_, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
     return report::WriteSkeletalReport(item.report, request_, response_, item.input);
@@ -78,10 +85,7 @@ class GltfClipCall final : public Clip {
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
-    SkeletalArgs args = args_;
-    args.input = item.input;
-    args.output = item.output;
-    args.timing = item.timing;
+    const SkeletalArgs args = ArgsFor(args_, item);
     if (absl::Status s = WriteGltfOutputs(args, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
     return WriteGltfReport(item.report, request_, response_, item.input);
@@ -193,11 +197,56 @@ class LipBlinkClipCall final : public Clip {
   v1::LipBlinkResponse response_;
 };
 
+LipBlinkArgs WithAudio(const LipBlinkArgs& args, const std::string& path) {
+  LipBlinkArgs with = args;
+  with.audio = path;
+  return with;
+}
+
+// A recording (LipBlinkRequest.audio): a new motion written from it.
+class LipBlinkVoiceCall final : public Clip {
+ public:
+  LipBlinkVoiceCall(const LipBlinkArgs& args, const std::string& path, std::string audio)
+      : args_(args), request_(BuildLipBlinkVoiceRequest(WithAudio(args, path), std::move(audio),
+                                                        nullptr, false)) {}
+
+  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
+             std::function<void(grpc::Status)> done) override {
+    response_.Clear();
+    stub.async()->LipBlink(context, &request_, &response_, std::move(done));
+  }
+
+  absl::Status Write(const BatchItem& item) override {
+    if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
+    LipBlinkArgs args = args_;
+    args.audio = item.input;
+    args.output = item.output;
+    args.cues.clear();
+    args.xdts = item.xdts;
+    return WriteLipBlinkVoiceOutputs(args, /*csv_output=*/false, request_.voice_motion_fps(),
+                                     response_);
+  }
+
+ private:
+  const LipBlinkArgs& args_;
+  v1::LipBlinkRequest request_;
+  v1::LipBlinkResponse response_;
+};
+
 class LipBlinkRpc final : public Rpc {
  public:
   explicit LipBlinkRpc(const LipBlinkArgs& args) : args_(args) {}
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
+    if (IsAudioPath(item.input)) {
+      if (!item.report.empty()) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(item.input, ": --report is not available for recordings"));
+      }
+      absl::StatusOr<std::string> audio = ReadFile(item.input);
+      if (!audio.ok()) return audio.status();
+      return std::make_unique<LipBlinkVoiceCall>(args_, item.input, *std::move(audio));
+    }
     absl::StatusOr<CurveInput> input =
         ReadCurveInput(item.input, args_.csv_fps, CurveFormat::kAuto, "lipblink");
     if (!input.ok()) return input.status();

@@ -51,7 +51,16 @@ nlohmann::json CurvesReportWriter::Data() const {
   options.push_back({"frames_per_drawing", q.has_frames_per_drawing()
                                                ? absl::StrCat(q.frames_per_drawing())
                                                : std::string("3 (default)")});
-  options.push_back({"key poses", q.key_frames_size() > 0 ? "given" : "the keyframe times"});
+  options.push_back({"key poses", q.key_frames_size() > 0 ? "given"
+                                  : q.has_merge_key_poses() && !q.merge_key_poses()
+                                      ? "every keyframe time"
+                                      : "the keyframe times, merged into poses"});
+  std::vector<std::string> group_names;
+  for (const v1::CurveTimingGroupResult& g : r.timing_groups()) {
+    group_names.push_back(absl::StrCat(g.name(), " (", g.curves_size(), ")"));
+  }
+  options.push_back({"timing groups", group_names.empty() ? std::string("one")
+                                                          : absl::StrJoin(group_names, ", ")});
   options.push_back({"tame", Round6(q.has_tame() ? q.tame() : 1.0)});
   options.push_back({"tsume", Round6(q.has_tsume() ? q.tsume() : 1.0)});
   std::vector<std::string> overrides;
@@ -70,6 +79,9 @@ nlohmann::json CurvesReportWriter::Data() const {
   counts.push_back({"fps", Round6(fps)});
   if (film) counts.push_back({"grid frames", film->GridFrameCount(frames)});
   counts.push_back({"key poses", r.key_frames_size()});
+  int merged_poses = 0;
+  for (int m : r.key_frames_merged()) merged_poses += m > 1 ? 1 : 0;
+  if (r.key_frames_merged_size() > 0) counts.push_back({"key poses merged", merged_poses});
   for (const v1::DrawingTiming& t : r.timings()) {
     counts.push_back(
         {absl::StrCat("drawings on ", t.frames_per_drawing(), "s"), t.drawing_start_size()});
@@ -90,6 +102,33 @@ nlohmann::json CurvesReportWriter::Data() const {
   data["key_frames"] = std::vector<int>(r.key_frames().begin(), r.key_frames().end());
   data["key_grid_frames"] =
       std::vector<int>(r.key_grid_frames().begin(), r.key_grid_frames().end());
+  // The timing groups, each with its key poses and how many keyframe times each merges; one
+  // group of every curve when the answer lists none.
+  nlohmann::json groups = nlohmann::json::array();
+  std::vector<int> group_of_curve(static_cast<size_t>(r.curves_size()), 0);
+  if (r.timing_groups_size() == 0) {
+    groups.push_back(
+        {{"name", "body"},
+         {"key_frames", data["key_frames"]},
+         {"key_grid_frames", data["key_grid_frames"]},
+         {"key_merged",
+          std::vector<int>(r.key_frames_merged().begin(), r.key_frames_merged().end())}});
+  }
+  for (int g = 0; g < r.timing_groups_size(); ++g) {
+    const v1::CurveTimingGroupResult& group = r.timing_groups(g);
+    for (int c : group.curves()) {
+      if (c >= 0 && c < r.curves_size()) group_of_curve[static_cast<size_t>(c)] = g;
+    }
+    groups.push_back(
+        {{"name", group.name()},
+         {"key_frames", std::vector<int>(group.key_frames().begin(), group.key_frames().end())},
+         {"key_grid_frames",
+          std::vector<int>(group.key_grid_frames().begin(), group.key_grid_frames().end())},
+         {"key_merged",
+          std::vector<int>(group.key_frames_merged().begin(), group.key_frames_merged().end())},
+         {"curves", group.curves_size()}});
+  }
+  data["groups"] = groups;
   nlohmann::json timings = nlohmann::json::array();
   for (const v1::DrawingTiming& t : r.timings()) {
     timings.push_back(
@@ -113,6 +152,7 @@ nlohmann::json CurvesReportWriter::Data() const {
     }
     curves.push_back({{"id", c.id()},
                       {"timing", c.timing()},
+                      {"group", group_of_curve[static_cast<size_t>(i)]},
                       {"before", ThinnedPlot(before, 1.0 / fps)},
                       {"after", AfterPlot(c, fps)},
                       {"histogram", histogram}});

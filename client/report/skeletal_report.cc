@@ -170,6 +170,13 @@ nlohmann::json SkeletalReportWriter::Data() const {
   counts.push_back({"output fps", Round6(1.0 / frame_time_out)});
   counts.push_back({"omissions applied", r.omissions_applied()});
   counts.push_back({"duplicates inserted", r.duplicates_applied()});
+  // Duplicates a later step changed are not DUPLICATE frames: say so, so the counts add up.
+  if (r.duplicates_held() > 0) {
+    counts.push_back({"duplicates later held over (now HELD)", r.duplicates_held()});
+  }
+  if (r.duplicates_omitted() > 0) {
+    counts.push_back({"duplicates later omitted", r.duplicates_omitted()});
+  }
   if (r.duplicates_skipped() > 0) counts.push_back({"duplicates skipped", r.duplicates_skipped()});
   counts.push_back({"hold steps applied", r.holds_applied()});
   counts.push_back({"HELD output frames", held});

@@ -98,7 +98,8 @@ def _is_csv(data, path, file_format):
         return file_format == "csv"
     if path is not None:
         return path.lower().endswith(".csv")
-    return not data.lstrip().startswith(b"{")
+    # A UTF-8 byte order mark (Windows tools write one) says nothing about the format.
+    return not data.removeprefix(b"\xef\xbb\xbf").lstrip().startswith(b"{")
 
 
 def _credentials(tls):
@@ -242,7 +243,11 @@ class Client:
                 frames_per_drawing (1 on ones, 2 on twos, 3 on threes), tame and tsume
                 (strengths >= 1), curve_overrides (list of {"curve_id", "frames_per_drawing"}),
                 segment_overrides (list of {"segment", "frames_per_drawing", "tame",
-                "tsume"}), timing_fps (film grid, frames per second; unset 24, 0 none).
+                "tsume"}), timing_fps (film grid, frames per second; unset 24, 0 none),
+                merge_key_poses (False: every keyframe time a key pose), timing_groups
+                (list of {"name", "ids" (ids or patterns such as "ParamHair*"),
+                "frames_per_drawing", "tame", "tsume", "key_frames"}; unset: Live2D's default
+                face / hair / body grouping), default_timing_groups (False: one group).
 
         Returns:
             CurvesResult whose .output is the retimed file in the input's format, byte for
@@ -256,24 +261,59 @@ class Client:
         result.source_path = path
         return result
 
-    def lip_blink(self, source, format=None, csv_fps=None, **options):
+    def lip_blink(self, source=None, format=None, csv_fps=None, audio=None, rhubarb_cues=None,
+                  **options):
         """Three-drawing mouth flaps and anime blinks (LipBlink).
 
         Args:
-            source, format, csv_fps: as retime_curves.
+            source, format, csv_fps: as retime_curves: the motion whose mouth and eyes are
+                converted. Optional with audio or rhubarb_cues: without it koma writes a new
+                motion (voice_motion_fps, default 30) covering the recording.
+            audio: a recording (WAV, FLAC, Ogg Vorbis/Opus, MP3): its path (str or path-like)
+                or its bytes. The speech and the mouth drawings come from it
+                (docs/semantics.md, "LipBlink from a voice"); the mouth curve (mouth ids,
+                default ParamMouthOpenY) is added when the motion lacks it.
+            rhubarb_cues: Rhubarb Lip Sync's mouth cues (its JSON or TSV) in place of audio: a
+                path, the text or its bytes.
             **options: LipBlinkRequest fields: mouth (dict: ids, mode "MOUTH_RANDOM" or
                 "MOUTH_FOLLOW", frames_per_shape (frames), mid_ratio, min, max, speech as
                 [(begin, end)] frames), eyes (dict: ids, mid_ratio, threshold, min, max,
                 linked, auto_blink {"enabled", "mean_interval_s" (s), "spread_s" (s), "hold"
-                (frames), "keep"}), seed (int), timing_fps (film grid, frames per second).
+                (frames), "keep"}), seed (int), timing_fps (film grid, frames per second);
+                with a voice also voice_settings (dict of LipBlinkVoiceSettings: dB
+                thresholds, bridge_gap_frames, min_speech_frames, ...), voice_motion_fps,
+                voice_output ("VOICE_OUTPUT_MOTION3_JSON" or "VOICE_OUTPUT_CSV").
 
         Returns:
-            LipBlinkResult whose .output is the converted file in the input's format, byte
-            for byte what `koma lipblink IN -o OUT` writes.
+            LipBlinkResult whose .output is the converted file in the input's format (a new
+            motion3.json or CSV for a voice alone), byte for byte what `koma lipblink` writes;
+            with a voice also .voice (the analysis) and .rhubarb_json / .rhubarb_tsv.
         """
         request = retime_pb2.LipBlinkRequest()
-        _options.fill(request, options, skip=("curves", "motion3_json", "csv_text", "csv_fps"))
-        path, fps = self._curve_request(request, source, format, csv_fps)
+        _options.fill(request, options, skip=("curves", "motion3_json", "csv_text", "csv_fps",
+                                              "audio", "rhubarb_cues"))
+        if audio is not None and rhubarb_cues is not None:
+            raise ValueError("audio, rhubarb_cues: give one voice, not both")
+        # The sheet's name (xdts()): the motion's file, else the voice's, as `koma lipblink`.
+        voice_path = None
+        if audio is not None:
+            if isinstance(audio, (bytes, bytearray)):
+                request.audio = bytes(audio)
+            elif isinstance(audio, (str, os.PathLike)):
+                voice_path = os.fspath(audio)
+                with open(voice_path, "rb") as f:
+                    request.audio = f.read()
+            else:
+                raise TypeError(f"audio: expected a path or bytes, got {type(audio).__name__}")
+        if rhubarb_cues is not None:
+            request.rhubarb_cues, voice_path = _read_source(rhubarb_cues, ("{", "0"))
+        if source is not None:
+            path, fps = self._curve_request(request, source, format, csv_fps)
+        elif audio is None and rhubarb_cues is None:
+            raise TypeError("lip_blink: a source motion, audio or rhubarb_cues is required")
+        else:
+            # A new motion at voice_motion_fps (unset or 0: 30, as the server writes it).
+            path, fps = voice_path, lambda: request.voice_motion_fps or 30.0
         result = LipBlinkResult(self._call(self._stub.LipBlink, request))
         result.source_path = path
         result._source_fps = fps

@@ -60,7 +60,8 @@ class SkeletalResult(_Result):
         kinds: per output frame, "ORIGINAL", "DUPLICATE" or "HELD".
         timing: the timing map as a dict {output frame: source frame}.
         counts: dict with frames (output frames), omissions_applied, duplicates_applied,
-            duplicates_skipped, holds_applied, omissions_requested, holds_requested, max_hold
+            duplicates_skipped, duplicates_omitted and duplicates_held (duplicates a later
+            omission removed or a later hold held over), holds_applied, omissions_requested, holds_requested, max_hold
             (counts in grid frames when timing_fps > 0).
         deleted_frames, hidden_frames: source frames no longer shown (omitted / held over).
         input_ssd: per input frame (grid frame with a grid) the squared distance to the one
@@ -97,6 +98,8 @@ class SkeletalResult(_Result):
             "omissions_applied": response.omissions_applied,
             "duplicates_applied": response.duplicates_applied,
             "duplicates_skipped": response.duplicates_skipped,
+            "duplicates_omitted": response.duplicates_omitted,
+            "duplicates_held": response.duplicates_held,
             "holds_applied": response.holds_applied,
             "omissions_requested": response.omissions_requested,
             "holds_requested": response.holds_requested,
@@ -116,7 +119,12 @@ class CurvesResult(_Result):
     Attributes:
         output / output_bytes: the retimed motion3.json or CSV (file requests), as
             `koma curves IN -o OUT` writes it.
-        key_frames: the key poses used (frames, ascending).
+        key_frames: the key poses used (frames, ascending): the default group's.
+        key_frames_merged: per key pose, how many keyframe times it merges (empty when the
+            key poses were named or merging was off).
+        groups: {group name: {"curves": [curve ids], "frames_per_drawing": n,
+            "key_frames": [...], "key_frames_merged": [...], "timing": index into timings}},
+            the default group "body" first; empty when every curve is in the default group.
         timing: the default timing map {output frame: source time in frames (fractional)};
             timings has every timing (one more per distinct curve override).
         timings: list of dicts: frames_per_drawing, drawing_of_frame, source_frame,
@@ -133,6 +141,13 @@ class CurvesResult(_Result):
         which = response.WhichOneof("output")
         self.output_bytes = getattr(response, which) if which else None
         self.key_frames = list(response.key_frames)
+        self.key_frames_merged = list(response.key_frames_merged)
+        self.groups = {g.name: {"curves": [response.curves[c].id for c in g.curves],
+                                "frames_per_drawing": g.frames_per_drawing,
+                                "key_frames": list(g.key_frames),
+                                "key_frames_merged": list(g.key_frames_merged),
+                                "timing": g.timing}
+                       for g in response.timing_groups}
         self.timing_fps = response.timing_fps
         self.timings = [{
             "frames_per_drawing": t.frames_per_drawing,
@@ -173,6 +188,10 @@ class LipBlinkResult(_Result):
         curves: {curve id: per-frame values} of the converted curves.
         counts: dict with mouth_curves, eye_curves, mouth_holds, blinks.
         seed: the seed used. timing_fps: the film grid used; 0 when counting source frames.
+        voice: with audio or rhubarb_cues, a dict of the analysis: sample_rate, channels,
+            duration_s, frame_fps, loudness_dbfs (per frame), noise_floor_dbfs, start_dbfs,
+            stay_dbfs, loud_dbfs, speech [(begin, end)] (frames of frame_fps); else None.
+        rhubarb_json, rhubarb_tsv: with a voice, the mouth as Rhubarb cues (str); else None.
         response: the koma.v1.LipBlinkResponse message itself.
     """
 
@@ -198,6 +217,19 @@ class LipBlinkResult(_Result):
         self.timing = {m["id"]: m["holds"] for m in self.mouths}
         self.timing.update({e["id"]: e["blinks"] for e in self.eyes})
         self.curves = {c.id: list(c.values) for c in response.curves}
+        self.voice = None
+        self.rhubarb_json = self.rhubarb_tsv = None
+        if response.HasField("voice"):
+            v = response.voice
+            self.voice = {
+                "sample_rate": v.sample_rate, "channels": v.channels,
+                "duration_s": v.duration_s, "frame_fps": v.frame_fps,
+                "loudness_dbfs": list(v.loudness_dbfs), "noise_floor_dbfs": v.noise_floor_dbfs,
+                "start_dbfs": v.start_dbfs, "stay_dbfs": v.stay_dbfs, "loud_dbfs": v.loud_dbfs,
+                "speech": [(i.begin, i.end) for i in v.speech],
+            }
+            self.rhubarb_json = response.rhubarb_json.decode("utf-8")
+            self.rhubarb_tsv = response.rhubarb_tsv.decode("utf-8")
         self.counts = {
             "mouth_curves": len(self.mouths),
             "eye_curves": len(self.eyes),

@@ -72,7 +72,8 @@ def clip_name(source_path, fallback):
             continue
         base = os.fspath(path).rsplit("/", 1)[-1]
         for extension in (".motion3.json", ".bvh", ".csv", ".json", ".xdts", ".glb", ".gltf",
-                          ".vrma", ".vrm"):
+                          ".vrma", ".vrm", ".wav", ".flac", ".ogg", ".oga", ".opus", ".mp3",
+                          ".tsv"):
             if len(base) > len(extension) and base.lower().endswith(extension):
                 base = base[:-len(extension)]
                 break
@@ -109,6 +110,18 @@ def skeletal_sheet(response, name):
             "dialog": []}
 
 
+def _curves_track_name(response, t, ids, only):
+    """client/xdts_sheets.cc CurvesTrackName: the group's name, else `only`, else the ids."""
+    for group in response.timing_groups:
+        for c in group.curves:
+            if not 0 <= c < len(response.curves) or response.curves[c].timing != t:
+                continue
+            if group.timing == t:
+                return group.name
+            return f"{group.name}: {', '.join(ids)}"
+    return only or ", ".join(ids)
+
+
 def curves_sheet(response, name):
     ids = [[] for _ in response.timings]
     for curve in response.curves:
@@ -131,7 +144,8 @@ def curves_sheet(response, name):
     for i, timing in enumerate(response.timings):
         if not ids[i]:
             continue
-        track_name = f"{name if tracks == 1 else ', '.join(ids[i])} (on {timing.frames_per_drawing})"
+        track_name = (f"{_curves_track_name(response, i, ids[i], name if tracks == 1 else '')}"
+                      f" (on {timing.frames_per_drawing})")
         column = []
         starts = list(timing.drawing_start_grid)
         of_frame = timing.drawing_of_frame

@@ -134,9 +134,12 @@ TEST(TimingPathFor, ReplacesTheInputExtension) {
 }
 
 TEST(ExtensionsOf, PerRpc) {
-  EXPECT_THAT(ExtensionsOf("skeletal"), ElementsAre(".bvh"));
+  // Skeletal: BVH and glTF 2.0 (VRM and VRM Animation are glTF files).
+  EXPECT_THAT(ExtensionsOf("skeletal"), ElementsAre(".bvh", ".glb", ".gltf", ".vrm", ".vrma"));
   EXPECT_THAT(ExtensionsOf("curves"), ElementsAre(".motion3.json", ".csv"));
-  EXPECT_THAT(ExtensionsOf("lipblink"), ElementsAre(".motion3.json", ".csv"));
+  // LipBlink: curve files and voice recordings.
+  EXPECT_THAT(ExtensionsOf("lipblink"), ElementsAre(".motion3.json", ".csv", ".wav", ".flac",
+                                                    ".ogg", ".oga", ".opus", ".mp3"));
 }
 
 }  // namespace

@@ -44,6 +44,9 @@ const std::map<std::string, std::string> kExcluded = {
     {"RetimeSkeletalRequest.gltf", "a glTF input file itself, always sent whole"},
     {"RetimeCurvesRequest.curves", "the whole curve set: the input file"},
     {"LipBlinkRequest.curves", "the whole curve set: the input file"},
+    {"LipBlinkRequest.audio", "the recording's bytes: --audio FILE (tests/python/test_voice.py)"},
+    {"LipBlinkRequest.rhubarb_cues",
+     "the cue file's bytes: --rhubarb FILE (tests/python/test_voice.py)"},
 };
 
 // The files over the wire (the oneof beside the decoded data) are set by --send-file, which
@@ -59,7 +62,8 @@ constexpr char kInputFile[] = "<the input file>";
 
 // Singular message fields whose fields are settings, each with its own flag.
 const std::set<std::string> kSettingsMessages = {"LipBlinkRequest.mouth", "LipBlinkRequest.eyes",
-                                                 "EyeSettings.auto_blink"};
+                                                 "EyeSettings.auto_blink",
+                                                 "LipBlinkRequest.voice_settings"};
 
 struct FieldCase {
   FieldCase(std::vector<std::string> v, std::string e, std::vector<std::string> x = {},
@@ -115,6 +119,12 @@ const std::map<std::string, FieldCase>& Cases() {
        {{"1:frames-per-drawing=2,tame=1.5,tsume=2"},
         "segment: 1 frames_per_drawing: 2 tame: 1.5 tsume: 2"}},
       {"RetimeCurvesRequest.timing_fps", {{"12"}, "12"}},
+      {"RetimeCurvesRequest.merge_key_poses", {{"=false"}, "false"}},
+      {"RetimeCurvesRequest.timing_groups",
+       {{"hair=ParamHair*,ParamBust?:on=2,tame=1.25,tsume=1.5,keys=0/10/20"},
+        "name: \"hair\" ids: \"ParamHair*\" ids: \"ParamBust?\" frames_per_drawing: 2 "
+        "tame: 1.25 tsume: 1.5 key_frames: 0 key_frames: 10 key_frames: 20"}},
+      {"RetimeCurvesRequest.default_timing_groups", {{"=false"}, "false"}},
       // LipBlink
       {"LipBlinkRequest.mouth.ids",
        {{"ParamMouthOpenY,ParamMouthForm"}, "\"ParamMouthOpenY\", \"ParamMouthForm\""}},
@@ -137,6 +147,18 @@ const std::map<std::string, FieldCase>& Cases() {
       {"LipBlinkRequest.eyes.auto_blink.keep", {{"5-10"}, "begin: 5 end: 10"}},
       {"LipBlinkRequest.seed", {{"18446744073709551615"}, "18446744073709551615"}},
       {"LipBlinkRequest.timing_fps", {{"0"}, "0"}},
+      {"LipBlinkRequest.voice_settings.noise_floor_dbfs", {{"=-60"}, "-60"}},
+      {"LipBlinkRequest.voice_settings.noise_percentile", {{"5"}, "5"}},
+      {"LipBlinkRequest.voice_settings.start_above_floor_db", {{"12"}, "12"}},
+      {"LipBlinkRequest.voice_settings.stay_above_floor_db", {{"3"}, "3"}},
+      {"LipBlinkRequest.voice_settings.min_speech_dbfs", {{"=-50"}, "-50"}},
+      {"LipBlinkRequest.voice_settings.bridge_gap_frames", {{"4"}, "4"}},
+      {"LipBlinkRequest.voice_settings.min_speech_frames", {{"3"}, "3"}},
+      {"LipBlinkRequest.voice_settings.open_below_peak_db", {{"5"}, "5"}},
+      {"LipBlinkRequest.voice_settings.closed_below_peak_db", {{"20"}, "20"}},
+      {"LipBlinkRequest.voice_settings.hysteresis_db", {{"1"}, "1"}},
+      {"LipBlinkRequest.voice_motion_fps", {{"25"}, "25"}},
+      {"LipBlinkRequest.voice_output", {{"csv"}, "VOICE_OUTPUT_CSV"}},
       // Files over the wire, through --send-file.
       {"RetimeSkeletalRequest.bvh_text", {{}, kInputFile, {}, "--send-file"}},
       {"RetimeCurvesRequest.motion3_json", {{}, kInputFile, {}, "--send-file"}},
@@ -292,8 +314,8 @@ TEST(RequestFlagsTest, WalksEveryField) {
   for (const auto& [key, unused] : Cases()) {
     EXPECT_TRUE(walked.count(key)) << key << ": a case for a field the proto does not have";
   }
-  // 17 + 10 + 23 fields today; the count catches a settings message walked wrongly.
-  EXPECT_EQ(paths.size(), 50u);
+  // 17 + 13 + 35 fields today; the count catches a settings message walked wrongly.
+  EXPECT_EQ(paths.size(), 65u);
 }
 
 TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {

@@ -27,6 +27,10 @@ TEST(XdtsClipNameTest, FileNameWithoutFolderAndExtension) {
   EXPECT_EQ(XdtsClipName("-", "out/sheet.xdts"), "sheet");
   EXPECT_EQ(XdtsClipName("-", "-"), "koma");
   EXPECT_EQ(XdtsClipName("カット1.bvh", ""), "カット1");
+  // A voice alone names the sheet after its recording or cues.
+  EXPECT_EQ(XdtsClipName("rec/line_042.WAV", "x.xdts"), "line_042");
+  EXPECT_EQ(XdtsClipName("line.cues.tsv", ""), "line.cues");
+  EXPECT_EQ(XdtsClipName("take.opus", ""), "take");
 }
 
 TEST(SkeletalXdtsSheetTest, DrawingsNumberedWhereTheSourceFrameChanges) {
@@ -115,6 +119,41 @@ TEST(CurvesXdtsSheetTest, ATimingWithNoCurveHasNoTrackAndOneTrackTakesTheClipNam
   ASSERT_OK_AND_ASSIGN(const formats::XdtsSheet sheet, CurvesXdtsSheet(response, "arm"));
   ASSERT_EQ(sheet.cell_tracks.size(), 1u);
   EXPECT_EQ(sheet.cell_tracks[0].name, "arm (on 2)");
+}
+
+TEST(CurvesXdtsSheetTest, TimingGroupsNameTheirTracks) {
+  // Three timings: body's (ParamAngleY, on 3), face's (ParamAngleX, on 2), and a curve
+  // override inside face (ParamHair, on 3 again); plus an empty group with no timing.
+  v1::RetimeCurvesResponse response = TwoTimings(false);
+  *response.add_timings() = response.timings(0);
+  response.mutable_curves(2)->set_timing(2);
+  v1::CurveTimingGroupResult* body = response.add_timing_groups();
+  body->set_name("body");
+  body->add_curves(1);
+  body->set_timing(0);
+  v1::CurveTimingGroupResult* face = response.add_timing_groups();
+  face->set_name("face");
+  face->add_curves(0);
+  face->add_curves(2);
+  face->set_timing(1);
+  v1::CurveTimingGroupResult* hair = response.add_timing_groups();
+  hair->set_name("hair");
+  hair->set_timing(-1);
+  ASSERT_OK_AND_ASSIGN(const formats::XdtsSheet sheet, CurvesXdtsSheet(response, "talk"));
+  ASSERT_EQ(sheet.cell_tracks.size(), 3u);
+  EXPECT_EQ(sheet.cell_tracks[0].name, "body (on 3)");
+  EXPECT_EQ(sheet.cell_tracks[1].name, "face (on 2)");
+  EXPECT_EQ(sheet.cell_tracks[2].name, "face: ParamHair (on 3)");
+  EXPECT_THAT(sheet.cell_tracks[2].cells, ElementsAreArray(Cells({1, 1, 1, 2, 2, 2, 3})));
+  // One group with curves still names its one track (the drawing sheet's column).
+  response.mutable_curves(0)->set_timing(0);
+  response.mutable_curves(2)->set_timing(0);
+  response.mutable_timing_groups(0)->add_curves(0);
+  response.mutable_timing_groups(0)->add_curves(2);
+  response.mutable_timing_groups(1)->clear_curves();
+  ASSERT_OK_AND_ASSIGN(const formats::XdtsSheet one, CurvesXdtsSheet(response, "talk"));
+  ASSERT_EQ(one.cell_tracks.size(), 1u);
+  EXPECT_EQ(one.cell_tracks[0].name, "body (on 3)");
 }
 
 v1::LipBlinkResponse LipBlinkAnswer() {

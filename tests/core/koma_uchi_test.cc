@@ -255,7 +255,8 @@ KomaUchiOptions RandomOptions(SplitMix64& rng, const CurveSet& set) {
   for (const Curve& curve : set.curves) {
     if (rng.OneIn(3)) options.curve_frames_per_drawing[curve.id] = rng.Int(1, 4);
   }
-  const int segments = static_cast<int>(KeyPoses(options, set).size()) - 1;
+  options.merge_key_poses = rng.OneIn(2);
+  const int segments = static_cast<int>(KeyPosesOnGrid(options, set).source.size()) - 1;
   for (int x = 0; x < segments; ++x) {
     if (!rng.OneIn(4)) continue;
     SegmentOverride o;
@@ -306,9 +307,13 @@ TEST(RetimeCurvesTest, RandomRequestsKeepEveryInvariant) {
     const CurveSet set = RandomSet(rng);
     const KomaUchiOptions options = RandomOptions(rng, set);
     const KomaUchiResult result = Retime(set, options);
-    EXPECT_EQ(result.key_frames, KeyPoses(options, set));
+    EXPECT_EQ(result.key_frames, KeyPosesOnGrid(options, set).source);
+    if (!MergesKeyPoses(options)) {
+      EXPECT_EQ(result.key_frames, KeyPoses(options, set));
+    }
     for (const DrawingTiming& timing : result.timings) {
-      ExpectTimingInvariants(timing, result.key_frames, 5);
+      // Between merged key poses holds are floor(L / n) long: up to 2n - 1 frames.
+      ExpectTimingInvariants(timing, result.key_frames, MergesKeyPoses(options) ? 9 : 5);
     }
     ASSERT_EQ(result.curves.size(), set.curves.size());
     for (size_t c = 0; c < set.curves.size(); ++c) {

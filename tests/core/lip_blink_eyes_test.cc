@@ -136,6 +136,39 @@ TEST(ConvertEyesTest, LinkedEyesBlinkOnTheSameFramesEachAtItsOwnLevels) {
   for (size_t f = 0; f < right.size(); ++f) EXPECT_DOUBLE_EQ(r.values[1][f], right_drawn[f]) << f;
 }
 
+// The flicker of samples/talk_blink.motion3.json on the 24 fps grid: the left eye starts
+// closing one frame before the right (0.85 at frame 3, below its own open level 0.9) while
+// their mean (0.925) is still open, so the blink found on the mean closed from frame 4 and
+// the left eye's 0.85 passed through: 1, 1, 1, 0.85, 1, 0 (open, half, open, shut). With
+// linked eyes every eye's closing phase is repainted open: the blink's closing phase starts
+// where the first eye's does.
+TEST(ConvertEyesTest, LinkedEyesStayOpenUntilTheSnapWhenOneStartsClosingFirst) {
+  const std::vector<double> left = {1, 1, 1, 0.85, 0.5, 0, 0, 0.5, 1, 1, 1};
+  const std::vector<double> right = {1, 1, 1, 1, 0.7, 0, 0, 0.5, 1, 1, 1};
+  const EyeResult r = ConvertEyes({left, right}, LetterOptions(), 1);
+  ASSERT_EQ(r.blinks[0].size(), 1u);
+  EXPECT_EQ(r.blinks[0][0], (Blink{3, 5, 6, 1, 1, false}));
+  EXPECT_EQ(r.values[0], (std::vector<double>{1, 1, 1, 1, 1, 0, 0, 0.5, 1, 1, 1}));
+  EXPECT_EQ(r.values[1], (std::vector<double>{1, 1, 1, 1, 1, 0, 0, 0.5, 1, 1, 1}));
+  // The same with the eyes swapped: the right eye's early start counts the same way.
+  const EyeResult swapped = ConvertEyes({right, left}, LetterOptions(), 1);
+  EXPECT_EQ(swapped.blinks[0], r.blinks[0]);
+  EXPECT_EQ(swapped.values[1], r.values[0]);
+}
+
+// The earlier start never reaches back into the previous blink's repaint: between two blinks
+// the left eye never reopens (0.85) while the mean does, so the second blink's closing phase
+// stops where the first blink's half-open frame ends.
+TEST(ConvertEyesTest, AnEarlyClosingPhaseStopsAtThePreviousBlink) {
+  const std::vector<double> left = {1, 0, 0, 0.85, 0.85, 0.85, 0.85, 0, 0, 1, 1};
+  const std::vector<double> right = {1, 0, 0, 1, 1, 1, 1, 0, 0, 1, 1};
+  const EyeResult r = ConvertEyes({left, right}, LetterOptions(), 1);
+  ASSERT_EQ(r.blinks[0].size(), 2u);
+  EXPECT_EQ(r.blinks[0][0], (Blink{1, 1, 2, 0, 1, false}));
+  EXPECT_EQ(r.blinks[0][1].closing_begin, 4);  // the mean alone: 7
+  EXPECT_EQ(r.values[0], (std::vector<double>{1, 0, 0, 0.5, 1, 1, 1, 0, 0, 0.5, 1}));
+}
+
 TEST(ConvertEyesTest, AFlatCurveTakesNoPartInLinkedDetectionButIsPainted) {
   // Only the left eye is animated; the right one stays at 0.8 (closed level 0, as it is flat).
   const std::vector<double> left = Eye("OOOOhCCChhOOOOOO");

@@ -93,6 +93,8 @@ Expanded RefExpand(const TimingMap& grid_map, const std::vector<int32_t>& sample
   out.map.duplicates_applied = grid_map.duplicates_applied;
   out.map.duplicates_skipped = grid_map.duplicates_skipped;
   out.map.holds_applied = grid_map.holds_applied;
+  out.map.duplicates_omitted = grid_map.duplicates_omitted;
+  out.map.duplicates_held = grid_map.duplicates_held;
   return out;
 }
 
@@ -160,7 +162,8 @@ std::string Describe(const TimingMap& map, const std::vector<int32_t>& grid_fram
   out << "\n  hidden:";
   for (int32_t f : map.hidden) out << " " << f;
   out << "\n  omissions " << map.omissions_applied << ", duplicates " << map.duplicates_applied
-      << " (skipped " << map.duplicates_skipped << "), holds " << map.holds_applied;
+      << " (skipped " << map.duplicates_skipped << ", later omitted " << map.duplicates_omitted
+      << ", later held " << map.duplicates_held << "), holds " << map.holds_applied;
   return out.str();
 }
 

@@ -91,7 +91,8 @@ std::string Describe(const TimingMap& map) {
   out << "\n  hidden:";
   for (int32_t f : map.hidden) out << " " << f;
   out << "\n  omissions " << map.omissions_applied << ", duplicates " << map.duplicates_applied
-      << " (skipped " << map.duplicates_skipped << "), holds " << map.holds_applied;
+      << " (skipped " << map.duplicates_skipped << ", later omitted " << map.duplicates_omitted
+      << ", later held " << map.duplicates_held << "), holds " << map.holds_applied;
   return out.str();
 }
 
@@ -122,6 +123,15 @@ std::string CheckInvariants(const TimingMap& map, const FrameDistance& distance,
   const int dup_total = map.duplicates_applied + map.duplicates_skipped;
   if (dup_total != (options.keep_length ? map.omissions_applied : 0)) {
     return "duplicates applied + skipped != deletes";
+  }
+  // Every duplicate is still a kDuplicate frame, or a later step omitted or held it.
+  const int still_duplicates = static_cast<int>(
+      std::count(map.kinds.begin(), map.kinds.end(), FrameKind::kDuplicate));
+  if (still_duplicates + map.duplicates_omitted + map.duplicates_held != map.duplicates_applied) {
+    return "kDuplicate frames + duplicates omitted + held != duplicates applied";
+  }
+  if (options.order == StepOrder::kHoldThenOmit && map.duplicates_held != 0) {
+    return "a duplicate held before any was made";
   }
   std::vector<int> shown(n, 0);  // output frames per source frame
   std::vector<int> gone(n, 0);   // entries in deleted + hidden
@@ -170,6 +180,8 @@ std::string CheckInvariants(const TimingMap& map, const FrameDistance& distance,
 
 TEST(RetimePropertyTest, NaiveAndFastAgreeOnRandomClips) {
   int failures = 0;
+  int with_held_duplicates = 0;     // clips where a later step changed a duplicate:
+  int with_omitted_duplicates = 0;  // the invariant above must not hold vacuously
   for (uint64_t seed = 1; seed <= kClipCount && failures < 5; ++seed) {
     SplitMix64 rng(seed);
     const int frames = rng.Int(2, 60);
@@ -200,12 +212,16 @@ TEST(RetimePropertyTest, NaiveAndFastAgreeOnRandomClips) {
       ADD_FAILURE() << context << "\nnaive " << Describe(naive) << "\nfast  " << Describe(fast);
       continue;
     }
+    with_held_duplicates += fast.duplicates_held > 0;
+    with_omitted_duplicates += fast.duplicates_omitted > 0;
     const std::string violation = CheckInvariants(fast, distance, options);
     if (!violation.empty()) {
       ++failures;
       ADD_FAILURE() << context << ": " << violation << "\n" << Describe(fast);
     }
   }
+  EXPECT_GT(with_held_duplicates, 10);
+  EXPECT_GT(with_omitted_duplicates, 10);
 }
 
 }  // namespace

@@ -253,6 +253,12 @@ TEST(RetimeTest, TimingMapEqualityComparesEveryField) {
   other.duplicates_skipped += 1;
   EXPECT_FALSE(base == other);
   other = base;
+  other.duplicates_omitted += 1;
+  EXPECT_FALSE(base == other);
+  other = base;
+  other.duplicates_held += 1;
+  EXPECT_FALSE(base == other);
+  other = base;
   other.kinds.back() = H;
   EXPECT_FALSE(base == other);
   other = base;

@@ -270,14 +270,36 @@ gone = sorted(set(range(130)) - shown)
 check(sorted(s["deleted_frames"] + s["hidden_frames"]) == gone, "deleted+hidden = frames not shown")
 check(s["omissions_requested"] == 4 and s["omissions_applied"] == len(s["deleted_frames"]) == 4,
       "omissions")
-check(s["duplicates_applied"] == 4 == len(s["duplicate_output_frames"]) + 0 or
-      s["duplicates_applied"] >= len(s["duplicate_output_frames"]), "duplicates")
+check(s["duplicates_applied"] == 4 == len(s["duplicate_output_frames"]) + s["duplicates_held"]
+      + s["duplicates_omitted"], "duplicates")
+# Times on the recognised 24 fps (Frame Time 0.0416667): k / 24 in the shortest form, not
+# k x 0.0416667 (0.1250001, 3.0000024).
+check(rows[3]["time_s"] == "0.125" and rows[72]["time_s"] == "3", (rows[3], rows[72]))
+check(all(float(r["time_s"]) == int(r["output_frame"]) / 24 for r in rows), "time_s = k / 24")
+check("longest hold 3 frames (125 ms); requested omissions 4, holds 43, max_hold 3 frames"
+      in human, human)
 check(s["holds_requested"] == 130 // 3 and s["max_hold"] == 3, "hold defaults")
 runs, longest = 1, 1
 for a, b in zip(rows, rows[1:]):
     runs = runs + 1 if a["source_frame"] == b["source_frame"] else 1
     longest = max(longest, runs)
 check(s["longest_hold"] == longest, "longest_hold")
+check(abs(s["longest_hold_ms"] - longest * 1000 * 0.0416667) < 1e-9, s["longest_hold_ms"])
+
+# The pitch with its frames rotated by three (same motion, another start): every duplicate is
+# later held over, so none is DUPLICATE; the summary says so and its numbers add up.
+lines = open(BVH).read().split("\n")
+motion_at = lines.index("MOTION")
+body = [l for l in lines[motion_at + 3:] if l.strip()]
+open(w("rotated.bvh"), "w").write("\n".join(lines[:motion_at + 3] + body[3:] + body[:3]) + "\n")
+r, human = summary(["skeletal", w("rotated.bvh"), "-o", w("r.bvh"), "--timing", w("r.csv")])
+check(r["duplicates_applied"] == 4 and r["duplicates_held"] == 4 and r["duplicates_omitted"] == 0
+      and r["duplicate_output_frames"] == [], r)
+check("duplicated   4 frames to keep the length (4 later held over, now HELD); DUPLICATE at "
+      "output frames none" in human, human)
+r_rows = read_csv(w("r.csv"))
+check(r["duplicates_applied"] == sum(x["kind"] == "DUPLICATE" for x in r_rows)
+      + r["duplicates_held"] + r["duplicates_omitted"], "rotated duplicates add up")
 
 # --timing-only: no BVH, the same sheet.
 t, _ = summary(["skeletal", BVH, "--timing-only", "--timing", w("t.csv"), "--timing-fps", "0"])
@@ -373,7 +395,8 @@ check(code == 1 and "is a BVH file, not motion3.json or CSV: `koma lipblink` rea
 
 # health
 h, _ = summary(["health", "--server", target])
-check(h["serving_status"] == "SERVING" and h["server"] == target and h["service"] == "", h)
+check(h["status"] == "SERVING" and h["serving_status"] == "SERVING" and h["server"] == target
+      and h["service"] == "", h)
 
 # errors as JSON
 code, out, _ = run(["skeletal", BVH, "-o", w("e.bvh"), "--server", DEAD, "--json"])
@@ -498,6 +521,44 @@ FULL = [
 for args in FULL:
     code, _, err = run(args + ["--server", target, "-q"])
     check(code == 0, f"koma {' '.join(args)}: exit {code}: {err}")
+
+# ---------------------------------------------------------------------------------------------
+# 6. Text encodings: a UTF-8 byte order mark (Windows tools write one) is skipped in every file
+#    koma reads, client side (BVH, motion3.json, --config, @LIST) and server side
+#    (--send-file); UTF-16 is refused naming the encoding.
+BOM = b"\xef\xbb\xbf"
+for cmd, src, ext in (("skeletal", BVH, ".bvh"), ("lipblink", TALK, ".motion3.json")):
+    open(w("bom" + ext), "wb").write(BOM + open(src, "rb").read())
+    outputs = []
+    for given, extra in ((src, []), (w("bom" + ext), []), (w("bom" + ext), ["--send-file"])):
+        out = w(f"enc{len(outputs)}{ext}")
+        code, _, err = run([cmd, given, "-o", out, "-q", "--server", target] + extra)
+        check(code == 0, f"{cmd} {given} {extra}: exit {code}: {err}")
+        outputs.append(open(out, "rb").read() if code == 0 else None)
+    check(outputs[0] is not None and outputs[1] == outputs[0] and outputs[2] == outputs[0],
+          f"{cmd}: a byte order mark changed the output")
+open(w("utf16.bvh"), "wb").write(open(BVH).read().encode("utf-16"))  # FF FE, little-endian
+for extra in ([], ["--send-file"]):
+    code, _, err = run(["skeletal", w("utf16.bvh"), "-o", w("u.bvh"), "--server", target] + extra)
+    check(code == 1 and "the file is UTF-16 (little-endian, byte order mark FF FE), not UTF-8: "
+          "save it as UTF-8" in err, f"UTF-16 BVH {extra}: {code} {err}")
+open(w("bom.toml"), "wb").write(BOM + b"[skeletal]\nomissions = 6\n")
+cfg, _ = summary(["--config", w("bom.toml"), "skeletal", BVH, "-o", w("cfg.bvh")])
+check(cfg["omissions_requested"] == 6, f"--config with a byte order mark: {cfg}")
+open(w("utf16.toml"), "wb").write("[skeletal]\nomissions = 6\n".encode("utf-16"))
+code, _, err = run(["--config", w("utf16.toml"), "skeletal", BVH, "-o", w("cfg.bvh"),
+                    "--server", target])
+check(code == 2 and err.startswith(f"koma: --config {w('utf16.toml')}: the file is UTF-16 "
+                                   "(little-endian, byte order mark FF FE)"), f"{code} {err}")
+open(w("bom_list.txt"), "wb").write(BOM + BVH.encode() + b"\n")
+code, _, err = run(["batch", "skeletal", "@" + w("bom_list.txt"), "-o", w("listed"), "-q",
+                    "--server", target])
+listed = [f for _, _, files in os.walk(w("listed")) for f in files if f.endswith(".bvh")]
+check(code == 0 and listed == ["pitch.bvh"], f"@LIST with a byte order mark: {code} {err} {listed}")
+open(w("utf16_list.txt"), "wb").write((BVH + "\n").encode("utf-16"))
+code, _, err = run(["batch", "skeletal", "@" + w("utf16_list.txt"), "-o", w("listed16"),
+                    "--server", target])
+check(code != 0 and "the file is UTF-16" in err, f"UTF-16 @LIST: {code} {err}")
 
 print(f"{len(failures)} failures")
 sys.exit(1 if failures else 0)

@@ -75,11 +75,31 @@ def test_positions_checks_its_shape():
         koma.Positions(["a"], [-1], 0.04, [0.0] * 7)
 
 
+def test_a_utf8_byte_order_mark_is_skipped_and_utf16_is_named(client):
+    # Windows tools start UTF-8 files with EF BB BF; the server skips it in every text format.
+    bvh = pathlib.Path(PITCH).read_bytes()
+    by_path = client.retime_skeletal(PITCH)
+    assert client.retime_skeletal(b"\xef\xbb\xbf" + bvh).output_bytes == by_path.output_bytes
+    motion = pathlib.Path(source_path("samples", "talk_blink.motion3.json")).read_bytes()
+    assert (client.lip_blink(b"\xef\xbb\xbf" + motion).output_bytes ==
+            client.lip_blink(motion).output_bytes)
+    with pytest.raises(koma.KomaError, match=r"bvh_text: the file is UTF-16 \(little-endian"):
+        client.retime_skeletal(bvh.decode("ascii").encode("utf-16"))
+
+
+def test_counts_say_what_became_of_the_duplicates(client):
+    result = client.retime_skeletal(PITCH)
+    counts = result.counts
+    assert counts["duplicates_applied"] == (result.kinds.count("DUPLICATE") +
+                                            counts["duplicates_omitted"] +
+                                            counts["duplicates_held"])
+
+
 def test_curves_and_lip_blink_results(client):
     curves = client.retime_curves(source_path("samples", "arm_head.motion3.json"))
     assert curves.key_frames == [0, 9, 18, 27, 36, 45, 54, 63, 72, 81, 90]  # README's figures
     assert curves.timing_fps == 24
-    assert curves.counts == {"curves": 5, "frames": 91, "key_poses": 11, "drawings": 31}
+    assert curves.counts == {"curves": 5, "frames": 91, "key_poses": 11, "drawings": 21}
     assert set(curves.curves) == {"ParamAngleX", "ParamAngleY", "ParamBodyAngleX", "ParamArmLA",
                                   "ParamArmRA"}
     lip = client.lip_blink(source_path("samples", "talk_blink.motion3.json"))
@@ -87,6 +107,27 @@ def test_curves_and_lip_blink_results(client):
     assert [m["id"] for m in lip.mouths] == ["ParamMouthOpenY"]
     assert lip.counts["blinks"] == 4 and lip.counts["mouth_holds"] == 22
     assert set(lip.timing) == {"ParamMouthOpenY", "ParamEyeLOpen", "ParamEyeROpen"}
+
+
+def test_curves_timing_groups_and_merged_key_poses(client):
+    sample = source_path("samples", "arm_head.motion3.json")
+    grouped = client.retime_curves(sample, timing_groups=[
+        {"name": "arms", "ids": ["ParamArm*"], "frames_per_drawing": 2}])
+    assert list(grouped.groups) == ["body", "arms"]
+    assert grouped.groups["arms"]["curves"] == ["ParamArmLA", "ParamArmRA"]
+    assert grouped.groups["body"]["curves"] == ["ParamAngleX", "ParamAngleY", "ParamBodyAngleX"]
+    arms = grouped.groups["arms"]
+    assert arms["frames_per_drawing"] == 2
+    assert grouped.timings[arms["timing"]]["frames_per_drawing"] == 2
+    assert grouped.curves["ParamArmLA"]["timing"] == arms["timing"]
+    assert grouped.key_frames == grouped.groups["body"]["key_frames"]
+    assert len(grouped.key_frames_merged) == len(grouped.key_frames)
+    # One group, every keyframe time a key pose: no groups listed, nothing merged.
+    one = client.retime_curves(sample, default_timing_groups=False, merge_key_poses=False)
+    assert one.groups == {} and one.key_frames_merged == []
+    with pytest.raises(koma.KomaError, match=r"timing_groups\[0\]\.name: required") as error:
+        client.retime_curves(sample, timing_groups=[{"ids": ["ParamArm*"]}])
+    assert error.value.field == "timing_groups[0].name"
 
 
 @pytest.mark.parametrize("call,options,error,words", [

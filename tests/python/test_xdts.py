@@ -103,13 +103,33 @@ def grid_rows(frames, fps, timing_fps=24):
     return math.floor(Fraction(frames - 1) * Fraction(timing_fps) / Fraction(fps)) + 1
 
 
-CURVES_VARIANTS = [[], ["--timing-fps", "0"], ["--on", "2", "--curve-on", "ParamAngleX=3"],
-                   ["--tame", "2", "--tsume", "1.5", "--on", "1"]]
+ARM, TALK = "samples/arm_head.motion3.json", "samples/talk_blink.motion3.json"
+# arm_head's curves are all in the default group "body"; talk_blink's eyes and mouth are in
+# Live2D's default group "face" (timing groups), the head in "body".
+CURVES_VARIANTS = [(ARM, []), (ARM, ["--timing-fps", "0"]),
+                   (ARM, ["--on", "2", "--curve-on", "ParamAngleX=3"]),
+                   (ARM, ["--tame", "2", "--tsume", "1.5", "--on", "1"]),
+                   (TALK, []), (TALK, ["--timing-fps", "0"]),
+                   (TALK, ["--group", "eyes=ParamEye*:on=2", "--curve-on", "ParamEyeLOpen=3"])]
 
 
-@pytest.mark.parametrize("variant", CURVES_VARIANTS, ids=lambda v: " ".join(v) or "defaults")
-def test_curves_sheet_has_a_track_per_timing(server, client, tmp_path, variant):
-    clip = source_path("samples/arm_head.motion3.json")
+def curves_track_name(result, i, ids, clip_name, tracks):
+    """The layer expected for timing i: its timing group's name ("GROUP: IDS" for a curve
+    override's timing inside a group); without groups the clip's name for a lone track, else
+    the curves' ids."""
+    response = result.response
+    for group in response.timing_groups:
+        if any(response.curves[c].timing == i for c in group.curves):
+            return group.name if group.timing == i else f"{group.name}: {', '.join(ids)}"
+    return clip_name if tracks == 1 else ", ".join(ids)
+
+
+@pytest.mark.parametrize("clip,variant", CURVES_VARIANTS,
+                         ids=lambda v: (" ".join(v) or "defaults") if isinstance(v, list)
+                         else os.path.basename(v).split(".")[0])
+def test_curves_sheet_has_a_track_per_timing(server, client, tmp_path, clip, variant):
+    clip_name = os.path.basename(clip).split(".")[0]
+    clip = source_path(clip)
     xdts, again = tmp_path / "a.xdts", tmp_path / "b.xdts"
     for out in (xdts, again):
         run_cli("curves", clip, "-o", str(tmp_path / "o.motion3.json"), "--xdts", str(out),
@@ -122,7 +142,11 @@ def test_curves_sheet_has_a_track_per_timing(server, client, tmp_path, variant):
     if "--on" in variant:
         options["frames_per_drawing"] = int(variant[variant.index("--on") + 1])
     if "--curve-on" in variant:
-        options["curve_overrides"] = [{"curve_id": "ParamAngleX", "frames_per_drawing": 3}]
+        curve_id, n = variant[variant.index("--curve-on") + 1].split("=")
+        options["curve_overrides"] = [{"curve_id": curve_id, "frames_per_drawing": int(n)}]
+    if "--group" in variant:
+        options["timing_groups"] = [{"name": "eyes", "ids": ["ParamEye*"],
+                                     "frames_per_drawing": 2}]
     if "--tame" in variant:
         options.update(tame=2.0, tsume=1.5)
     result = client.retime_curves(clip, **options)
@@ -134,10 +158,11 @@ def test_curves_sheet_has_a_track_per_timing(server, client, tmp_path, variant):
     used = [i for i in range(len(result.timings))
             if any(c["timing"] == i for c in result.curves.values())]
     assert len(sheet["cells"]) == len(used)
+    assert bool(result.response.timing_groups) == (clip_name == "talk_blink")
     for (name, cells), i in zip(sheet["cells"], used):
         timing = result.timings[i]
         ids = [cid for cid, c in result.curves.items() if c["timing"] == i]
-        want_name = ("arm_head" if len(used) == 1 else ", ".join(ids)) + \
+        want_name = curves_track_name(result, i, ids, clip_name, len(used)) + \
             f" (on {timing['frames_per_drawing']})"
         assert name == want_name
         if result.timing_fps == 0:
@@ -146,6 +171,11 @@ def test_curves_sheet_has_a_track_per_timing(server, client, tmp_path, variant):
             starts = timing["drawing_start_grid"]
             want = [str(sum(1 for s in starts if s <= g)) for g in range(rows)]
         assert cells == want, name
+    if clip_name == "talk_blink":
+        # Worked by hand: the layers are the groups (the drawing sheet's tracks).
+        want = ({"body (on 3)", "eyes (on 2)", "eyes: ParamEyeLOpen (on 3)"} if "--group" in variant
+                else {"body (on 3)", "face (on 3)"})
+        assert {n for n, _ in sheet["cells"]} == want
     out = tmp_path / "py.xdts"
     result.write_xdts(out)
     assert out.read_bytes() == xdts.read_bytes()
@@ -226,6 +256,81 @@ def test_lipblink_sheet_mouth_eyes_and_dialog(server, client, tmp_path, variant)
     assert out.read_bytes() == xdts.read_bytes()
 
 
+VOICE = "samples/voice.flac"
+# LipBlink from a voice (--audio): a new motion at --voice-motion-fps (30, or 60), the voice
+# into talk_blink (30 fps), counting source frames; and Rhubarb cues (--rhubarb) back in.
+VOICE_VARIANTS = [[], ["--voice-motion-fps", "60", "--auto-blink", "1.5"],
+                  ["--motion", TALK], ["--timing-fps", "0", "--mode", "follow"], ["--rhubarb"]]
+
+
+@pytest.mark.parametrize("variant", VOICE_VARIANTS, ids=lambda v: " ".join(v) or "defaults")
+def test_lipblink_from_a_voice_sheet_is_the_motion_written(server, client, tmp_path, variant):
+    voice = source_path(VOICE)
+    options, flags = {}, list(variant)
+    if "--rhubarb" in variant:
+        # The cues koma wrote for the recording, read back as the voice.
+        cues = tmp_path / "voice.json"
+        run_cli("lipblink", "--audio", voice, "-o", str(tmp_path / "c.motion3.json"), "--cues",
+                str(cues), "--server", server.address)
+        flags, voice_flag = [], ["--rhubarb", str(cues)]
+        options["rhubarb_cues"] = str(cues)
+    else:
+        voice_flag = ["--audio", voice]
+        options["audio"] = voice
+    if "--voice-motion-fps" in variant:
+        options.update(voice_motion_fps=60,
+                       eyes={"auto_blink": {"enabled": True, "mean_interval_s": 1.5}})
+    if "--timing-fps" in variant:
+        options.update(timing_fps=0, mouth={"mode": "MOUTH_FOLLOW"})
+    motion = tmp_path / "o.motion3.json"
+    xdts, again = tmp_path / "a.xdts", tmp_path / "b.xdts"
+    for out in (xdts, again):
+        done = run_cli("lipblink", *voice_flag, "-o", str(motion), "--xdts", str(out),
+                       "--server", server.address, *flags)
+        assert f"exposure sheet (XDTS): {out}" in done.stdout
+    assert xdts.read_bytes() == again.read_bytes()
+    sheet = read_checked(xdts)
+    source = source_path(TALK) if "--motion" in variant else None
+    result = client.lip_blink(source, **options)
+    # Rows: the grid frames of the motion written, at its own rate.
+    with open(motion, encoding="utf-8") as f:
+        meta = json.load(f)["Meta"]
+    frames = len(next(iter(result.curves.values())))
+    assert meta["Fps"] == (60 if "--voice-motion-fps" in variant else 30)
+    rows = frames if result.timing_fps == 0 else grid_rows(frames, meta["Fps"])
+    assert sheet["duration"] == rows
+    tracks = dict(sheet["cells"])
+    shape_cell = {"MOUTH_CLOSED": "1", "MOUTH_MID": "2", "MOUTH_OPEN": "3"}
+    for mouth in result.mouths:
+        name = next(n for n in tracks if mouth["id"] in n.split(" (")[0].split(", "))
+        assert name.endswith("(1 closed, 2 mid, 3 open)")
+        assert mouth["holds"], "the voice drew no mouth"
+        for begin, length, shape in mouth["holds"]:
+            end = min(begin + length, rows)
+            assert tracks[name][begin:end] == [shape_cell[shape]] * (end - begin)
+        if result.timing_fps == 0:
+            levels = (mouth["closed_level"], mouth["mid_level"], mouth["open_level"])
+            assert tracks[name] == [str(nearest(v, levels) + 1) for v in result.curves[mouth["id"]]]
+    assert {"2", "3"} & set(tracks[next(n for n in tracks if "ParamMouthOpenY" in n)])
+    for eye in result.eyes:
+        name = next(n for n in tracks if eye["id"] in n.split(" (")[0].split(", "))
+        for b in eye["blinks"]:
+            assert set(tracks[name][b["closed_begin"]:b["closed_end"] + 1]) == {"3"}
+    if "--voice-motion-fps" in variant:
+        assert any(b["automatic"] for eye in result.eyes for b in eye["blinks"])
+    # Dialog: the speech found in the recording, named after the motion, else the recording.
+    speaker = "talk_blink" if "--motion" in variant else "voice"
+    speech = [(b, min(e, rows)) for b, e in result.mouths[0]["speech"] if b < min(e, rows)]
+    assert speech, "no speech found"
+    name, lines = sheet["dialog"][0]
+    assert [(b, e) for b, e, _ in lines] == speech
+    assert [v for _, _, v in lines] == [[speaker, f"speech {k + 1}"] for k in range(len(lines))]
+    assert sheet["name"] == speaker
+    out = tmp_path / "py.xdts"
+    result.write_xdts(out)
+    assert out.read_bytes() == xdts.read_bytes()
+
+
 def test_names_tools_choke_on_read_back_equal(server, client, tmp_path):
     """Quotes, newlines, backslashes and Japanese in file names and curve ids: valid JSON,
     read back equal."""
@@ -273,6 +378,13 @@ def test_batch_writes_each_clips_sheet_as_the_single_command(server, tmp_path):
     run_cli("lipblink", source_path("samples/talk_blink.motion3.json"), "-o",
             str(tmp_path / "t.motion3.json"), "--xdts", str(single), "--server", server.address)
     assert (out / "talk_blink.xdts").read_bytes() == single.read_bytes()
+    # A recording: its new motion's sheet, as `koma lipblink --audio`.
+    run_cli("batch", "lipblink", source_path(VOICE), "-o", str(out), "--xdts",
+            "--server", server.address, "--quiet")
+    single = tmp_path / "voice.xdts"
+    run_cli("lipblink", "--audio", source_path(VOICE), "-o", str(tmp_path / "v.motion3.json"),
+            "--xdts", str(single), "--server", server.address)
+    assert (out / "voice.xdts").read_bytes() == single.read_bytes()
 
 
 def long_bvh(path, frames):

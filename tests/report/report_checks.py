@@ -243,7 +243,7 @@ def check_curves(report, drawing_csv, summary_path, shot=None):
     from fractions import Fraction
     rows = read_csv(drawing_csv)
     summary = open(summary_path).read()
-    keys = [int(k) for k in summary_field(summary, r"key poses \(\d+\): (.*)").group(1).split(",")]
+    keys = [int(k) for k in summary_field(summary, r"key poses \(\d+[^)]*\): (.*)").group(1).split(",")]
     m = re.search(r"key poses at grid frames (.*)", summary)
     key_rows = [int(k) for k in m.group(1).split(",")] if m else keys
     timings = re.findall(r"  on (\S+): (\d+) drawings \(holds (.*)\) for (.*)", summary)
@@ -272,7 +272,7 @@ def check_curves(report, drawing_csv, summary_path, shot=None):
         else:
             want_rows = frames
         expect("drawing sheet rows", len(sheet), want_rows)
-        expect("KEY rows", [i for i, r in enumerate(sheet) if r[2][0] == "KEY"], key_rows)
+        expect("KEY rows", [i for i, r in enumerate(sheet) if r[2][0].startswith("KEY")], key_rows)
         first_column = 4 if grid else 3
         drawing = -1
         numbered = 0

@@ -5,8 +5,9 @@
 # MODE:
 #   files    same call -> same report bytes; HTML5 (html5lib strict); self-contained; an
 #            unwritable --report fails before the call
-#   browser  each sample's report in chromium: figures and counts against the timing and
-#            drawing sheets and the printed summary, a screenshot that is not blank
+#   browser  each sample's report in chromium (samples/wave.glb too): figures and counts
+#            against the timing and drawing sheets and the printed summary, a screenshot that
+#            is not blank
 #   player   stepping, scrubbing and playing the pitch's player; every bone as long as its
 #            BVH OFFSET in the figures drawn
 #   variants the browser checks on other options of each command
@@ -81,7 +82,13 @@ case "$mode" in
     "${checks[@]}" curves "$work/arm.html" "$work/arm.csv" "$work/arm.txt" "$shots/arm.png" || fail "arm"
     "${checks[@]}" lipblink "$work/talk.html" "$work/talk.txt" "$shots/talk.png" \
       "$work/talk_values.csv" || fail "talk"
-    for name in pitch mocap arm talk; do
+    # A glTF 2.0 file (samples/wave.glb): the report's stick figures are the skin's joints.
+    "$koma" skeletal "$samples/wave.glb" -o "$work/wave.glb" --timing "$work/wave.csv" \
+      --report "$work/wave.html" --xdts "$work/wave.xdts" --server "$target" >"$work/wave.txt" || fail "koma skeletal wave.glb"
+    "${checks[@]}" validate "$work/wave.html" || fail "wave.glb: HTML5 validation"
+    "${checks[@]}" skeletal "$work/wave.html" "$work/wave.csv" "$work/wave.txt" "$shots/wave.png" \
+      || fail "wave.glb"
+    for name in pitch mocap arm talk wave; do
       "${checks[@]}" xdts "$work/$name.html" "$work/$name.xdts" || fail "$name: exposure sheet"
     done
     ;;

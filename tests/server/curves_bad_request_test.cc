@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "koma/v1/retime.grpc.pb.h"
@@ -122,6 +123,70 @@ std::vector<BadCurves> BadRequests() {
          o->set_tame(0.9);
        },
        kInvalid, "segment_overrides[0].tame: 0.9"},
+      {"GroupWithoutName", [](auto& r) { r.add_timing_groups()->add_ids("ParamArm"); },
+       kInvalid, "timing_groups[0].name: required"},
+      {"GroupNamedBody",
+       [](auto& r) {
+         auto* g = r.add_timing_groups();
+         g->set_name("body");
+         g->add_ids("ParamArm");
+       },
+       kInvalid, "timing_groups[0].name: \"body\" is the default group's"},
+      {"GroupNamedTwice",
+       [](auto& r) {
+         for (const char* id : {"ParamArm", "ParamAngle*"}) {
+           auto* g = r.add_timing_groups();
+           g->set_name("arms");
+           g->add_ids(id);
+         }
+       },
+       kInvalid, "timing_groups[1].name: \"arms\" is already timing_groups[0]'s"},
+      {"GroupWithoutIds", [](auto& r) { r.add_timing_groups()->set_name("hair"); }, kInvalid,
+       "timing_groups[0].ids: empty"},
+      {"GroupOnZero",
+       [](auto& r) {
+         auto* g = r.add_timing_groups();
+         g->set_name("hair");
+         g->add_ids("ParamHair*");
+         g->set_frames_per_drawing(0);
+       },
+       kInvalid, "timing_groups[0].frames_per_drawing: 0 must be >= 1"},
+      {"GroupTsumeNaN",
+       [](auto& r) {
+         auto* g = r.add_timing_groups();
+         g->set_name("hair");
+         g->add_ids("ParamHair*");
+         g->set_tsume(kNaN);
+       },
+       kInvalid, "timing_groups[0].tsume: nan"},
+      {"GroupKeyOutsideRange",
+       [](auto& r) {
+         auto* g = r.add_timing_groups();
+         g->set_name("arm");
+         g->add_ids("ParamArm");
+         g->add_key_frames(31);
+       },
+       kInvalid, "timing_groups[0].key_frames[0]: 31 is outside [0, 30]"},
+      {"GroupPatternsOverWorkLimit",
+       [](auto& r) {
+         auto* g = r.add_timing_groups();
+         g->set_name("many");
+         for (int i = 0; i < 30'000; ++i) g->add_ids("Param?");
+       },
+       C::RESOURCE_EXHAUSTED,
+       "timing_groups: 210000 bytes of id patterns x 2 curves = 420000 exceeds the server limit "
+       "--max_values=50000"},
+      {"GroupsOverWorkLimit",
+       [](auto& r) {
+         for (int i = 0; i < 2000; ++i) {
+           auto* g = r.add_timing_groups();
+           g->set_name("g" + std::to_string(i));
+           g->add_ids("X");
+         }
+       },
+       C::RESOURCE_EXHAUSTED,
+       "timing_groups: 2000 groups + the default x 31 frames = 62031 exceeds the server limit "
+       "--max_values=50000"},
       {"KeysTooLargeToInterpolate",
        [](auto& r) {
          CurveOf(r, 0).mutable_start()->set_value(-1.5e308);

@@ -57,21 +57,25 @@ std::string AnswerBytes(koma::testing::InProcessServer& server,
   return bytes;
 }
 
-// Counted in source frames (timing_fps 0): the answers from before the film grid, unchanged.
+// Counted in source frames (timing_fps 0), every keyframe time a key pose (merge_key_poses
+// false): the answers from before the film grid and key-pose merging, unchanged.
 TEST(CurvesGoldenTest, DefaultOptionsAnswerTheSameBytes) {
   koma::testing::InProcessServer server;
   v1::RetimeCurvesRequest request = MixedRequest(12, 300, 1);
   request.set_timing_fps(0.0);
+  request.set_merge_key_poses(false);
   const std::string bytes = AnswerBytes(server, request);
   EXPECT_EQ(bytes.size(), 106839u);
   EXPECT_EQ(Fnv1a64(bytes), 6502357649322255037ULL);
 }
 
-// The same 30 fps curves with the defaults, on the 24 fps film grid; and the same curves
-// declared at 24 fps (no grid) answer what they answered before the grid existed.
+// The same 30 fps curves on the 24 fps film grid, every keyframe time a key pose; and the same
+// curves declared at 24 fps (no grid) answer what they answered before the grid existed.
 TEST(CurvesGoldenTest, FilmGridAnswersArePinned) {
   koma::testing::InProcessServer server;
-  const std::string grid = AnswerBytes(server, MixedRequest(12, 300, 1));
+  v1::RetimeCurvesRequest unmerged = MixedRequest(12, 300, 1);
+  unmerged.set_merge_key_poses(false);
+  const std::string grid = AnswerBytes(server, unmerged);
   EXPECT_EQ(grid.size(), 94770u);
   EXPECT_EQ(Fnv1a64(grid), 14491162749119409826ULL);
   v1::RetimeCurvesRequest at24 = MixedRequest(12, 300, 1);
@@ -85,6 +89,7 @@ TEST(CurvesGoldenTest, OverridesTameAndTsumeAnswerTheSameBytes) {
   koma::testing::InProcessServer server;
   v1::RetimeCurvesRequest request = MixedRequest(8, 240, 2);
   request.set_timing_fps(0.0);
+  request.set_merge_key_poses(false);
   request.set_frames_per_drawing(2);
   request.set_tame(1.4);
   request.set_tsume(1.25);
@@ -101,6 +106,41 @@ TEST(CurvesGoldenTest, OverridesTameAndTsumeAnswerTheSameBytes) {
   const std::string bytes = AnswerBytes(server, request);
   EXPECT_EQ(bytes.size(), 62813u);
   EXPECT_EQ(Fnv1a64(bytes), 126128801214034750ULL);
+}
+
+// The defaults since key-pose merging (issue 29): keyframes closer than a drawing form one key
+// pose, on the grid and in source frames, and the same request with Live2D ids in timing
+// groups. The merged answers differ from the unmerged ones above on purpose: these 12 curves'
+// keyframe union has a key every frame or two.
+TEST(CurvesGoldenTest, MergedKeyPosesAndGroupsArePinned) {
+  koma::testing::InProcessServer server;
+  const std::string grid = AnswerBytes(server, MixedRequest(12, 300, 1));
+  EXPECT_EQ(grid.size(), 58539u);
+  EXPECT_EQ(Fnv1a64(grid), 5180814753605967952ULL);
+  v1::RetimeCurvesRequest frames = MixedRequest(12, 300, 1);
+  frames.set_timing_fps(0.0);
+  const std::string source = AnswerBytes(server, frames);
+  EXPECT_EQ(source.size(), 63063u);
+  EXPECT_EQ(Fnv1a64(source), 15305012261383724633ULL);
+  v1::RetimeCurvesRequest grouped = MixedRequest(12, 300, 1);
+  const char* ids[] = {"ParamAngleX", "ParamBodyAngleX", "ParamArmLA",    "ParamHandL",
+                       "ParamHairFront", "ParamHairBack", "ParamEyeLOpen", "ParamEyeROpen",
+                       "ParamMouthOpenY", "ParamBrowLY", "ParamCheek", "ParamBreath"};
+  for (int c = 0; c < 12; ++c) grouped.mutable_curves()->mutable_curves(c)->set_id(ids[c]);
+  grouped.set_frames_per_drawing(3);
+  v1::CurveTimingGroup* hair = grouped.add_timing_groups();
+  hair->set_name("hair");
+  hair->add_ids("ParamHair*");
+  hair->set_frames_per_drawing(2);
+  v1::CurveTimingGroup* face = grouped.add_timing_groups();
+  face->set_name("face");
+  face->add_ids("ParamEye*");
+  face->add_ids("ParamMouth*");
+  face->add_ids("ParamBrow*");
+  face->set_tame(1.5);
+  const std::string groups = AnswerBytes(server, grouped);
+  EXPECT_EQ(groups.size(), 65357u);
+  EXPECT_EQ(Fnv1a64(groups), 16433060504135506421ULL);
 }
 
 // RetimeCurves parses its own request (a raw method): bytes that are no request get

@@ -50,9 +50,11 @@ void ExpectAllEncodingsEqual(const CurveSet& set, const KomaUchiResult& result,
     size_t slices = 0;
     ASSERT_EQ(Sliced(set, result, slice_bytes, &slices), want)
         << context << ", slices of " << slice_bytes << " bytes (" << slices << ")";
-    if (slice_bytes <= 1) {  // every part but the tail a slice of its own
-      const size_t head = CurvesResponseEncoder(set, result).head_size() > 0 ? 1 : 0;
-      EXPECT_EQ(slices, std::max<size_t>(1, head + set.curves.size())) << context;
+    if (slice_bytes <= 1) {  // every part but the tail a slice of its own, the late tail too
+      const CurvesResponseEncoder encoder(set, result);
+      const size_t head = encoder.head_size() > 0 ? 1 : 0;
+      const size_t late = encoder.late_tail().empty() ? 0 : 1;
+      EXPECT_EQ(slices, std::max<size_t>(1, head + set.curves.size()) + late) << context;
     }
   }
 }
@@ -177,18 +179,18 @@ TEST(CurvesGridResponseTest, GridAnswersEncodeAsTheMessages) {
 }
 
 // Through the service, whose answers of 512 KiB and up go out in several slices: a large grid
-// answer (60 fps, 20 curves x 6000 frames, two timings; ~1.9 MB) is the message's bytes, tail
-// included.
+// answer (60 fps, 20 curves x 7200 frames, two timings, merged key poses; ~1.7 MB) is the
+// message's bytes, tail and late tail (key_frames_merged) included.
 TEST(CurvesGridResponseTest, LargeGridAnswerThroughTheServiceIsTheMessagesBytes) {
   SplitMix64 rng(60);
   v1::RetimeCurvesRequest request;
   v1::CurveSet* set = request.mutable_curves();
   set->set_fps(60.0);
-  set->set_frame_count(6000);
+  set->set_frame_count(7200);
   for (int c = 0; c < 20; ++c) {
     v1::Curve* curve = set->add_curves();
     curve->set_id("P" + std::to_string(c));
-    ::koma::testing::AddRandomKeyframes(rng, 6000, 5, 90, 0, curve);
+    ::koma::testing::AddRandomKeyframes(rng, 7200, 5, 90, 0, curve);
     if (c % 4 == 1) {
       v1::CurveOverride* own = request.add_curve_overrides();
       own->set_curve_id(curve->id());
@@ -199,6 +201,7 @@ TEST(CurvesGridResponseTest, LargeGridAnswerThroughTheServiceIsTheMessagesBytes)
   ASSERT_TRUE(HandleRetimeCurves(request, RequestLimits{}, &want).ok());
   ASSERT_EQ(want.timing_fps(), 24.0);
   ASSERT_EQ(want.timings_size(), 2);
+  ASSERT_GT(want.key_frames_merged_size(), 0);
   const std::string want_bytes = want.SerializeAsString();
   ASSERT_GT(want_bytes.size(), size_t{3} << 19);  // over three 512 KiB slices
   koma::testing::InProcessServer server;

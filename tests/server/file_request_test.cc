@@ -135,6 +135,76 @@ TEST(FileRequestTest, BvhFileWithoutReturnMotionAnswersOnlyTheTiming) {
   EXPECT_EQ(response.source_frames_size(), 130);
 }
 
+// Files over the wire as Windows tools write them: a UTF-8 byte order mark is skipped (the same
+// answer as without it), UTF-16 is refused naming the field and the encoding.
+TEST(FileRequestTest, AUtf8ByteOrderMarkIsSkippedAndUtf16IsNamed) {
+  InProcessServer server;
+  const std::string bom = "\xEF\xBB\xBF";
+  v1::RetimeSkeletalRequest plain, marked;
+  plain.set_bvh_text(ReadTestFile(KOMA_SAMPLES_DIR "/pitch.bvh"));
+  marked.set_bvh_text(bom + plain.bvh_text());
+  v1::RetimeSkeletalResponse plain_response, marked_response;
+  ASSERT_TRUE(Call(server, plain, &plain_response).ok());
+  ASSERT_TRUE(Call(server, marked, &marked_response).ok());
+  EXPECT_EQ(marked_response.SerializeAsString(), plain_response.SerializeAsString());
+
+  v1::LipBlinkRequest lip_plain, lip_marked;
+  lip_plain.set_motion3_json(ReadTestFile(KOMA_SAMPLES_DIR "/talk_blink.motion3.json"));
+  lip_marked.set_motion3_json(bom + lip_plain.motion3_json());
+  v1::LipBlinkResponse lip_plain_response, lip_marked_response;
+  ASSERT_TRUE(Call(server, lip_plain, &lip_plain_response).ok());
+  ASSERT_TRUE(Call(server, lip_marked, &lip_marked_response).ok());
+  EXPECT_EQ(lip_marked_response.SerializeAsString(), lip_plain_response.SerializeAsString());
+
+  v1::RetimeCurvesRequest csv_plain, csv_marked;
+  csv_plain.set_csv_text("frame,A\n0,0\n1,1\n2,4\n3,9\n4,16\n5,25\n");
+  csv_marked.set_csv_text(bom + csv_plain.csv_text());
+  v1::RetimeCurvesResponse csv_plain_response, csv_marked_response;
+  ASSERT_TRUE(Call(server, csv_plain, &csv_plain_response).ok());
+  ASSERT_TRUE(Call(server, csv_marked, &csv_marked_response).ok());
+  EXPECT_EQ(csv_marked_response.SerializeAsString(), csv_plain_response.SerializeAsString());
+
+  v1::RetimeSkeletalRequest utf16;
+  std::string text = "\xFF\xFE";
+  for (char c : plain.bvh_text().substr(0, 64)) text += std::string{c, '\0'};
+  utf16.set_bvh_text(text);
+  v1::RetimeSkeletalResponse refused;
+  const grpc::Status status = Call(server, utf16, &refused);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(status.error_message(),
+            "bvh_text: the file is UTF-16 (little-endian, byte order mark FF FE), not UTF-8: "
+            "save it as UTF-8");
+}
+
+// samples/talk_blink.motion3.json with the defaults (linked eyes, 24 fps film grid): every eye
+// is open until it snaps shut. The left eye starts closing a grid frame before the right, and
+// its half-closed value used to pass through: ParamEyeLOpen 1, 0.833, 1, 0 (issue 35).
+TEST(FileRequestTest, TalkBlinkEyesSnapShutStraightFromOpen) {
+  InProcessServer server;
+  v1::LipBlinkRequest request;
+  request.set_motion3_json(ReadTestFile(KOMA_SAMPLES_DIR "/talk_blink.motion3.json"));
+  v1::LipBlinkResponse response;
+  ASSERT_TRUE(Call(server, request, &response).ok());
+  EXPECT_EQ(response.timing_fps(), 24.0);
+  ASSERT_EQ(response.eyes_size(), 2);
+  for (const v1::EyeTrack& eye : response.eyes()) {
+    const v1::ConvertedCurve* curve = nullptr;
+    for (const v1::ConvertedCurve& c : response.curves()) {
+      if (c.id() == eye.id()) curve = &c;
+    }
+    ASSERT_NE(curve, nullptr) << eye.id();
+    int snaps = 0;
+    for (int f = 1; f < curve->values_size(); ++f) {
+      if (curve->values(f - 1) != eye.open_level() || curve->values(f) == eye.open_level()) {
+        continue;
+      }
+      EXPECT_EQ(curve->values(f), eye.closed_level()) << eye.id() << " frame " << f;
+      ++snaps;
+    }
+    EXPECT_EQ(snaps, eye.blinks_size()) << eye.id();
+  }
+}
+
 struct CurveFileCase {
   std::string name;
   std::string text;

@@ -103,6 +103,8 @@ TEST(SkeletalResponseTest, TheEncoderWritesExactlyItsSize) {
     tail.set_timing_fps(24);
     tail.add_grid_frames(0);
     tail.add_grid_frames(1);
+    tail.set_duplicates_omitted(1);  // fields 50 and 51 after the grid's
+    tail.set_duplicates_held(2);
     const SkeletalResponseEncoder encoder(head, tail, true, motion, motion.frame_time(), true, 12,
                                           frames);
     std::string out(encoder.size() + 16, '\x5a');  // a guard after the end

@@ -3,21 +3,35 @@
 (function curvesReport(D) {
   const grid = D.timing_fps > 0;
   const duration = (D.frames - 1) / D.fps;
-  const keyTimes = grid ? D.key_grid_frames.map((g) => g / D.timing_fps) : D.key_frames.map((k) => k / D.fps);
+  // Each timing group's key poses (seconds), and how many keyframe times each merges (1: none).
+  const keysOf = (g) => (grid ? g.key_grid_frames.map((k) => k / D.timing_fps) : g.key_frames.map((k) => k / D.fps));
+  const groupKeys = D.groups.map(keysOf);
+  const merged = (g, i) => (D.groups[g].key_merged.length ? D.groups[g].key_merged[i] : 1);
+  const mergedCount = D.groups.reduce((n, g, gi) => n + g.key_frames.filter((_, i) => merged(gi, i) > 1).length, 0);
 
   const curvesSection = section('Curves before and after');
   const cursors = [];  // a time cursor on every plot, following the player below the plots
   curvesSection.append(legend([['var(--before)', 'before (input, smooth)'], ['var(--after)', 'after (drawings, stepped)'],
-                               ['var(--key)', `key poses (${D.key_frames.length})`]]));
+                               ['var(--key)', `key poses (${D.key_frames.length}` +
+                                 (mergedCount ? `; solid: ${mergedCount} merged from several keyframe times)` : ')')]]));
+  if (D.groups.length > 1) {
+    curvesSection.append(el('p', {class: 'legend'}, 'Timing groups, each on its own key poses: ' +
+      D.groups.map((g) => `${g.name} (${g.curves} curves, ${g.key_frames.length} key poses)`).join(', ') + '.'));
+  }
   for (const c of D.curves) {
     const timing = D.timings[c.timing];
     const [lo1, hi1] = range(c.before.y), [lo2, hi2] = range(c.after.y);
     const plot = plotFrame({xMax: duration, yMin: Math.min(lo1, lo2), yMax: Math.max(hi1, hi2), height: 170});
     plot.svg.classList.add('curve-plot');
     plot.svg.dataset.curve = c.id;
-    for (const t of keyTimes) {
-      plot.svg.append(svgEl('line', {class: 'key', x1: plot.x(t), x2: plot.x(t), y1: plot.top, y2: plot.bottom}));
-    }
+    groupKeys[c.group].forEach((t, i) => {
+      const attrs = {class: 'key', x1: plot.x(t), x2: plot.x(t), y1: plot.top, y2: plot.bottom};
+      if (merged(c.group, i) > 1) {
+        attrs.class = 'key merged';
+        attrs['data-merged'] = merged(c.group, i);
+      }
+      plot.svg.append(svgEl('line', attrs));
+    });
     plot.svg.append(svgEl('path', {class: 'before', d: pathOf(plot, c.before.x, c.before.y, false)}));
     plot.svg.append(svgEl('path', {class: 'after', d: pathOf(plot, c.after.x, c.after.y, true, duration)}));
     // A dot where each drawing starts (its first grid frame, else its first output frame).
@@ -36,7 +50,8 @@
     const cursor = svgEl('line', {class: 'cursor', y1: plot.top, y2: plot.bottom});
     plot.svg.append(cursor);
     cursors.push({plot, line: cursor});
-    curvesSection.append(el('h3', {}, `${c.id} — on ${timing.n}s, ${starts.length} drawings`), plot.svg);
+    const group = D.groups.length > 1 ? `${D.groups[c.group].name}, ` : '';
+    curvesSection.append(el('h3', {}, `${c.id} — ${group}on ${timing.n}s, ${starts.length} drawings`), plot.svg);
   }
 
   // ---- hold histograms ------------------------------------------------------------------------
@@ -74,15 +89,25 @@
     }
     return at;
   });
-  const keyRows = new Set(grid ? D.key_grid_frames : D.key_frames);
+  // Per row: the groups with a key pose there ("body", "face ×3" for a pose merging three times).
+  const keyRows = new Map();
+  D.groups.forEach((g, gi) => (grid ? g.key_grid_frames : g.key_frames).forEach((k, i) => {
+    const label = (D.groups.length > 1 ? g.name : 'KEY') + (merged(gi, i) > 1 ? ` ×${merged(gi, i)}` : '');
+    keyRows.set(k, keyRows.has(k) ? `${keyRows.get(k)}, ${label}` : label);
+  }));
   const columns = [grid ? 'grid frame' : 'frame', 'time', 'key pose'];
   if (grid) columns.push('source frames');
-  for (const timing of D.timings) columns.push(`drawing (on ${timing.n}s)`);
+  // A timing's column names its group when there are several (one track per group).
+  const groupOfTiming = D.timings.map((_, t) => {
+    const c = D.curves.find((o) => o.timing === t);
+    return c && D.groups.length > 1 ? D.groups[c.group].name + ' ' : '';
+  });
+  D.timings.forEach((timing, t) => columns.push(`${groupOfTiming[t]}drawing (on ${timing.n}s)`));
   const fixed = grid ? 4 : 3;
   const cell = (r, c) => {
     if (c === 0) return [String(r)];
     if (c === 1) return [(grid ? r / D.timing_fps : r / D.fps).toFixed(3)];
-    if (c === 2) return keyRows.has(r) ? ['KEY', 'new'] : [''];
+    if (c === 2) return keyRows.has(r) ? [keyRows.get(r), 'new'] : [''];
     if (grid && c === 3) {
       const first = D.grid_first_frame[r], next = r + 1 < rows ? D.grid_first_frame[r + 1] : D.frames;
       return [next - 1 > first ? `${first}–${next - 1}` : next - 1 === first ? String(first) : '–'];

@@ -1,0 +1,117 @@
+// Speech from a recording, on the film grid (docs/semantics.md, "LipBlink from a voice"): the
+// loudness of each grid frame (RMS in dBFS over the frame's samples), the speech intervals
+// (frames well above the estimated noise floor, short gaps bridged, short bursts dropped), and
+// for MOUTH_FOLLOW the drawing each frame's loudness asks for, with hysteresis. Plain arrays in,
+// plain arrays out: decoding the recording is formats/audio_reader.h's job, and it hands the
+// samples over in blocks, so memory grows with the grid frames, not with the samples.
+#ifndef KOMA_CORE_VOICE_ACTIVITY_H_
+#define KOMA_CORE_VOICE_ACTIVITY_H_
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/types/span.h"
+#include "core/film_grid.h"
+#include "core/lip_blink.h"
+
+namespace koma {
+
+// The loudness of digital silence (and of any frame below it): 10 log10(1e-15), dBFS.
+inline constexpr double kSilenceDbfs = -150.0;
+// The unset stay threshold: this fraction of the recording's range above its floor, and at
+// least kMinStayAboveFloorDb (VoiceOptions::stay_above_floor_db).
+inline constexpr double kStayFractionOfRange = 0.2;
+inline constexpr double kMinStayAboveFloorDb = 2.0;
+
+// 10 log10(mean_square) in dB (full scale: a mean square of 1 is 0 dBFS), kSilenceDbfs at or
+// below 1e-15. Deterministic: frexp and + - * / only (libm's log10 may differ in its last bit
+// between machines, and a threshold comparison on it would then differ too). Within 1e-12 dB
+// of the exact value.
+double MeanSquareToDbfs(double mean_square);
+
+// Mono samples (full scale +-1) in blocks -> the mean square of each analysis frame. Frame g
+// (at `frame_fps`, the film grid's rate) holds samples [first(g), first(g + 1)), first(g) =
+// ceil(g x sample_rate / frame_fps), in integers on frame_fps as a fraction num / den (exact
+// for integer rates and NTSC's 24000 / 1001; else the nearest with den <= 10^6), so the
+// boundaries are the same on every machine and do not drift over an hour. Sums run in sample
+// order.
+class FrameLoudness {
+ public:
+  // sample_rate in 1 .. 1e6 samples per second, frame_fps in (0, 1000] frames per second.
+  FrameLoudness(int sample_rate, double frame_fps);
+
+  void Add(absl::Span<const float> mono);
+
+  int64_t samples() const { return samples_; }
+  // Frames the samples reach into (the last one may be partial): 0 for no samples.
+  int frames_touched() const { return static_cast<int>(sums_.size()); }
+
+  // RMS in dBFS per frame 0 .. frames - 1: a partial last frame over the samples it has,
+  // frames past the recording kSilenceDbfs.
+  std::vector<double> Dbfs(int frames) const;
+
+ private:
+  int64_t FirstSample(int64_t frame) const;
+
+  int64_t rate_ = 1;              // samples per second
+  int64_t fps_num_ = 1, fps_den_ = 1;  // frame_fps = fps_num_ / fps_den_
+  std::vector<double> sums_;      // per frame touched: the sum of squares
+  std::vector<int64_t> counts_;   // per frame touched: samples summed
+  int64_t samples_ = 0;
+  int64_t next_boundary_ = 0;     // first sample of frame sums_.size()
+};
+
+struct VoiceOptions {
+  // The noise floor: given (dBFS), or this percentile of the frames' loudness (0 < p < 100):
+  // the quietest tenth of an ordinary dialogue take is its room noise.
+  std::optional<double> noise_floor_dbfs;
+  double noise_percentile = 10.0;
+  // A speech interval is a run of frames at least `stay_above_floor_db` above the floor holding
+  // one frame at least `start_above_floor_db` above it (0 < stay <= start, dB). Unset stay:
+  // kStayFractionOfRange of the recording's range (its frames' 90th percentile minus the
+  // floor), within [2 dB, start]: a clean take's noise bursts beside a word stay out, a noisy
+  // take's soft word ends stay in. Neither threshold goes below `min_speech_dbfs`, so a clean
+  // recording's digital silence (floor -150) does not make its faintest breath speech.
+  double start_above_floor_db = 9.0;
+  std::optional<double> stay_above_floor_db;
+  double min_speech_dbfs = -55.0;
+  // Gaps of at most this many frames between intervals are bridged (a stop consonant's
+  // closure, a fricative lost in a narrow band, a breath between words: up to 167 ms on the
+  // 24 fps grid), then intervals shorter than `min_speech_frames` dropped (a click, a door).
+  // >= 0 and >= 1.
+  int bridge_gap_frames = 4;
+  int min_speech_frames = 2;
+  // MOUTH_FOLLOW: a frame asks for open when it is within `open_below_peak_db` of the speech's
+  // loud level (the 90th percentile of its frames' loudness), closed when more than
+  // `closed_below_peak_db` below it, else mid; a frame changes its drawing only when it
+  // crosses a boundary by more than `hysteresis_db` / 2 (0 < open < closed, hysteresis >= 0).
+  double open_below_peak_db = 6.0;
+  double closed_below_peak_db = 15.0;
+  double hysteresis_db = 3.0;
+};
+
+// INVALID_ARGUMENT naming the option ("stay_above_floor_db: 12 must be in (0,
+// start_above_floor_db = 9]").
+absl::Status ValidateVoiceOptions(const VoiceOptions& options);
+
+struct VoiceActivity {
+  double noise_floor_dbfs = kSilenceDbfs;   // estimated or given
+  double start_dbfs = 0.0, stay_dbfs = 0.0;  // the two thresholds used
+  double loud_dbfs = kSilenceDbfs;           // the speech's loud level (FOLLOW)
+  std::vector<FrameInterval> speech;         // sorted, disjoint, in frames
+  std::vector<MouthShape> follow;            // per frame: the drawing its loudness asks for
+};
+
+// The speech of per-frame loudness `dbfs` (FrameLoudness::Dbfs). Outside speech `follow` is
+// closed; each speech interval starts from closed.
+VoiceActivity DetectVoice(absl::Span<const double> dbfs, const VoiceOptions& options);
+
+// The percentile p (0 < p < 100) of `values`: the element of rank floor(p / 100 x (n - 1))
+// in ascending order; kSilenceDbfs for none.
+double Percentile(std::vector<double> values, double p);
+
+}  // namespace koma
+
+#endif  // KOMA_CORE_VOICE_ACTIVITY_H_
