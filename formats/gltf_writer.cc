@@ -204,6 +204,13 @@ absl::StatusOr<std::string> WriteGltf(const GltfDocument& document,
   std::set<int> replaced;
   for (const GltfAnimationKeys& k : keys) replaced.insert(k.animation);
 
+  // Every top-level member this function adds to is made before any reference into `json` is
+  // taken: ordered_json keeps an object's members in one vector, so adding or erasing a member
+  // moves the others and would leave such references dangling.
+  const bool adds_buffer = !keys.empty() && buffers.empty();
+  for (const char* key : {"accessors", "bufferViews", "animations"}) ArrayMember(json, key);
+  if (adds_buffer) ArrayMember(json, "buffers");
+
   // 1. Accessors only the replaced samplers use, and buffer views only those accessors use.
   Json& accessors = ArrayMember(json, "accessors");
   Json& views = ArrayMember(json, "bufferViews");
@@ -290,7 +297,7 @@ absl::StatusOr<std::string> WriteGltf(const GltfDocument& document,
 
   // 3. The new keys: one time accessor per animation, one output accessor per channel, each
   // in its own buffer view at the end of buffer 0.
-  if (!keys.empty() && buffers.empty()) {
+  if (adds_buffer) {
     buffers.emplace_back();
     buffer_changed.push_back(true);
     Json& list = ArrayMember(json, "buffers");
@@ -367,9 +374,13 @@ absl::StatusOr<std::string> WriteGltf(const GltfDocument& document,
     }
   }
   for (Json& animation : appended) animations.push_back(std::move(animation));
-  if (animations.empty() && !had_animations) json.erase("animations");
-  if (accessors.empty() && !had_accessors) json.erase("accessors");
-  if (views.empty() && !had_views) json.erase("bufferViews");
+  // Decided before erasing anything: an erase moves the members after it (see above).
+  const bool drop_animations = animations.empty() && !had_animations;
+  const bool drop_accessors = accessors.empty() && !had_accessors;
+  const bool drop_views = views.empty() && !had_views;
+  if (drop_animations) json.erase("animations");
+  if (drop_accessors) json.erase("accessors");
+  if (drop_views) json.erase("bufferViews");
 
   // 4. Buffers: lengths, and data: URIs (or the GLB's BIN chunk) for the changed ones.
   std::string bin;

@@ -155,6 +155,38 @@ case "$mode" in
       || fail "koma curves long"
     "${checks[@]}" opens "$work/long_curves.html" 5 20000000 || fail "long curves"
     ;;
+  voice)
+    # A recording (made by samples/make_voice.sh with espeak-ng and sox) and a new motion.
+    for tag in "" _again; do
+      "$koma" lipblink --audio "$samples/voice.flac" -o "$work/voice.csv" --auto-blink 3 \
+        --report "$work/voice$tag.html" --xdts "$work/voice$tag.xdts" --server "$target" \
+        >"$work/voice$tag.txt" || fail "koma lipblink --audio"
+    done
+    cmp "$work/voice.html" "$work/voice_again.html" || fail "voice: same call, different report bytes"
+    grep -qF "report: $work/voice.html" "$work/voice.txt" || fail "voice: summary does not name the report"
+    "${checks[@]}" validate "$work/voice.html" || fail "voice: HTML5"
+    "${checks[@]}" voice "$work/voice.html" "$work/voice.txt" "$shots/voice.png" || fail "voice"
+    "${checks[@]}" lipblink "$work/voice.html" "$work/voice.txt" "" "$work/voice.csv" || fail "voice: drawings and face"
+    "${checks[@]}" xdts "$work/voice.html" "$work/voice.xdts" || fail "voice: exposure sheet"
+    # Over --report-audio-max-bytes the page links the recording by its relative path.
+    mkdir -p "$work/sub/pages" "$work/sub/sound"
+    cp "$samples/voice.flac" "$work/sub/sound/take 1.flac"
+    "$koma" lipblink --audio "$work/sub/sound/take 1.flac" -o "$work/linked.motion3.json" --mode follow \
+      --report "$work/sub/pages/linked.html" --report-audio-max-bytes 1000 --server "$target" \
+      >"$work/linked.txt" || fail "koma lipblink --report-audio-max-bytes"
+    grep -qF '"src":"../sound/take%201.flac"' "$work/sub/pages/linked.html" || fail "linked: no relative link"
+    "${checks[@]}" voice "$work/sub/pages/linked.html" "$work/linked.txt" || fail "voice, linked"
+    # Rhubarb cues in: no recording, the drawings and the face on the page's clock.
+    "$koma" lipblink --audio "$samples/voice.flac" -o "$work/c.motion3.json" --cues "$work/cues.tsv" \
+      --server "$target" >/dev/null || fail "koma lipblink --cues"
+    "$koma" lipblink --rhubarb "$work/cues.tsv" -o "$work/rhubarb.csv" --report "$work/rhubarb.html" \
+      --xdts "$work/rhubarb.xdts" --server "$target" >"$work/rhubarb.txt" \
+      || fail "koma lipblink --rhubarb --report"
+    "${checks[@]}" validate "$work/rhubarb.html" || fail "rhubarb: HTML5"
+    "${checks[@]}" lipblink "$work/rhubarb.html" "$work/rhubarb.txt" "$shots/rhubarb.png" "$work/rhubarb.csv" \
+      || fail "rhubarb: drawings and face"
+    "${checks[@]}" xdts "$work/rhubarb.html" "$work/rhubarb.xdts" || fail "rhubarb: exposure sheet"
+    ;;
   camera)
     "$camera_tool" "$work/camera.html" || fail "write_camera_report"
     "${checks[@]}" validate "$work/camera.html" || fail "camera: HTML5"
