@@ -266,7 +266,7 @@ VOICE_VARIANTS = [[], ["--voice-motion-fps", "60", "--auto-blink", "1.5"],
 @pytest.mark.parametrize("variant", VOICE_VARIANTS, ids=lambda v: " ".join(v) or "defaults")
 def test_lipblink_from_a_voice_sheet_is_the_motion_written(server, client, tmp_path, variant):
     voice = source_path(VOICE)
-    options, flags = {}, list(variant)
+    options, flags = {}, [source_path(f) if f == TALK else f for f in variant]
     if "--rhubarb" in variant:
         # The cues koma wrote for the recording, read back as the voice.
         cues = tmp_path / "voice.json"
