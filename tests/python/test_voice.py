@@ -260,3 +260,19 @@ def test_batch_reports_of_recordings(server, voices, tmp_path):
     assert embedded_audio(data) == open(source, "rb").read()
     summary, _ = lipblink(server, tmp_path, str(folder / "take.flac"))
     assert [{"begin": b, "end": e} for b, e in data["voice"]["speech"]] == summary["voice"]["speech"]
+
+
+def test_report_of_a_voice_merged_into_a_body_motion(server, voices, tmp_path):
+    body = source_path("samples", "arm_head.motion3.json")
+    report = tmp_path / "merged.html"
+    summary, _ = lipblink(server, tmp_path, voices["files"]["ogg-vorbis"], "--motion", body,
+                          "--report", str(report), out="merged.csv")
+    data = page_data(report)
+    # The player runs over the body motion's frames at its rate, the mouth the server wrote.
+    assert data["fps"] == summary["fps"] and data["frames"] == summary["frames"]
+    assert data["audio"]["mime"] == "audio/ogg"
+    mouth = next(c for c in data["curves"] if c["id"] == "ParamMouthOpenY")
+    rows = open(tmp_path / "merged.csv").read().splitlines()
+    column = rows[0].split(",").index("ParamMouthOpenY")
+    assert mouth["frames_after"] == [float(r.split(",")[column]) for r in rows[1:]]
+    assert dict(data["header"]["options"])["motion"] == body

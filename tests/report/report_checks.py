@@ -6,6 +6,7 @@
   report_checks.py lipblink REPORT SUMMARY [SHOT.png [VALUES_CSV]]
   report_checks.py xdts REPORT XDTS                   the exposure sheet against --xdts
   report_checks.py voice REPORT SUMMARY [SHOT.png]
+  report_checks.py audio REPORT SUMMARY
   report_checks.py player REPORT TIMING_CSV
   report_checks.py bones REPORT BVH
   report_checks.py camera REPORT
@@ -199,6 +200,22 @@ def check_skeletal(report, timing_csv, summary_path, shot=None, browser=None):
         expect("omitted marks", omitted, deleted)
         hidden_marks = b.evaluate("[...document.querySelectorAll('line.mark-hidden')].map((l) => +l.dataset.frame)")
         expect("hidden-by-hold marks", hidden_marks, hidden)
+        # Cuts (issue 28): one dashed mark per cut on the speed plot, at the source frame that
+        # starts the shot after it, and a legend entry counting them; none on a clip of one shot.
+        m = re.search(r"cuts +(\d+); shots retimed separately start at source frames 0, (.*)", summary)
+        cuts = [int(v) for v in m.group(2).split(", ")] if m else []
+        if m:
+            expect("cuts counted in the summary", int(m.group(1)), len(cuts))
+        cut_marks = b.evaluate("[...document.querySelectorAll('#ssd-plot line.mark-cut')].map((l) => +l.dataset.frame)")
+        expect("cut marks", cut_marks, cuts)
+        cut_legend = b.evaluate("[...document.querySelectorAll('.legend > span')].map((e) => e.textContent).filter((t) => t.startsWith('cuts: '))")
+        expect("cut legend entries", cut_legend,
+               [f"cuts: shots retimed separately ({len(cuts)})"] if cuts else [])
+        if cuts:
+            # The marks sit at the cut frames' source times on the plot's time axis, in order.
+            xs = b.evaluate("[...document.querySelectorAll('#ssd-plot line.mark-cut')].map((l) => +l.getAttribute('x1'))")
+            if xs != sorted(xs) or len(set(xs)) != len(xs):
+                fail(f"cut marks not at distinct increasing x: {xs}")
         expect("SSD curve drawn", b.evaluate("document.getElementById('ssd-curve').getAttribute('d').length > 10"), True)
         # The figures: front and side (or camera) view before and after, one stroke per bone.
         bones = b.evaluate("[...document.querySelectorAll('path.figure')].map((p) => (p.getAttribute('d').match(/M/g) || []).length)")
@@ -228,7 +245,7 @@ def check_skeletal(report, timing_csv, summary_path, shot=None, browser=None):
             drawings += new
             expect(f"X-sheet row {i} drawing", got[3][0], str(drawings) if new else "|")
         print(f"ok: {report}: {n} output frames, {len(sheet)} X-sheet rows, {drawings} drawings, "
-              f"{len(omitted)} omitted and {len(hidden_marks)} hidden marks, "
+              f"{len(omitted)} omitted, {len(hidden_marks)} hidden and {len(cut_marks)} cut marks, "
               f"{sum(1 for r in rows if r['kind'] == 'HELD')} HELD frames, {len(bones)} views of {joints - 1} bones")
         if shot:
             check_screenshot(b, shot, "#after svg")
@@ -394,6 +411,28 @@ AUDIO_JS = """new Promise((resolve) => {
 })"""
 
 
+def check_audio(browser, report, summary):
+    """The page's <audio> decodes the recording: metadata loaded, no error, its duration the
+    summary's within 50 ms."""
+    duration = float(summary_field(summary, r"(\S+): ([\d.]+) s, (\d+) Hz, (\d+) channels?").group(2))
+    audio = browser.evaluate(AUDIO_JS)
+    if audio["error"] is not None or audio["state"] < 1:
+        fail(f"{report}: the <audio> did not decode the recording: {audio}")
+    if abs(audio["duration"] - duration) > 0.05:
+        fail(f"{report}: <audio> lasts {audio['duration']} s, the summary says {duration} s")
+    print(f"ok: {report}: <audio> decodes {audio['src']}... ({audio['duration']:.3f} s, "
+          f"embedded {audio['embedded']})")
+
+
+def check_audio_only(report, summary_path):
+    import cdp
+    with cdp.Browser() as b:
+        b.open("file://" + os.path.abspath(report))
+        check_audio(b, report, open(summary_path).read())
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+
+
 def check_voice(report, summary_path, shot=None):
     """The report of `koma lipblink --audio`: the <audio> element decodes the recording (its
     duration is the summary's), the loudness plot's lines are the summary's noise floor and
@@ -410,13 +449,7 @@ def check_voice(report, summary_path, shot=None):
         [int(a), int(z) + 1] for a, z in re.findall(r"(\d+)-(\d+)(?: \([^)]*\))?", speech_text)]
     with cdp.Browser() as b:
         b.open("file://" + os.path.abspath(report))
-        audio = b.evaluate(AUDIO_JS)
-        if audio["error"] is not None or audio["state"] < 1:
-            fail(f"{report}: the <audio> did not decode the recording: {audio}")
-        if abs(audio["duration"] - duration) > 0.05:
-            fail(f"{report}: <audio> lasts {audio['duration']} s, the summary says {duration} s")
-        print(f"ok: {report}: <audio> decodes {audio['src']}... ({audio['duration']:.3f} s, "
-              f"embedded {audio['embedded']})")
+        check_audio(b, report, summary)
         got = b.evaluate("Object.fromEntries([...document.querySelectorAll('svg.loudness-plot line.level')].map((l) => [l.classList[1], +l.dataset.dbfs]))")
         for name, index in (("noise-floor", 1), ("threshold-start", 2), ("threshold-stay", 3), ("loud-level", 4)):
             want = float(levels.group(index))
@@ -682,6 +715,8 @@ def main(argv):
         check_xdts(*args)
     elif command == "voice":
         check_voice(*args)
+    elif command == "audio":
+        check_audio_only(*args)
     elif command == "player":
         check_player(*args)
     elif command == "camera":

@@ -136,8 +136,17 @@ case "$mode" in
       "${checks[@]}" lipblink "$work/$part.html" "$work/$part.txt" "" "$work/${part}_out.csv" \
         || fail "lipblink $part"
     done
+    # Cuts (issue 28) on clips made from a real BVH: a T-pose first frame (one cut) and a glitch
+    # frame (two cuts), marked on the speed plot at the summary's source frames.
+    "$python" "$here/../e2e/make_real_takes.py" "$here/../testdata/bvh_test1.bvh" "$work"
+    for clip in tpose glitch; do
+      "$koma" skeletal "$work/$clip.bvh" -o "$work/${clip}_out.bvh" --timing "$work/$clip.csv" \
+        --report "$work/$clip.html" --server "$target" >"$work/$clip.txt" || fail "koma skeletal $clip"
+      grep -q "cuts " "$work/$clip.txt" || fail "$clip: the summary names no cut"
+      "${checks[@]}" skeletal "$work/$clip.html" "$work/$clip.csv" "$work/$clip.txt" || fail "$clip: cut marks"
+    done
     "${checks[@]}" validate "$work"/v[1-7].html "$work/mouth_only.html" "$work/eyes_only.html" \
-      || fail "variants: HTML5"
+      "$work/tpose.html" "$work/glitch.html" || fail "variants: HTML5"
     ;;
   large)
     "$python" "$here/make_long_bvh.py" "$samples/pitch.bvh" "$work/long.bvh" 100000
@@ -176,6 +185,14 @@ case "$mode" in
       >"$work/linked.txt" || fail "koma lipblink --report-audio-max-bytes"
     grep -qF '"src":"../sound/take%201.flac"' "$work/sub/pages/linked.html" || fail "linked: no relative link"
     "${checks[@]}" voice "$work/sub/pages/linked.html" "$work/linked.txt" || fail "voice, linked"
+    # The page plays the other formats koma reads: WAV (16-bit, float), Ogg Vorbis, MP3.
+    for f in voice16.wav voice_float.wav voice.ogg voice.mp3; do
+      case $f in *float*) enc=(-e floating-point -b 32) ;; *16*) enc=(-b 16) ;; *) enc=() ;; esac
+      sox "$samples/voice.flac" "${enc[@]}" "$work/$f" || fail "sox $f"
+      "$koma" lipblink --audio "$work/$f" -o "$work/$f.motion3.json" --report "$work/$f.html" \
+        --server "$target" >"$work/$f.txt" || fail "koma lipblink --audio $f"
+      "${checks[@]}" audio "$work/$f.html" "$work/$f.txt" || fail "voice: $f"
+    done
     # Rhubarb cues in: no recording, the drawings and the face on the page's clock.
     "$koma" lipblink --audio "$samples/voice.flac" -o "$work/c.motion3.json" --cues "$work/cues.tsv" \
       --server "$target" >/dev/null || fail "koma lipblink --cues"
