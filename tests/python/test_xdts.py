@@ -364,12 +364,14 @@ def test_names_tools_choke_on_read_back_equal(server, client, tmp_path):
 
 def test_batch_writes_each_clips_sheet_as_the_single_command(server, tmp_path):
     out = tmp_path / "out"
-    run_cli("batch", "skeletal", source_path("samples/pitch.bvh"), source_path(REAL_BVHS[0]),
-            "-o", str(out), "--xdts", "--server", server.address, "--quiet")
-    for clip in (source_path("samples/pitch.bvh"), source_path(REAL_BVHS[0])):
-        name = os.path.basename(clip)[:-4]
+    clips = [source_path("samples/pitch.bvh"), source_path(REAL_BVHS[0]),
+             source_path("samples/wave.glb")]
+    run_cli("batch", "skeletal", *clips, "-o", str(out), "--xdts", "--server", server.address,
+            "--quiet")
+    for clip in clips:
+        name, extension = os.path.splitext(os.path.basename(clip))
         single = tmp_path / f"{name}.xdts"
-        run_cli("skeletal", clip, "-o", str(tmp_path / "x.bvh"), "--xdts", str(single),
+        run_cli("skeletal", clip, "-o", str(tmp_path / f"x{extension}"), "--xdts", str(single),
                 "--server", server.address)
         assert (out / f"{name}.xdts").read_bytes() == single.read_bytes()
     run_cli("batch", "lipblink", source_path("samples/talk_blink.motion3.json"), "-o", str(out),
