@@ -13,6 +13,8 @@
 #include "client/curves_convert.h"
 #include "client/files.h"
 #include "client/retime_call.h"
+#include "client/xdts_sheets.h"
+#include "formats/xdts.h"
 #include "core/film_grid.h"
 #include "core/lip_blink.h"
 #include "formats/error_text.h"
@@ -292,7 +294,9 @@ int RunLipBlinkSpine(const LipBlinkArgs& args, const CommandOutput& out, const C
         "--send-file, --report, --motion, --voice-motion-fps, --voice-output: not for a Spine "
         "skeleton (IN is the motion; its fps is the skeleton's)"));
   }
-  if (absl::Status s = CheckWritable({args.output, args.cues}); !s.ok()) return out.Failure(s);
+  if (absl::Status s = CheckWritable({args.output, args.cues, args.xdts}); !s.ok()) {
+    return out.Failure(s);
+  }
   const formats::SpineFile& file = *input.spine;
   absl::StatusOr<SpineLipBlinkSlots> slots = SpineLipBlinkSlotsOf(args, file);
   if (!slots.ok()) return out.UsageFailure(slots.status());
@@ -317,6 +321,14 @@ int RunLipBlinkSpine(const LipBlinkArgs& args, const CommandOutput& out, const C
       formats::WriteSpineAttachments(file, slots->animation, *timelines);
   if (!text.ok()) return out.Failure(text.status());
   if (absl::Status s = WriteFile(args.output, *text); !s.ok()) return out.Failure(s);
+  if (!args.xdts.empty()) {  // the exposure sheet of the same answer, as for a motion3.json
+    absl::StatusOr<formats::XdtsSheet> sheet =
+        LipBlinkXdtsSheet(response, file.fps, XdtsClipName(args.input, args.xdts));
+    if (!sheet.ok()) return out.Failure(sheet.status());
+    if (absl::Status s = WriteFile(args.xdts, formats::WriteXdts(*sheet)); !s.ok()) {
+      return out.Failure(s);
+    }
+  }
   if (!args.cues.empty() && HasVoice(args)) {
     const bool tsv = args.cues.size() >= 4 && args.cues.substr(args.cues.size() - 4) == ".tsv";
     if (absl::Status s = WriteFile(args.cues, tsv ? response.rhubarb_tsv() : response.rhubarb_json());
@@ -337,7 +349,8 @@ int RunLipBlinkSpine(const LipBlinkArgs& args, const CommandOutput& out, const C
     slot_list.push_back({{"slot", t.slot}, {"keys", std::move(keys)}});
   }
   summary["slots"] = std::move(slot_list);
-  out.Success(text_summary + "\n", summary, IsStdio(args.output) || IsStdio(args.cues));
+  out.Success(text_summary + "\n" + XdtsLine(args.xdts), summary,
+              IsStdio(args.output) || IsStdio(args.cues) || IsStdio(args.xdts));
   return kExitOk;
 }
 

@@ -9,6 +9,7 @@
 #include "absl/strings/str_join.h"
 #include "client/report/input_curves.h"
 #include "client/report/report_data.h"
+#include "client/xdts_sheets.h"
 #include "core/film_grid.h"
 
 namespace koma::client::report {
@@ -157,6 +158,7 @@ nlohmann::json CurvesReportWriter::Data() const {
                       {"histogram", histogram}});
   }
   data["curves"] = curves;
+  data["xdts"] = ExposureSheetData(CurvesXdtsSheet(r, XdtsClipName(input_name_, "")));
   return data;
 }
 

@@ -18,7 +18,11 @@ start_server "$server_bin"
 "$client_bin" lipblink "$samples/hero.json" --animation talk --audio "$samples/voice.flac" \
   --mouth-slot mouth --mouth-attachments mouth_closed,mouth_mid,mouth_open \
   --eye-slot eyes --eye-attachments eyes_open,eyes_half,eyes_closed --auto-blink 1.5 \
-  -o "$work/talk.json" --server "$target" >"$work/talk.txt" || fail "koma lipblink hero.json failed"
+  -o "$work/talk.json" --xdts "$work/talk.xdts" --server "$target" >"$work/talk.txt" ||
+  fail "koma lipblink hero.json failed"
+# The exposure sheet of the same answer: the slots as cell tracks.
+grep -qF 'mouth (1 closed, 2 mid, 3 open)' "$work/talk.xdts" || fail "talk.xdts lacks the mouth track"
+grep -qF 'eyes (1 open, 2 half, 3 closed)' "$work/talk.xdts" || fail "talk.xdts lacks the eye track"
 grep -q 'animation "talk" (new), slot mouth' "$work/talk.txt" || fail "summary: $(cat "$work/talk.txt")"
 # The same recording the ordinary way (a new motion3 at the skeleton's 30 fps), as cues.
 "$client_bin" lipblink --audio "$samples/voice.flac" --fps 30 -o "$work/ref.motion3.json" \
