@@ -3,6 +3,8 @@
 // (parse, build a response of the same shape, serialise it), on koma_load's synthetic requests.
 // The difference is the CPU that decides koma/echo throughput on the 2 cores once both servers
 // pay the same transport; measured here without the network's noise. Single-threaded.
+// BM_KomaSkeletalHandlerNoCuts is the same call with cuts off (cut_neighbour_ratio 0): the
+// cost of the default cut search (one more SSD pass over the source frames, issue 28).
 #include <benchmark/benchmark.h>
 
 #include <grpcpp/support/byte_buffer.h>
@@ -42,6 +44,27 @@ void BM_KomaSkeletalHandler(benchmark::State& state) {
   }
 }
 
+// The same request with cuts off: the handler skips the cut search.
+void BM_KomaSkeletalHandlerNoCuts(benchmark::State& state) {
+  v1::RetimeSkeletalRequest base =
+      load::SyntheticSkeletal(static_cast<int>(state.range(0)), /*joints=*/31, state.range(1),
+                              /*seed=*/1);
+  base.set_cut_neighbour_ratio(0);
+  const std::string serialised = base.SerializeAsString();
+  grpc::Slice slice(serialised.data(), serialised.size());
+  const grpc::ByteBuffer bytes(&slice, 1);
+  server::RequestLimits limits;
+  limits.threads_per_call = 1;
+  for (auto _ : state) {
+    google::protobuf::Arena arena;
+    auto* request = google::protobuf::Arena::CreateMessage<v1::RetimeSkeletalRequest>(&arena);
+    if (!server::ParseSkeletalRequest(bytes, request).ok()) state.SkipWithError("parse");
+    server::SkeletalAnswer answer;
+    if (!server::RetimeSkeletalAnswer(*request, limits, &answer).ok()) state.SkipWithError("call");
+    benchmark::DoNotOptimize(answer.bytes.begin());
+  }
+}
+
 void BM_EchoSkeletalHandler(benchmark::State& state) {
   const grpc::ByteBuffer bytes = RequestBytes(static_cast<int>(state.range(0)), state.range(1));
   for (auto _ : state) {
@@ -60,6 +83,8 @@ void BM_EchoSkeletalHandler(benchmark::State& state) {
 BENCHMARK(BM_KomaSkeletalHandler)->Args({129, 0})->Args({129, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_EchoSkeletalHandler)->Args({129, 0})->Args({129, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_KomaSkeletalHandler)->Args({100000, 0})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KomaSkeletalHandlerNoCuts)->Args({129, 0})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_KomaSkeletalHandlerNoCuts)->Args({100000, 0})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EchoSkeletalHandler)->Args({100000, 0})->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -162,6 +162,48 @@ std::string ParseErrorText(const CLI::ParseError& e) {
   return what;
 }
 
+// Flags that say the same thing another way: given on the line, the first replaces the
+// preset's second (the omission count and the omission rate).
+bool OnLine(const std::vector<std::string>& line, size_t command_index, const std::string& flag) {
+  for (size_t j = command_index + 1; j < line.size(); ++j) {
+    if (line[j] == "--") break;
+    if (line[j] == flag || absl::StartsWith(line[j], flag + "=")) return true;
+  }
+  return false;
+}
+
+// The preset's flags (name value pairs) without those the line states another way.
+std::vector<std::string> WithoutReplacedFlags(const std::vector<std::string>& flags,
+                                              const std::vector<std::string>& line,
+                                              size_t command_index) {
+  static const std::vector<std::pair<std::string, std::string>> replaces{
+      {"--omit", "--omissions-per-second"},
+      {"--omissions", "--omissions-per-second"},
+      {"--omissions-per-second", "--omit"},
+  };
+  std::vector<std::string> kept;
+  for (size_t j = 0; j + 1 < flags.size(); j += 2) {
+    bool replaced = false;
+    for (const auto& [on_line, in_preset] : replaces) {
+      replaced = replaced || (flags[j] == in_preset && OnLine(line, command_index, on_line));
+    }
+    if (!replaced) kept.insert(kept.end(), {flags[j], flags[j + 1]});
+  }
+  return kept;
+}
+
+// The omission count and rate are one setting: the one on the line (the preset's flags are on
+// it by now) replaces the other from a --config file. Both on the line stay, for
+// CheckSkeletalFlags to refuse.
+void KeepOneOmissionSetting(const std::vector<std::string>& line, size_t command_index,
+                            SkeletalArgs* args) {
+  const bool count = OnLine(line, command_index, "--omit") ||
+                     OnLine(line, command_index, "--omissions");
+  const bool rate = OnLine(line, command_index, "--omissions-per-second");
+  if (rate && !count) args->omissions.reset();
+  if (count && !rate) args->omissions_per_second.reset();
+}
+
 // --preset NAME: its flags, placed right after the command so that flags given on the line
 // win (a repeated option keeps its last value); a --config file's values lose to both.
 int ExpandPreset(const std::string& command, size_t command_index, std::vector<std::string>* line) {
@@ -191,7 +233,8 @@ int ExpandPreset(const std::string& command, size_t command_index, std::vector<s
         who + " --help");
   }
   line->erase(line->begin() + static_cast<long>(at), line->begin() + static_cast<long>(at + width));
-  line->insert(line->begin() + static_cast<long>(command_index) + 1, flags->begin(), flags->end());
+  const std::vector<std::string> kept = WithoutReplacedFlags(*flags, *line, command_index);
+  line->insert(line->begin() + static_cast<long>(command_index) + 1, kept.begin(), kept.end());
   return -1;
 }
 
@@ -238,6 +281,7 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
     return code;
   }
   for (const CLI::App* sub : app.get_subcommands()) out->command = sub->get_name();  // the one parsed
+  if (command == "skeletal") KeepOneOmissionSetting(line, command_index, &out->skeletal);
   return -1;
 }
 

@@ -15,10 +15,10 @@ const std::vector<std::string>* PresetFlags(const std::string& command, const st
   using Flags = std::vector<std::string>;
   static const std::map<std::string, std::map<std::string, Flags>> presets{
       {"skeletal",
-       {{"twos", {"--max-hold", "2"}},
-        {"threes", {"--max-hold", "3"}},
-        {"snappy", {"--omit", "6", "--max-hold", "3"}},
-        {"subtle", {"--omit", "2", "--max-hold", "2"}}}},
+       {{"twos", {"--drawings-per-second", "12"}},
+        {"threes", {"--drawings-per-second", "8"}},
+        {"snappy", {"--omissions-per-second", "1.5", "--drawings-per-second", "8"}},
+        {"subtle", {"--omissions-per-second", "0.5", "--drawings-per-second", "12"}}}},
       {"curves",
        {{"twos", {"--on", "2"}},
         {"threes", {"--on", "3"}},

@@ -14,6 +14,7 @@
 #include "client/files.h"
 #include "client/lip_blink_summary.h"
 #include "client/report/lip_blink_report.h"
+#include "client/report/lip_blink_voice_report.h"
 #include "client/retime_call.h"
 #include "koma/v1/retime.grpc.pb.h"
 
@@ -121,13 +122,13 @@ absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args) {
       return absl::InvalidArgumentError(
           "--motion, --cues, --voice-*: need a voice, --audio FILE or --rhubarb FILE");
     }
-  } else if (!args.report.empty()) {
-    return absl::InvalidArgumentError(
-        "--report: not available with --audio or --rhubarb (the report shows an input curve; "
-        "the voice's loudness and speech are in --json's \"voice\")");
+  }
+  if (args.report_audio_max_bytes && args.audio.empty()) {
+    return absl::InvalidArgumentError("--report-audio-max-bytes: needs --audio FILE");
   }
   if (HasVoice(args)) {
-    return CheckOneOnStdout({{"-o", args.output}, {"--cues", args.cues}}, args.json);
+    return CheckOneOnStdout(
+        {{"-o", args.output}, {"--cues", args.cues}, {"--report", args.report}}, args.json);
   }
   return CheckOneOnStdout({{"-o", args.output}, {"--report", args.report}}, args.json);
 }
@@ -204,7 +205,9 @@ int RunLipBlinkVoice(const LipBlinkArgs& args, const CommandOutput& out) {
     csv_output =
         format == CurveFormat::kCsv || (format == CurveFormat::kAuto && IsCsvPath(args.output));
   }
-  if (absl::Status s = CheckWritable({args.output, args.cues}); !s.ok()) return out.Failure(s);
+  if (absl::Status s = CheckWritable({args.output, args.cues, args.report}); !s.ok()) {
+    return out.Failure(s);
+  }
   absl::StatusOr<std::string> voice = ReadFile(voice_path);
   if (!voice.ok()) return out.Failure(voice.status());
   const v1::LipBlinkRequest request =
@@ -217,8 +220,25 @@ int RunLipBlinkVoice(const LipBlinkArgs& args, const CommandOutput& out) {
   if (absl::Status s = WriteLipBlinkVoiceOutputs(args, csv_output, response); !s.ok()) {
     return out.Failure(s);
   }
-  out.Success(LipBlinkVoiceSummaryText(args, response), LipBlinkVoiceSummaryJson(args, response),
-              IsStdio(args.output) || IsStdio(args.cues));
+  if (!args.report.empty()) {
+    report::VoiceReportSources sources;
+    sources.voice_name = voice_path;
+    sources.motion_name = motion_path;
+    // The curves' rate: the body motion's, or the new motion's (BuildLipBlinkVoiceRequest).
+    sources.motion_fps = input ? input->curves.fps : request.voice_motion_fps();
+    sources.audio = request.audio();
+    sources.audio_max_bytes =
+        args.report_audio_max_bytes.value_or(report::kDefaultReportAudioMaxBytes);
+    if (!args.audio.empty()) sources.audio_link = report::AudioLink(args.audio, args.report);
+    if (absl::Status s =
+            report::WriteLipBlinkVoiceReport(args.report, request, response, sources);
+        !s.ok()) {
+      return out.Failure(s);
+    }
+  }
+  out.Success(LipBlinkVoiceSummaryText(args, response) + ReportLine(args.report),
+              LipBlinkVoiceSummaryJson(args, response),
+              IsStdio(args.output) || IsStdio(args.cues) || IsStdio(args.report));
   return kExitOk;
 }
 

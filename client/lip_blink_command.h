@@ -57,6 +57,9 @@ struct LipBlinkArgs : CurveFileArgs {
   std::optional<int> bridge_gap_frames, min_speech_frames;
   std::optional<double> voice_motion_fps;  // --voice-motion-fps; unset: --fps
   std::string voice_output;                // --voice-output motion3|csv; empty: from -o
+  // --report-audio-max-bytes: a recording up to this size is embedded in --report's page,
+  // a larger one linked; unset: report::kDefaultReportAudioMaxBytes.
+  std::optional<int> report_audio_max_bytes;
 };
 
 // True when --audio or --rhubarb is given.

@@ -100,6 +100,10 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
             "frames per second of the motion written for a voice alone (default --fps, 30)");
   AddChoice(cmd, "--voice-output", &args.voice_output, {"motion3", "csv"},
             "the file of a voice alone (default: from -o's name)");
+  AddWholeNumber(cmd, "--report-audio-max-bytes", &args.report_audio_max_bytes, 0, INT32_MAX,
+                 "with --audio and --report: a recording up to this size is embedded in the "
+                 "page, a larger one linked by its path (default 16777216)")
+      ->type_name("BYTES");
   AddSeed(cmd, "--seed", &args.seed,
           "seed of the random mouth shapes and auto-blinks, 0 .. 2^64-1 (default 0x6b6f6d61)");
   AddCurveFileFlags(cmd, args, "mouth and blink holds are");

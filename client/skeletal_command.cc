@@ -128,6 +128,10 @@ absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArg
   }
   if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
   if (args.output_at_timing_rate) request.set_output_rate(v1::TIMING_RATE);
+  if (args.omissions_per_second) request.set_omissions_per_second(*args.omissions_per_second);
+  if (args.drawings_per_second) request.set_drawings_per_second(*args.drawings_per_second);
+  if (args.cut_neighbour_ratio) request.set_cut_neighbour_ratio(*args.cut_neighbour_ratio);
+  if (args.cut_median_ratio) request.set_cut_median_ratio(*args.cut_median_ratio);
   return request;
 }
 
@@ -161,6 +165,12 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
           {{"-o", args.output}, {"--timing", args.timing}, {"--report", args.report}}, args.json);
       !s.ok()) {
     return s;
+  }
+  if (args.omissions && args.omissions_per_second) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("--omit ", *args.omissions, " and --omissions-per-second ",
+                     *args.omissions_per_second,
+                     ": give one (a --config file may have set the other)"));
   }
   const FileFormat named = FormatFromName(args.output);
   if (named != FileFormat::kUnknown && named != FileFormat::kBvh && named != FileFormat::kGltf) {

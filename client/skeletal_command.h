@@ -40,6 +40,10 @@ struct SkeletalArgs : CallFlags {
   bool timing_only = false;           // --timing-only: no motion asked for, only the sheet written
   std::optional<double> timing_fps;   // --timing-fps: the film grid; unset: server default (24)
   bool output_at_timing_rate = false;  // --output-rate timing: write the BVH at the grid rate
+  std::optional<double> omissions_per_second;  // --omissions-per-second; not with --omit
+  std::optional<double> drawings_per_second;   // --drawings-per-second: 12 twos, 8 threes
+  std::optional<double> cut_neighbour_ratio;   // --cut-neighbour-ratio; 0: no cuts
+  std::optional<double> cut_median_ratio;      // --cut-median-ratio
   // glTF input (.glb, .gltf, .vrm, .vrma; client/skeletal_gltf.h):
   std::vector<std::string> animations;  // --gltf-animations NAME|INDEX,...; empty: every one
   bool retime_none = false;             // --gltf-retime-none: the file back, nothing retimed

@@ -27,6 +27,18 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
   AddWholeNumber(cmd, "--hold,--holds", &args.holds, 0, INT32_MAX,
                  "Nhf, hold steps (koma-dori): frames that repeat their predecessor where the "
                  "motion is stillest (default frames / 3)");
+  AddNumber(cmd, "--omissions-per-second", &args.omissions_per_second, AtLeast(0),
+            "omission rate: omissions per second of the clip (grid time), instead of --omit; "
+            "scales with the take's length (40 s at 1.0: 40)");
+  AddNumber(cmd, "--drawings-per-second", &args.drawings_per_second, Above(0),
+            "drawing rate: holds until the clip shows this many drawings a second (12 on "
+            "twos, 8 on threes at 24 fps); --max-hold defaults to the hold it needs");
+  AddNumber(cmd, "--cut-neighbour-ratio", &args.cut_neighbour_ratio, AtLeast(0),
+            "cuts: a jump at least this many times the SSD of the pairs around it splits the "
+            "clip into shots retimed separately (default 20; 0: no cuts)");
+  AddNumber(cmd, "--cut-median-ratio", &args.cut_median_ratio, AtLeast(0),
+            "cuts: a jump's SSD must also be above this many times the clip's median "
+            "(default 20)");
   AddWholeNumber(cmd, "--max-hold", &args.max_hold, 1, INT32_MAX,
                  "longest run of one drawing, in frames (grid frames with a film grid; "
                  "default 3, 'on threes')");

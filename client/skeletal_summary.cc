@@ -142,6 +142,13 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
         runs.front() * out_ms, runs.back() * out_ms, runs[runs.size() / 2] * out_ms,
         1000.0 * clip.frame_time);
   }
+  if (response.cut_frames_size() > 0) {
+    const std::vector<int> cuts(response.cut_frames().begin(), response.cut_frames().end());
+    absl::StrAppendFormat(&text,
+                          "  cuts       %3d; shots retimed separately start at source frames 0, "
+                          "%s\n",
+                          response.cut_frames_size(), absl::StrJoin(cuts, ", "));
+  }
   if (!args.timing.empty())
     absl::StrAppend(&text, "  timing sheet: ", OutputName(args.timing), "\n");
   return text;
@@ -182,6 +189,7 @@ nlohmann::json SkeletalSummaryJson(const SkeletalArgs& args, const SkeletalClip&
       std::vector<int>(response.hidden_frames().begin(), response.hidden_frames().end());
   j["duplicate_output_frames"] = OutputFramesOfKind(response, v1::DUPLICATE);
   j["held_output_frames"] = OutputFramesOfKind(response, v1::HELD);
+  j["cut_frames"] = std::vector<int>(response.cut_frames().begin(), response.cut_frames().end());
   return j;
 }
 

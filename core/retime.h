@@ -36,6 +36,10 @@ struct RetimeOptions {
   int max_hold = 3;         // longest run of one drawing the algorithm may create, in frames
   bool keep_length = true;  // re-insert a duplicate after each delete
   StepOrder order = StepOrder::kOmitThenHold;
+  // Step B stops before a hold step once the sequence shows at most this many drawings
+  // (distinct source frames); 0: no target, only `holds` bounds step B. Set from a drawing
+  // rate (docs/semantics.md, "Drawing rate").
+  int max_drawings = 0;
 };
 
 // The paper's defaults for a clip of `frame_count` frames: omissions = min(4, N - 3)
@@ -43,7 +47,8 @@ struct RetimeOptions {
 RetimeOptions DefaultRetimeOptions(int frame_count);
 
 // INVALID_ARGUMENT / OUT_OF_RANGE naming the option and value: frame_count >= 2;
-// omissions >= 0 and, when positive, < frame_count - 2; holds >= 0; max_hold >= 1.
+// omissions >= 0 and, when positive, < frame_count - 2; holds >= 0; max_hold >= 1;
+// max_drawings >= 0.
 absl::Status ValidateRetimeOptions(const RetimeOptions& options, int frame_count);
 
 struct TimingMap {

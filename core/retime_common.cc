@@ -40,6 +40,10 @@ absl::Status ValidateRetimeOptions(const RetimeOptions& options, int frame_count
     return absl::InvalidArgumentError(absl::StrCat(
         "max_hold: ", options.max_hold, " must be >= 1 (the longest run of one drawing)"));
   }
+  if (options.max_drawings < 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("max_drawings: ", options.max_drawings, " is negative"));
+  }
   if (options.order != StepOrder::kOmitThenHold && options.order != StepOrder::kHoldThenOmit) {
     return absl::InvalidArgumentError(
         absl::StrCat("order: ", static_cast<int>(options.order), " is not a StepOrder"));

@@ -199,6 +199,7 @@ class FastRetimer {
   CandidateHeap delete_heap_{true};  // largest SSD first
   CandidateHeap duplicate_heap_{false};
   SortedCandidateQueue hold_heap_;
+  int32_t live_runs_ = 0;  // runs alive: the drawings the sequence shows (max_drawings)
 };
 
 FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& options,
@@ -208,6 +209,7 @@ FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& opt
       runs_(distance.frame_count()),
       gone_in_(distance.frame_count(), Step::kNone) {
   const int32_t n = distance.frame_count();
+  live_runs_ = n;
   for (int32_t v = 0; v < n; ++v) {
     runs_[v].prev = v - 1;
     runs_[v].next = v + 1 < n ? v + 1 : kNoRun;
@@ -318,6 +320,7 @@ FrameKind FastRetimer::PopFront(int32_t v, Step step) {
   // The run empties: source frame v is no longer shown. v is never the first run (only
   // interior heads are edited), so prev exists; the new head of next is next itself.
   run.alive = false;
+  --live_runs_;
   gone_in_[v] = step;
   runs_[run.prev].next = run.next;
   if (run.next != kNoRun) {
@@ -377,6 +380,7 @@ void FastRetimer::RunHolds(TimingMap& map) {
   if (options_.holds <= 0) return;
   StartStep(Step::kHold);
   for (int i = 0; i < options_.holds; ++i) {
+    if (options_.max_drawings > 0 && live_runs_ <= options_.max_drawings) return;
     const CandidateEntry* best = BestHold();
     if (best == nullptr) return;  // no candidate remains: stop early
     const int32_t v = static_cast<int32_t>(best->run);

@@ -112,9 +112,17 @@ void RunOmissions(const FrameDistance& distance, const RetimeOptions& options, S
   }
 }
 
+// The drawings the sequence shows: its runs.
+int CountRuns(const Sequence& s) {
+  int runs = 0;
+  for (size_t t = 0; t < s.source.size(); ++t) runs += t == 0 || s.source[t] != s.source[t - 1];
+  return runs;
+}
+
 void RunHolds(const FrameDistance& distance, const RetimeOptions& options, Sequence& s,
               std::vector<Step>& gone_in, TimingMap& map) {
   for (int i = 0; i < options.holds; ++i) {
+    if (options.max_drawings > 0 && CountRuns(s) <= options.max_drawings) return;
     if (!HoldStillestFrame(distance, options, s, gone_in, map)) return;
     ++map.holds_applied;
   }

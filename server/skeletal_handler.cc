@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "core/forward_kinematics.h"
 #include "core/retime_grid.h"
+#include "core/retime_shots.h"
 #include "core/status_macros.h"
 #include "platform/thread_task_runner.h"
 #include "server/file_requests.h"
@@ -116,11 +117,13 @@ struct Retimed {
   std::vector<double> input_ssd;      // per grid frame with a grid, else per source frame
   std::vector<int32_t> grid_frames;   // with a grid: per output frame, its grid frame
   std::vector<int32_t> grid_samples;  // with a grid: per grid frame, its source frame
+  std::vector<int32_t> cuts;          // the first source frame of each shot after a cut
 };
 
-// The response fields after the motion (14 and up): what became of the duplicates (50, 51),
-// and the film grid's, empty without one.
+// The response fields after the motion (14 and up): the cuts (20), what became of the
+// duplicates (50, 51), and the film grid's, empty without one.
 void FillTailFields(const Retimed& retimed, v1::RetimeSkeletalResponse* response) {
+  response->mutable_cut_frames()->Add(retimed.cuts.begin(), retimed.cuts.end());
   response->set_duplicates_omitted(retimed.map.duplicates_omitted);
   response->set_duplicates_held(retimed.map.duplicates_held);
   if (!retimed.job.grid) return;
@@ -155,6 +158,35 @@ absl::StatusOr<FrameDistance> GridDistance(absl::Span<const double> positions, R
                                    joints, job.distance_options);
 }
 
+// A clip with cuts: each shot retimed as if it were alone, with its share of the counts
+// (docs/semantics.md, "Cuts and shots").
+absl::Status RetimeByShots(absl::Span<const double> positions, Retimed& out) {
+  const SkeletalJob& job = out.job;
+  std::vector<int32_t> starts{0};
+  starts.insert(starts.end(), out.cuts.begin(), out.cuts.end());
+  std::vector<int> lengths;  // counted frames per shot
+  for (size_t i = 0; i < starts.size(); ++i) {
+    const int n = (i + 1 < starts.size() ? starts[i + 1] : job.frame_count) - starts[i];
+    lengths.push_back(job.grid ? job.grid->GridFrameCount(n) : n);
+  }
+  ShotBudget budget;
+  budget.totals = job.retime_options;
+  budget.drawings_per_frame = job.drawings_per_frame;
+  budget.holds_per_frame_cap = job.holds_per_frame_cap;
+  absl::StatusOr<ShotsRetimed> shots =
+      RetimeShots(positions, job.frame_count, static_cast<int>(job.skeleton.joints.size()),
+                  job.distance_options, job.grid, !job.output_at_timing_rate, starts,
+                  ShotOptions(budget, lengths));
+  if (!shots.ok()) {
+    return absl::Status(shots.status().code(), absl::StrCat("motion: ", shots.status().message()));
+  }
+  out.map = std::move(shots->map);
+  out.input_ssd = std::move(shots->input_ssd);
+  out.grid_frames = std::move(shots->grid_frames);
+  out.grid_samples = std::move(shots->grid_samples);
+  return absl::OkStatus();
+}
+
 // Validates, runs forward kinematics (channel form) and RetimeFast.
 absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
                                const RequestLimits& limits) {
@@ -168,11 +200,24 @@ absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
   KOMA_ASSIGN_OR_RETURN(
       const absl::Span<const double> positions,
       WorldPositions(request.motion(), job, limits.threads_per_call, computed_positions));
+  const int joints = static_cast<int>(job.skeleton.joints.size());
+  if (job.cut_rule.neighbour_ratio != 0.0) {
+    absl::StatusOr<std::vector<double>> source_ssd =
+        SourceSsd(positions, job.frame_count, joints, job.distance_options);
+    if (!source_ssd.ok()) {
+      return absl::Status(source_ssd.status().code(),
+                          absl::StrCat("motion: ", source_ssd.status().message()));
+    }
+    out.cuts = FindCuts(*source_ssd, job.cut_rule);
+  }
+  if (!out.cuts.empty()) {
+    KOMA_RETURN_IF_ERROR(RetimeByShots(positions, out));
+    return out;
+  }
   std::vector<double> grid_positions;
   absl::StatusOr<FrameDistance> distance =
       job.grid ? GridDistance(positions, out, grid_positions)
-               : FrameDistance::CreateView(positions, job.frame_count,
-                                           static_cast<int>(job.skeleton.joints.size()),
+               : FrameDistance::CreateView(positions, job.frame_count, joints,
                                            job.distance_options);
   if (!distance.ok()) {
     // Inputs are finite here; what fails is their size after FK or the transforms.

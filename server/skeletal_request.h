@@ -12,6 +12,7 @@
 #include "core/distance.h"
 #include "core/film_grid.h"
 #include "core/retime.h"
+#include "core/retime_shots.h"
 #include "core/skeleton.h"
 #include "koma/v1/retime.pb.h"
 #include "server/request_limits.h"
@@ -29,6 +30,12 @@ struct SkeletalJob {
   // The film grid drawings are counted on; unset: count in source frames.
   std::optional<FilmGrid> grid;
   bool output_at_timing_rate = false;  // with a grid: write the motion at the grid's rate
+  // Cuts and shots (docs/semantics.md, "Cuts and shots"): the rule, and how the whole clip's
+  // counts become each shot's. retime_options already holds the drawing target and the hold
+  // bound of a drawing rate for the whole clip.
+  CutRule cut_rule;
+  double drawings_per_frame = 0.0;   // drawings_per_second / counted fps; 0: no rate
+  bool holds_per_frame_cap = false;  // drawings_per_second given, holds not
 };
 
 // Checks every field and returns INVALID_ARGUMENT, OUT_OF_RANGE or RESOURCE_EXHAUSTED with

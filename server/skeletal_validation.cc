@@ -187,12 +187,48 @@ absl::Status ConvertGrid(const v1::RetimeSkeletalRequest& request, int64_t work_
                          limits);
 }
 
+// INVALID_ARGUMENT unless `value` is finite and >= 0 (> 0 with `positive`).
+absl::Status CheckRate(double value, absl::string_view field, bool positive) {
+  if (std::isfinite(value) && (positive ? value > 0.0 : value >= 0.0)) return absl::OkStatus();
+  return absl::InvalidArgumentError(absl::StrCat(field, ": ", value, " must be finite and ",
+                                                 positive ? "> 0" : ">= 0", " (per second)"));
+}
+
+// The counts of frame_count counted frames at counted_fps frames per second (the grid's or the
+// source's): the defaults, the request's counts, or the counts its rates give (docs/semantics.md,
+// "Omission rate", "Drawing rate").
 absl::StatusOr<RetimeOptions> ConvertRetimeOptions(const v1::RetimeSkeletalRequest& request,
-                                                   int frame_count) {
+                                                   int frame_count, double counted_fps,
+                                                   SkeletalJob* job) {
   RetimeOptions options = DefaultRetimeOptions(frame_count);
+  if (request.has_omissions_per_second()) {
+    if (request.has_omissions()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "omissions_per_second: ", request.omissions_per_second(), " given with omissions: ",
+          request.omissions(), "; give one of the two"));
+    }
+    KOMA_RETURN_IF_ERROR(CheckRate(request.omissions_per_second(), "omissions_per_second", false));
+    options.omissions = OmissionsForRate(request.omissions_per_second(), frame_count, counted_fps);
+  }
   if (request.has_omissions()) options.omissions = request.omissions();
   if (request.has_holds()) options.holds = request.holds();
   if (request.has_max_hold()) options.max_hold = request.max_hold();
+  if (request.has_drawings_per_second()) {
+    const double rate = request.drawings_per_second();
+    KOMA_RETURN_IF_ERROR(CheckRate(rate, "drawings_per_second", true));
+    job->drawings_per_frame = rate / counted_fps;
+    // The hold the rate needs: ceil(fps / rate) counted frames, at least 1, at most the clip.
+    if (!request.has_max_hold()) {
+      options.max_hold = std::max(1, std::min(CeilOfRate(counted_fps / rate), frame_count));
+    }
+    options.max_drawings = std::max(1, CeilOfRate(frame_count * job->drawings_per_frame));
+    if (!request.has_holds()) {
+      job->holds_per_frame_cap = true;
+      options.holds = static_cast<int>(
+          std::min<int64_t>(int64_t{kHoldStepsPerFrameAndHold} * frame_count * options.max_hold,
+                            INT32_MAX));
+    }
+  }
   if (request.has_keep_length()) options.keep_length = request.keep_length();
   switch (request.order()) {
     case v1::STEP_ORDER_UNSPECIFIED:
@@ -225,12 +261,18 @@ absl::StatusOr<SkeletalJob> ValidateSkeletalRequest(const v1::RetimeSkeletalRequ
   const int joints = static_cast<int>(job.skeleton.joints.size());
   KOMA_ASSIGN_OR_RETURN(job.distance_options, ConvertDistanceOptions(request, joints));
   KOMA_RETURN_IF_ERROR(ConvertGrid(request, 3LL * joints, limits, &job));
+  if (request.has_cut_neighbour_ratio()) job.cut_rule.neighbour_ratio = request.cut_neighbour_ratio();
+  if (request.has_cut_median_ratio()) job.cut_rule.median_ratio = request.cut_median_ratio();
+  KOMA_RETURN_IF_ERROR(ValidateCutRule(job.cut_rule));
   if (!job.grid) {
-    KOMA_ASSIGN_OR_RETURN(job.retime_options, ConvertRetimeOptions(request, job.frame_count));
+    KOMA_ASSIGN_OR_RETURN(job.retime_options,
+                          ConvertRetimeOptions(request, job.frame_count,
+                                               1.0 / request.motion().frame_time(), &job));
   } else {
     // Omissions, holds, max_hold and their defaults count grid frames.
     const int grid_frames = job.grid->GridFrameCount(job.frame_count);
-    absl::StatusOr<RetimeOptions> options = ConvertRetimeOptions(request, grid_frames);
+    absl::StatusOr<RetimeOptions> options =
+        ConvertRetimeOptions(request, grid_frames, job.grid->timing_fps(), &job);
     if (!options.ok()) {
       return absl::Status(
           options.status().code(),

@@ -10,6 +10,7 @@
 #include "client/files.h"
 #include "client/report/curves_report.h"
 #include "client/report/lip_blink_report.h"
+#include "client/report/lip_blink_voice_report.h"
 #include "client/file_format.h"
 #include "client/report/skeletal_report.h"
 #include "client/skeletal_gltf.h"
@@ -219,7 +220,18 @@ class LipBlinkVoiceCall final : public Clip {
     args.audio = item.input;
     args.output = item.output;
     args.cues.clear();
-    return WriteLipBlinkVoiceOutputs(args, /*csv_output=*/false, response_);
+    if (absl::Status s = WriteLipBlinkVoiceOutputs(args, /*csv_output=*/false, response_);
+        !s.ok() || item.report.empty()) {
+      return s;
+    }
+    report::VoiceReportSources sources;
+    sources.voice_name = item.input;
+    sources.motion_fps = request_.voice_motion_fps();
+    sources.audio = request_.audio();
+    sources.audio_max_bytes =
+        args_.report_audio_max_bytes.value_or(report::kDefaultReportAudioMaxBytes);
+    sources.audio_link = report::AudioLink(item.input, item.report);
+    return report::WriteLipBlinkVoiceReport(item.report, request_, response_, sources);
   }
 
  private:
@@ -234,10 +246,6 @@ class LipBlinkRpc final : public Rpc {
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
     if (IsAudioPath(item.input)) {
-      if (!item.report.empty()) {
-        return absl::InvalidArgumentError(
-            absl::StrCat(item.input, ": --report is not available for recordings"));
-      }
       absl::StatusOr<std::string> audio = ReadFile(item.input);
       if (!audio.ok()) return audio.status();
       return std::make_unique<LipBlinkVoiceCall>(args_, item.input, *std::move(audio));

@@ -181,6 +181,7 @@ nlohmann::json SkeletalReportWriter::Data() const {
   counts.push_back({"HELD output frames", held});
   counts.push_back({"DUPLICATE output frames", duplicated});
   counts.push_back({"drawings", drawings});
+  if (r.cut_frames_size() > 0) counts.push_back({"cuts (shots retimed separately)", r.cut_frames_size()});
 
   nlohmann::json data;
   data["header"] = Header("RetimeSkeletal", input_name_, options, counts);
@@ -197,6 +198,8 @@ nlohmann::json SkeletalReportWriter::Data() const {
       std::vector<int>(r.grid_source_frames().begin(), r.grid_source_frames().end());
   data["deleted"] = std::vector<int>(r.deleted_frames().begin(), r.deleted_frames().end());
   data["hidden"] = std::vector<int>(r.hidden_frames().begin(), r.hidden_frames().end());
+  // Per cut, the source frame that starts the shot after it (docs/semantics.md, Cuts and shots).
+  data["cuts"] = std::vector<int>(r.cut_frames().begin(), r.cut_frames().end());
   // input_ssd has one value per grid frame with a grid, else per source frame.
   data["ssd"] = ThinnedPlot(absl::MakeConstSpan(r.input_ssd().data(), r.input_ssd_size()),
                             grid ? 1.0 / r.timing_fps() : frame_time_in);

@@ -62,6 +62,14 @@ def _parser():
     p.add_argument("--omit", type=int, help="inbetween omissions Nio (default 4)")
     p.add_argument("--hold", type=int, help="holds Nhf (default frames / 3)")
     p.add_argument("--max-hold", type=int, help="longest run of one drawing (default 3)")
+    p.add_argument("--omissions-per-second", type=float,
+                   help="omission rate per second of the clip, instead of --omit")
+    p.add_argument("--drawings-per-second", type=float,
+                   help="drawing rate: 12 on twos, 8 on threes (24 fps grid)")
+    p.add_argument("--cut-neighbour-ratio", type=float,
+                   help="cuts: isolated jump ratio to its neighbours (default 20; 0: no cuts)")
+    p.add_argument("--cut-median-ratio", type=float,
+                   help="cuts: jump ratio to the clip's median SSD (default 20)")
     p.add_argument("--no-keep-length", action="store_true",
                    help="do not re-insert duplicates after omissions")
     p.add_argument("--hold-first", action="store_true", help="run holds before omissions")
@@ -149,7 +157,11 @@ def _run(args):
                 keep_length=not args.no_keep_length,
                 order="HOLD_THEN_OMIT" if args.hold_first else "OMIT_THEN_HOLD",
                 root_relative=args.root_relative, timing_fps=args.timing_fps,
-                output_rate="TIMING_RATE" if args.output_rate == "timing" else None)
+                output_rate="TIMING_RATE" if args.output_rate == "timing" else None,
+                omissions_per_second=args.omissions_per_second,
+                drawings_per_second=args.drawings_per_second,
+                cut_neighbour_ratio=args.cut_neighbour_ratio,
+                cut_median_ratio=args.cut_median_ratio)
             result.write(args.output)
             c = result.counts
             print(f"{args.input} -> {args.output} ({c['frames']} frames): omitted "

@@ -191,10 +191,12 @@ class Client:
                 "HOLD_THEN_OMIT"), joint_weights (list of float), root_relative (bool),
                 camera (16 floats, column-major view-projection), return_motion (bool),
                 timing_fps (frames per second of the film grid; unset 24, 0 none),
-                output_rate ("SOURCE_RATE" or "TIMING_RATE"), and for glTF gltf_animations
-                (names or indices as str), gltf_retime_none, gltf_source_fps, gltf_keys
-                ("GLTF_KEYS_STEP" or "GLTF_KEYS_LINEAR"), gltf_keep_original. Frame counts are
-                in grid frames when a grid is used.
+                output_rate ("SOURCE_RATE" or "TIMING_RATE"), omissions_per_second (an
+                omission rate instead of omissions), drawings_per_second (12 on twos, 8 on
+                threes), cut_neighbour_ratio and cut_median_ratio (cuts; 0: none), and for glTF
+                gltf_animations (names or indices as str), gltf_retime_none, gltf_source_fps,
+                gltf_keys ("GLTF_KEYS_STEP" or "GLTF_KEYS_LINEAR"), gltf_keep_original. Frame
+                counts are in grid frames when a grid is used.
 
         Returns:
             SkeletalResult: with a BVH source, .output is the retimed BVH text, byte for

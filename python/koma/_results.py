@@ -52,6 +52,8 @@ class SkeletalResult(_Result):
         timing_fps: the film grid used in frames per second; 0 when counting source frames.
         grid_frames, grid_source_frames: with a grid, per output frame its grid frame, and
             per grid frame its sampled source frame.
+        cut_frames: per cut (an isolated jump such as a T-pose first frame), the source frame
+            starting the shot after it; [] for a clip of one shot.
         frame_time: seconds per output frame (with a decoded motion or a file), else None.
         response: the koma.v1.RetimeSkeletalResponse message itself.
     """
@@ -75,6 +77,7 @@ class SkeletalResult(_Result):
         self.timing_fps = response.timing_fps
         self.grid_frames = list(response.grid_frames)
         self.grid_source_frames = list(response.grid_source_frames)
+        self.cut_frames = list(response.cut_frames)
         self.frame_time = response.motion.frame_time if response.HasField("motion") else None
         self.counts = {
             "frames": len(self.source_frames),

@@ -97,11 +97,21 @@ TEST(CliParseTest, VersionAndHelpExitZero) {
 TEST(CliParseTest, PresetsAreFlagsThatLaterFlagsOverride) {
   Parsed p = Parse({"skeletal", kBvh, "-o", "o.bvh", "--preset", "snappy"});
   ASSERT_EQ(p.code, -1);
-  EXPECT_EQ(p.line.skeletal.omissions, 6);
-  EXPECT_EQ(p.line.skeletal.max_hold, 3);
+  EXPECT_EQ(p.line.skeletal.omissions, std::nullopt);
+  EXPECT_EQ(p.line.skeletal.omissions_per_second, 1.5);
+  EXPECT_EQ(p.line.skeletal.drawings_per_second, 8.0);
+  EXPECT_EQ(p.line.skeletal.max_hold, std::nullopt);  // the server's: the hold the rate needs
   p = Parse({"skeletal", kBvh, "--omit", "1", "-o", "o.bvh", "--preset=snappy"});
   ASSERT_EQ(p.code, -1);
   EXPECT_EQ(p.line.skeletal.omissions, 1);  // given on the line: wins wherever it stands
+  EXPECT_EQ(p.line.skeletal.omissions_per_second, std::nullopt);  // and replaces the preset's rate
+  EXPECT_EQ(p.line.skeletal.drawings_per_second, 8.0);
+  p = Parse({"skeletal", kBvh, "-o", "o.bvh", "--preset", "threes", "--drawings-per-second", "6"});
+  ASSERT_EQ(p.code, -1);
+  EXPECT_EQ(p.line.skeletal.drawings_per_second, 6.0);
+  p = Parse({"skeletal", kBvh, "-o", "o.bvh", "--preset", "twos"});
+  ASSERT_EQ(p.code, -1);
+  EXPECT_EQ(p.line.skeletal.drawings_per_second, 12.0);
   p = Parse({"curves", kBvh, "-o", "o.json", "--preset", "snappy"});
   ASSERT_EQ(p.code, -1);
   EXPECT_EQ(p.line.curves.frames_per_drawing, 3);
@@ -126,7 +136,19 @@ TEST(CliParseTest, ConfigFileLosesToPresetAndFlags) {
   p = Parse({"--config", config, "skeletal", kBvh, "-o", "o.bvh", "--preset", "twos"});
   ASSERT_EQ(p.code, -1);
   EXPECT_EQ(p.line.skeletal.omissions, 5);
-  EXPECT_EQ(p.line.skeletal.max_hold, 2);
+  EXPECT_EQ(p.line.skeletal.drawings_per_second, 12.0);
+  EXPECT_EQ(p.line.skeletal.max_hold, 1);  // the preset sets no max-hold: the config's stays
+  // The preset's omission rate wins over the config's count (not both: the server refuses
+  // that); a count on the line wins over both.
+  p = Parse({"--config", config, "skeletal", kBvh, "-o", "o.bvh", "--preset", "snappy"});
+  ASSERT_EQ(p.code, -1);
+  EXPECT_EQ(p.line.skeletal.omissions, std::nullopt);
+  EXPECT_EQ(p.line.skeletal.omissions_per_second, 1.5);
+  p = Parse({"--config", config, "skeletal", kBvh, "-o", "o.bvh", "--preset", "snappy", "--omit",
+             "2"});
+  ASSERT_EQ(p.code, -1);
+  EXPECT_EQ(p.line.skeletal.omissions, 2);
+  EXPECT_EQ(p.line.skeletal.omissions_per_second, std::nullopt);
   p = Parse({"--config", config, "skeletal", kBvh, "-o", "o.bvh", "--max-hold", "3", "--server",
              "here:2"});
   ASSERT_EQ(p.code, -1);

@@ -103,6 +103,10 @@ const std::map<std::string, FieldCase>& Cases() {
       {"RetimeSkeletalRequest.return_motion", {{"false"}, "false", {"--timing", "t.csv"}}},
       {"RetimeSkeletalRequest.timing_fps", {{"30"}, "30"}},
       {"RetimeSkeletalRequest.output_rate", {{"timing"}, "TIMING_RATE"}},
+      {"RetimeSkeletalRequest.cut_neighbour_ratio", {{"0"}, "0"}},
+      {"RetimeSkeletalRequest.cut_median_ratio", {{"12.5"}, "12.5"}},
+      {"RetimeSkeletalRequest.omissions_per_second", {{"1.5"}, "1.5"}},
+      {"RetimeSkeletalRequest.drawings_per_second", {{"8"}, "8"}},
       {"RetimeSkeletalRequest.gltf_animations", {{"Wave,0"}, "\"Wave\", \"0\"", {}, "", kWave}},
       {"RetimeSkeletalRequest.gltf_retime_none", {{}, "true", {}, "", kWave}},
       {"RetimeSkeletalRequest.gltf_source_fps", {{"24"}, "24", {}, "", kWave}},
@@ -317,8 +321,8 @@ TEST(RequestFlagsTest, WalksEveryField) {
   for (const auto& [key, unused] : Cases()) {
     EXPECT_TRUE(walked.count(key)) << key << ": a case for a field the proto does not have";
   }
-  // 17 + 13 + 35 fields today; the count catches a settings message walked wrongly.
-  EXPECT_EQ(paths.size(), 65u);
+  // 21 + 13 + 35 fields today; the count catches a settings message walked wrongly.
+  EXPECT_EQ(paths.size(), 69u);
 }
 
 TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {

@@ -362,12 +362,18 @@ base = ["skeletal", BVH, "-o", w("cfg.bvh")]
 check(settings(["--config", w("koma.toml")] + base + ["--server", target]) == (5, 1), "config")
 env = dict(os.environ, KOMA_CONFIG=w("koma.toml"))
 check(settings(base + ["--server", target], env=env) == (5, 1), "$KOMA_CONFIG")
-check(settings(base + ["--server", target, "--preset", "twos"], env=env) == (5, 2),
+# The skeletal presets set rates (docs/usage.md): snappy's 1.5 omissions a second replace the
+# config's count (130 frames at 24 fps: 8), --omit on the line replaces the preset's rate; a
+# preset sets no max-hold, so the config's stays; without one the drawing rate's hold applies.
+check(settings(base + ["--server", target, "--preset", "snappy"], env=env) == (8, 1),
       "preset over config")
-check(settings(base + ["--server", target, "--preset", "snappy"], env=env) == (6, 3), "snappy")
+check(settings(base + ["--server", target, "--preset", "snappy", "--omit", "6"], env=env)
+      == (6, 1), "flags over preset")
 check(settings(base + ["--server", target, "--preset", "snappy", "--max-hold", "2"], env=env)
-      == (6, 2), "flags over preset")
-check(settings(base + ["--preset=subtle", "--server", target]) == (2, 2), "subtle")
+      == (8, 2), "flags over preset and config")
+check(settings(base + ["--preset=twos", "--server", target]) == (4, 2), "twos")
+check(settings(base + ["--preset=threes", "--server", target]) == (4, 3), "threes")
+check(settings(base + ["--preset=subtle", "--server", target]) == (3, 2), "subtle")
 
 # koma batch reads the same file: its [skeletal] section is `koma batch skeletal`'s, flags on
 # the line win, and each output is the single command's with those values.

@@ -5,6 +5,7 @@ import math
 import os
 import pathlib
 import subprocess
+import sys
 
 import grpc
 import pytest
@@ -341,6 +342,44 @@ def test_import_path_is_the_built_package():
     from koma.v1 import retime_pb2
     assert "bvh_text" in retime_pb2.RetimeSkeletalRequest.DESCRIPTOR.fields_by_name
     assert "csv_fps" in retime_pb2.LipBlinkRequest.DESCRIPTOR.fields_by_name
+
+
+def test_real_take_cuts_rates_and_presets(client, server, tmp_path):
+    """Issue 28 from Python: a T-pose first frame is a cut that comes out as it went in, the
+    omission rate scales with the take, a drawing rate of 8 gives a median hold of 3, and
+    `python3 -m koma` passes the new flags as the C++ CLI does."""
+    from conftest import run_cli, run_python_cli
+    sys.path.insert(0, source_path("tests", "e2e"))
+    import make_real_takes  # tests/e2e/make_real_takes.py
+    make_real_takes.main(source_path("tests", "testdata", "bvh_test1.bvh"), str(tmp_path))
+    tpose = client.retime_skeletal(str(tmp_path / "tpose.bvh"))
+    assert tpose.cut_frames == [1]
+    assert tpose.source_frames[0] == 0 and tpose.source_frames.count(0) == 1
+    assert all(d > 1 for d in tpose.deleted_frames)
+    long_take = client.retime_skeletal(str(tmp_path / "long.bvh"), omissions_per_second=1.0)
+    assert long_take.cut_frames == []
+    assert long_take.counts["omissions_requested"] == 40  # 40 s
+    threes = client.retime_skeletal(source_path("samples", "pitch.bvh"), drawings_per_second=8.0)
+    runs = []
+    for t, frame in enumerate(threes.source_frames):
+        if t == 0 or frame != threes.source_frames[t - 1]:
+            runs.append(0)
+        runs[-1] += 1
+    runs.sort()
+    assert runs[(len(runs) - 1) // 2] == 3 and threes.counts["max_hold"] == 3
+    with pytest.raises(koma.KomaError) as error:
+        client.retime_skeletal(source_path("samples", "pitch.bvh"), omissions=2,
+                               omissions_per_second=1.0)
+    assert error.value.code.name == "INVALID_ARGUMENT"
+    assert "omissions_per_second" in error.value.message
+    out = tmp_path / "threes.bvh"
+    done = run_python_cli("skeletal", source_path("samples", "pitch.bvh"), "-o", str(out),
+                          "--drawings-per-second", "8", "--server", server.address)
+    assert done.returncode == 0, done.stderr
+    cli_out = tmp_path / "threes_cli.bvh"
+    run_cli("skeletal", source_path("samples", "pitch.bvh"), "-o", str(cli_out), "--preset",
+            "threes", "--server", server.address)
+    assert out.read_bytes() == cli_out.read_bytes()
 
 
 WAVE = source_path("samples", "wave.glb")

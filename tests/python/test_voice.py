@@ -188,3 +188,91 @@ def test_batch_over_a_folder_of_recordings(server, voices, tmp_path):
         written = out / (stem + ".motion3.json")
         _, single = lipblink(server, tmp_path, voices["files"][name], out=stem + ".single.json")
         assert written.read_bytes() == single.read_bytes(), name
+
+
+def page_data(path):
+    """The JSON a koma report carries in <script type="application/json" id="koma-data">."""
+    text = open(path, encoding="utf-8").read()
+    begin = text.index('id="koma-data">') + len('id="koma-data">')
+    return json.loads(text[begin:text.index("</script>", begin)])
+
+
+def embedded_audio(data):
+    import base64
+    mime, payload = data["audio"]["src"].split(",", 1)
+    assert mime.startswith("data:audio/") and mime.endswith(";base64"), mime
+    return base64.b64decode(payload)
+
+
+def test_report_of_a_recording(server, voices, tmp_path):
+    audio = voices["files"]["wav16-16k"]
+    report = tmp_path / "voice.html"
+    summary, _ = lipblink(server, tmp_path, audio, "--auto-blink", "3", "--report", str(report))
+    assert summary["outputs"]["report"] == str(report)
+    data = page_data(report)
+    # The recording, byte for byte, and the analysis the server answered.
+    assert data["audio"]["embedded"] is True and data["audio"]["mime"] == "audio/wav"
+    assert embedded_audio(data) == open(audio, "rb").read()
+    voice = data["voice"]
+    assert [{"begin": b, "end": e} for b, e in voice["speech"]] == summary["voice"]["speech"]
+    for key in ("noise_floor_dbfs", "start_dbfs", "stay_dbfs", "loud_dbfs"):
+        assert abs(voice[key] - summary["voice"][key]) <= 1e-5 * abs(summary["voice"][key]), key
+    assert voice["frames"] == len(voice["loudness"]["y"]) > 0
+    assert data["mouths"][0]["holds"] == [[h["begin"], h["length"], h["shape"].lower()]
+                                          for h in summary["mouths"][0]["holds"]]
+    # --report - writes the same page on standard output; with -o - too it is refused.
+    done = run_cli("lipblink", "--audio", audio, "-o", str(tmp_path / "y.motion3.json"),
+                   "--auto-blink", "3", "--report", "-", "--server", server.address)
+    assert done.stdout == report.read_text(encoding="utf-8")
+    refused = run_cli("lipblink", "--audio", audio, "-o", "-", "--report", "-",
+                      "--server", server.address, check=False)
+    assert refused.returncode == 2 and "--report -" in refused.stderr, refused.stderr
+    # The limit is the voice's: without --audio it is a usage error.
+    refused = run_cli("lipblink", source_path("samples/talk_blink.motion3.json"), "-o",
+                      str(tmp_path / "z.csv"), "--report-audio-max-bytes", "5",
+                      "--server", server.address, check=False)
+    assert refused.returncode == 2 and "--report-audio-max-bytes" in refused.stderr
+
+
+def test_report_links_a_large_recording(server, voices, tmp_path):
+    audio = voices["files"]["flac"]
+    (tmp_path / "pages").mkdir()
+    report = tmp_path / "pages" / "r.html"
+    lipblink(server, tmp_path, audio, "--report", str(report), "--report-audio-max-bytes", "1000")
+    data = page_data(report)
+    assert data["audio"]["embedded"] is False and data["audio"]["mime"] == "audio/flac"
+    # Relative to the page's folder, and it names the recording.
+    assert os.path.realpath(os.path.join(report.parent, data["audio"]["src"])) == \
+        os.path.realpath(audio)
+    assert os.path.getsize(report) < os.path.getsize(audio) + 200000
+
+
+def test_batch_reports_of_recordings(server, voices, tmp_path):
+    folder = tmp_path / "takes"
+    folder.mkdir()
+    source = voices["files"]["flac"]
+    (folder / "take.flac").write_bytes(open(source, "rb").read())
+    out = tmp_path / "out"
+    done = run_cli("batch", "lipblink", str(folder), "-o", str(out), "--report",
+                   "--server", server.address, "--quiet")
+    assert done.returncode == 0, done.stderr
+    data = page_data(out / "take.report.html")
+    assert embedded_audio(data) == open(source, "rb").read()
+    summary, _ = lipblink(server, tmp_path, str(folder / "take.flac"))
+    assert [{"begin": b, "end": e} for b, e in data["voice"]["speech"]] == summary["voice"]["speech"]
+
+
+def test_report_of_a_voice_merged_into_a_body_motion(server, voices, tmp_path):
+    body = source_path("samples", "arm_head.motion3.json")
+    report = tmp_path / "merged.html"
+    summary, _ = lipblink(server, tmp_path, voices["files"]["ogg-vorbis"], "--motion", body,
+                          "--report", str(report), out="merged.csv")
+    data = page_data(report)
+    # The player runs over the body motion's frames at its rate, the mouth the server wrote.
+    assert data["fps"] == summary["fps"] and data["frames"] == summary["frames"]
+    assert data["audio"]["mime"] == "audio/ogg"
+    mouth = next(c for c in data["curves"] if c["id"] == "ParamMouthOpenY")
+    rows = open(tmp_path / "merged.csv").read().splitlines()
+    column = rows[0].split(",").index("ParamMouthOpenY")
+    assert mouth["frames_after"] == [float(r.split(",")[column]) for r in rows[1:]]
+    assert dict(data["header"]["options"])["motion"] == body

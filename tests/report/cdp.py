@@ -31,7 +31,10 @@ class Browser:
         self.proc = subprocess.Popen(
             [find_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
              "--disable-extensions", "--disable-background-networking", "--hide-scrollbars",
-             "--mute-audio", f"--user-data-dir={self.profile}", f"--window-size={width},{height}",
+             # A click from the tests is no user gesture: let the voice report's Play start
+             # its <audio> as a reader's click would (muted).
+             "--mute-audio", "--autoplay-policy=no-user-gesture-required",
+             f"--user-data-dir={self.profile}", f"--window-size={width},{height}",
              "--remote-debugging-pipe", "about:blank"],
             # close_fds runs after preexec_fn: keep the duplicated 3 and 4.
             pass_fds=(3, 4), preexec_fn=wire,

@@ -4,6 +4,8 @@
   report_checks.py skeletal REPORT TIMING_CSV SUMMARY [SHOT.png]
   report_checks.py curves REPORT DRAWING_CSV SUMMARY [SHOT.png]
   report_checks.py lipblink REPORT SUMMARY [SHOT.png [VALUES_CSV]]
+  report_checks.py voice REPORT SUMMARY [SHOT.png]
+  report_checks.py audio REPORT SUMMARY
   report_checks.py player REPORT TIMING_CSV
   report_checks.py bones REPORT BVH
   report_checks.py camera REPORT
@@ -158,6 +160,22 @@ def check_skeletal(report, timing_csv, summary_path, shot=None, browser=None):
         expect("omitted marks", omitted, deleted)
         hidden_marks = b.evaluate("[...document.querySelectorAll('line.mark-hidden')].map((l) => +l.dataset.frame)")
         expect("hidden-by-hold marks", hidden_marks, hidden)
+        # Cuts (issue 28): one dashed mark per cut on the speed plot, at the source frame that
+        # starts the shot after it, and a legend entry counting them; none on a clip of one shot.
+        m = re.search(r"cuts +(\d+); shots retimed separately start at source frames 0, (.*)", summary)
+        cuts = [int(v) for v in m.group(2).split(", ")] if m else []
+        if m:
+            expect("cuts counted in the summary", int(m.group(1)), len(cuts))
+        cut_marks = b.evaluate("[...document.querySelectorAll('#ssd-plot line.mark-cut')].map((l) => +l.dataset.frame)")
+        expect("cut marks", cut_marks, cuts)
+        cut_legend = b.evaluate("[...document.querySelectorAll('.legend > span')].map((e) => e.textContent).filter((t) => t.startsWith('cuts: '))")
+        expect("cut legend entries", cut_legend,
+               [f"cuts: shots retimed separately ({len(cuts)})"] if cuts else [])
+        if cuts:
+            # The marks sit at the cut frames' source times on the plot's time axis, in order.
+            xs = b.evaluate("[...document.querySelectorAll('#ssd-plot line.mark-cut')].map((l) => +l.getAttribute('x1'))")
+            if xs != sorted(xs) or len(set(xs)) != len(xs):
+                fail(f"cut marks not at distinct increasing x: {xs}")
         expect("SSD curve drawn", b.evaluate("document.getElementById('ssd-curve').getAttribute('d').length > 10"), True)
         # The figures: front and side (or camera) view before and after, one stroke per bone.
         bones = b.evaluate("[...document.querySelectorAll('path.figure')].map((p) => (p.getAttribute('d').match(/M/g) || []).length)")
@@ -187,7 +205,7 @@ def check_skeletal(report, timing_csv, summary_path, shot=None, browser=None):
             drawings += new
             expect(f"X-sheet row {i} drawing", got[3][0], str(drawings) if new else "|")
         print(f"ok: {report}: {n} output frames, {len(sheet)} X-sheet rows, {drawings} drawings, "
-              f"{len(omitted)} omitted and {len(hidden_marks)} hidden marks, "
+              f"{len(omitted)} omitted, {len(hidden_marks)} hidden and {len(cut_marks)} cut marks, "
               f"{sum(1 for r in rows if r['kind'] == 'HELD')} HELD frames, {len(bones)} views of {joints - 1} bones")
         if shot:
             check_screenshot(b, shot, "#after svg")
@@ -336,6 +354,100 @@ def check_lipblink(report, summary_path, shot=None, values_csv=None):
         if values_csv:
             check_face(b, values_csv, mouths, eyes)
         print(f"ok: {report}: {len(mouths)} mouth and {len(eyes)} eye curves, shapes, speech and blinks as summarised")
+        if shot:
+            check_screenshot(b, shot)
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+
+
+AUDIO_JS = """new Promise((resolve) => {
+  const a = document.getElementById('voice-audio');
+  const done = () => resolve({state: a.readyState, duration: a.duration, error: a.error ? a.error.code : null,
+                              src: a.getAttribute('src').slice(0, 40), embedded: a.dataset.embedded});
+  if (a.readyState >= 1 || a.error) { done(); return; }
+  a.addEventListener('loadedmetadata', done);
+  a.addEventListener('error', done);
+  setTimeout(done, 15000);
+})"""
+
+
+def check_audio(browser, report, summary):
+    """The page's <audio> decodes the recording: metadata loaded, no error, its duration the
+    summary's within 50 ms."""
+    duration = float(summary_field(summary, r"(\S+): ([\d.]+) s, (\d+) Hz, (\d+) channels?").group(2))
+    audio = browser.evaluate(AUDIO_JS)
+    if audio["error"] is not None or audio["state"] < 1:
+        fail(f"{report}: the <audio> did not decode the recording: {audio}")
+    if abs(audio["duration"] - duration) > 0.05:
+        fail(f"{report}: <audio> lasts {audio['duration']} s, the summary says {duration} s")
+    print(f"ok: {report}: <audio> decodes {audio['src']}... ({audio['duration']:.3f} s, "
+          f"embedded {audio['embedded']})")
+
+
+def check_audio_only(report, summary_path):
+    import cdp
+    with cdp.Browser() as b:
+        b.open("file://" + os.path.abspath(report))
+        check_audio(b, report, open(summary_path).read())
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+
+
+def check_voice(report, summary_path, shot=None):
+    """The report of `koma lipblink --audio`: the <audio> element decodes the recording (its
+    duration is the summary's), the loudness plot's lines are the summary's noise floor and
+    thresholds, its speech the summary's, the player follows the recording while it plays and
+    seeks it when stepped."""
+    import cdp
+    summary = open(summary_path).read()
+    head = summary_field(summary, r"(\S+): ([\d.]+) s, (\d+) Hz, (\d+) channels?")
+    duration = float(head.group(2))
+    levels = summary_field(summary, r"noise floor (-?[\d.]+) dBFS; speech starts above (-?[\d.]+) dBFS, "
+                                    r"stays above (-?[\d.]+) dBFS; loud (-?[\d.]+) dBFS")
+    speech_text = summary_field(summary, r"  mouth \S+: speech at (?:grid )?frames (.*?); \d+ holds").group(1)
+    want_speech = [] if speech_text == "none" else [
+        [int(a), int(z) + 1] for a, z in re.findall(r"(\d+)-(\d+)(?: \([^)]*\))?", speech_text)]
+    with cdp.Browser() as b:
+        b.open("file://" + os.path.abspath(report))
+        check_audio(b, report, summary)
+        got = b.evaluate("Object.fromEntries([...document.querySelectorAll('svg.loudness-plot line.level')].map((l) => [l.classList[1], +l.dataset.dbfs]))")
+        for name, index in (("noise-floor", 1), ("threshold-start", 2), ("threshold-stay", 3), ("loud-level", 4)):
+            want = float(levels.group(index))
+            if name not in got or abs(got[name] - want) > 0.051:
+                fail(f"{report}: {name} line at {got.get(name)} dBFS, the summary says {want}")
+        expect("speech shaded under the loudness",
+               b.evaluate("[...document.querySelectorAll('svg.loudness-plot rect.speech')].map((r) => [+r.dataset.begin, +r.dataset.end])"),
+               want_speech)
+        # One loudness step per grid frame of the recording (fewer than 2000: not thinned).
+        points = b.evaluate("+document.querySelector('svg.loudness-plot path.loudness').dataset.points")
+        frames = duration * 24
+        if not (frames - 1 <= points <= frames + 1):
+            fail(f"{report}: {points} loudness points for {duration} s on the 24 fps grid")
+        print(f"ok: {report}: loudness ({points} grid frames), floor and thresholds, {len(want_speech)} speech intervals as summarised")
+        # Stepping seeks the recording to the frame's time.
+        fps = b.evaluate("KOMA.fps")
+        b.evaluate("(() => { const s = document.getElementById('scrubber'); s.value = 0; s.dispatchEvent(new Event('input')); })()")
+        for _ in range(7):
+            b.evaluate("document.getElementById('step-forward').click()")
+        t = b.evaluate("new Promise((r) => setTimeout(() => r(document.getElementById('voice-audio').currentTime), 200))")
+        if abs(t - 7 / fps) > 0.01:
+            fail(f"{report}: after 7 steps the recording is at {t} s, want {7 / fps:.4f}")
+        # Play: the recording plays and the face shows the frame at its current time.
+        b.evaluate("document.getElementById('play').click()")
+        state = b.evaluate("""new Promise((r) => setTimeout(() => {
+          const a = document.getElementById('voice-audio');
+          r({paused: a.paused, time: a.currentTime, frame: +document.body.dataset.frame});
+        }, 700))""")
+        if state["paused"] or state["time"] < 7 / fps + 0.2:
+            fail(f"{report}: Play did not play the recording: {state}")
+        lag = state["time"] * fps - state["frame"]
+        if not (-1 <= lag <= 4):
+            fail(f"{report}: playing, the face shows frame {state['frame']} at {state['time']:.3f} s ({lag:.1f} frames off)")
+        b.evaluate("document.getElementById('play').click()")
+        if not b.evaluate("document.getElementById('voice-audio').paused"):
+            fail(f"{report}: Pause did not pause the recording")
+        print(f"ok: {report}: stepping seeks the recording; Play plays it and the face follows "
+              f"(frame {state['frame']} at {state['time']:.3f} s)")
         if shot:
             check_screenshot(b, shot)
         if b.errors:
@@ -559,6 +671,10 @@ def main(argv):
         check_curves(*args)
     elif command == "lipblink":
         check_lipblink(*args)
+    elif command == "voice":
+        check_voice(*args)
+    elif command == "audio":
+        check_audio_only(*args)
     elif command == "player":
         check_player(*args)
     elif command == "camera":

@@ -129,8 +129,17 @@ case "$mode" in
       "${checks[@]}" lipblink "$work/$part.html" "$work/$part.txt" "" "$work/${part}_out.csv" \
         || fail "lipblink $part"
     done
+    # Cuts (issue 28) on clips made from a real BVH: a T-pose first frame (one cut) and a glitch
+    # frame (two cuts), marked on the speed plot at the summary's source frames.
+    "$python" "$here/../e2e/make_real_takes.py" "$here/../testdata/bvh_test1.bvh" "$work"
+    for clip in tpose glitch; do
+      "$koma" skeletal "$work/$clip.bvh" -o "$work/${clip}_out.bvh" --timing "$work/$clip.csv" \
+        --report "$work/$clip.html" --server "$target" >"$work/$clip.txt" || fail "koma skeletal $clip"
+      grep -q "cuts " "$work/$clip.txt" || fail "$clip: the summary names no cut"
+      "${checks[@]}" skeletal "$work/$clip.html" "$work/$clip.csv" "$work/$clip.txt" || fail "$clip: cut marks"
+    done
     "${checks[@]}" validate "$work"/v[1-7].html "$work/mouth_only.html" "$work/eyes_only.html" \
-      || fail "variants: HTML5"
+      "$work/tpose.html" "$work/glitch.html" || fail "variants: HTML5"
     ;;
   large)
     "$python" "$here/make_long_bvh.py" "$samples/pitch.bvh" "$work/long.bvh" 100000
@@ -147,6 +156,42 @@ case "$mode" in
       --report "$work/long_curves.html" --server "$target" --deadline 100 >"$work/long_curves.txt" \
       || fail "koma curves long"
     "${checks[@]}" opens "$work/long_curves.html" 5 20000000 || fail "long curves"
+    ;;
+  voice)
+    # A recording (made by samples/make_voice.sh with espeak-ng and sox) and a new motion.
+    for tag in "" _again; do
+      "$koma" lipblink --audio "$samples/voice.flac" -o "$work/voice.csv" --auto-blink 3 \
+        --report "$work/voice$tag.html" --server "$target" >"$work/voice$tag.txt" || fail "koma lipblink --audio"
+    done
+    cmp "$work/voice.html" "$work/voice_again.html" || fail "voice: same call, different report bytes"
+    grep -qF "report: $work/voice.html" "$work/voice.txt" || fail "voice: summary does not name the report"
+    "${checks[@]}" validate "$work/voice.html" || fail "voice: HTML5"
+    "${checks[@]}" voice "$work/voice.html" "$work/voice.txt" "$shots/voice.png" || fail "voice"
+    "${checks[@]}" lipblink "$work/voice.html" "$work/voice.txt" "" "$work/voice.csv" || fail "voice: drawings and face"
+    # Over --report-audio-max-bytes the page links the recording by its relative path.
+    mkdir -p "$work/sub/pages" "$work/sub/sound"
+    cp "$samples/voice.flac" "$work/sub/sound/take 1.flac"
+    "$koma" lipblink --audio "$work/sub/sound/take 1.flac" -o "$work/linked.motion3.json" --mode follow \
+      --report "$work/sub/pages/linked.html" --report-audio-max-bytes 1000 --server "$target" \
+      >"$work/linked.txt" || fail "koma lipblink --report-audio-max-bytes"
+    grep -qF '"src":"../sound/take%201.flac"' "$work/sub/pages/linked.html" || fail "linked: no relative link"
+    "${checks[@]}" voice "$work/sub/pages/linked.html" "$work/linked.txt" || fail "voice, linked"
+    # The page plays the other formats koma reads: WAV (16-bit, float), Ogg Vorbis, MP3.
+    for f in voice16.wav voice_float.wav voice.ogg voice.mp3; do
+      case $f in *float*) enc=(-e floating-point -b 32) ;; *16*) enc=(-b 16) ;; *) enc=() ;; esac
+      sox "$samples/voice.flac" "${enc[@]}" "$work/$f" || fail "sox $f"
+      "$koma" lipblink --audio "$work/$f" -o "$work/$f.motion3.json" --report "$work/$f.html" \
+        --server "$target" >"$work/$f.txt" || fail "koma lipblink --audio $f"
+      "${checks[@]}" audio "$work/$f.html" "$work/$f.txt" || fail "voice: $f"
+    done
+    # Rhubarb cues in: no recording, the drawings and the face on the page's clock.
+    "$koma" lipblink --audio "$samples/voice.flac" -o "$work/c.motion3.json" --cues "$work/cues.tsv" \
+      --server "$target" >/dev/null || fail "koma lipblink --cues"
+    "$koma" lipblink --rhubarb "$work/cues.tsv" -o "$work/rhubarb.csv" --report "$work/rhubarb.html" \
+      --server "$target" >"$work/rhubarb.txt" || fail "koma lipblink --rhubarb --report"
+    "${checks[@]}" validate "$work/rhubarb.html" || fail "rhubarb: HTML5"
+    "${checks[@]}" lipblink "$work/rhubarb.html" "$work/rhubarb.txt" "$shots/rhubarb.png" "$work/rhubarb.csv" \
+      || fail "rhubarb: drawings and face"
     ;;
   camera)
     "$camera_tool" "$work/camera.html" || fail "write_camera_report"

@@ -9,6 +9,7 @@
 
 #include "client/report/curves_report.h"
 #include "client/report/lip_blink_report.h"
+#include "client/report/lip_blink_voice_report.h"
 #include "client/report/report_data.h"
 #include "client/report/skeletal_report.h"
 #include "gmock/gmock.h"
@@ -332,6 +333,180 @@ TEST(LipBlinkReport, CarriesTheResponse) {
               ElementsAre(0, 0.5, 1, 0));
   EXPECT_THAT(data["curves"][0]["frames_after"].get<std::vector<double>>(),
               ElementsAre(0, 1, 1, 0));
+}
+
+// Naive base64 decoding (RFC 4648, padded).
+std::string Unbase64(const std::string& text) {
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string bytes;
+  uint32_t bits = 0;
+  int count = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    bits = (bits << 6) | static_cast<uint32_t>(alphabet.find(c));
+    count += 6;
+    if (count >= 8) {
+      count -= 8;
+      bytes.push_back(static_cast<char>((bits >> count) & 0xff));
+    }
+  }
+  return bytes;
+}
+
+// A voice call as the CLI makes it: a recording, a new motion of 5 frames at 30 fps, and what
+// the server answered on the 24 fps grid (loudness of 4 grid frames, one speech interval).
+struct VoiceCall {
+  v1::LipBlinkRequest request;
+  v1::LipBlinkResponse response;
+  VoiceReportSources sources;
+};
+
+VoiceCall MakeVoiceCall(const std::string& audio) {
+  VoiceCall call;
+  call.request.set_audio(audio);
+  call.request.set_voice_motion_fps(30);
+  call.request.mutable_voice_settings()->set_start_above_floor_db(12);
+  v1::LipBlinkResponse& r = call.response;
+  r.set_timing_fps(24);
+  v1::LipBlinkVoiceAnalysis* v = r.mutable_voice();
+  v->set_sample_rate(16000);
+  v->set_channels(2);
+  v->set_duration_s(0.16);
+  v->set_frame_fps(24);
+  for (double db : {-150.0, -61.25, -20.5, -33.125}) v->add_loudness_dbfs(db);
+  v->set_noise_floor_dbfs(-61.25);
+  v->set_start_dbfs(-49.25);
+  v->set_stay_dbfs(-55.0);
+  v->set_loud_dbfs(-20.5);
+  v1::FrameInterval* speech = v->add_speech();
+  speech->set_begin(2);
+  speech->set_end(4);
+  v1::MouthTrack* track = r.add_mouths();
+  track->set_id("ParamMouthOpenY");
+  *track->add_speech() = *speech;
+  v1::MouthHold* hold = track->add_holds();
+  hold->set_begin(2);
+  hold->set_length(2);
+  hold->set_shape(v1::MOUTH_MID);
+  track->set_open_level(1);
+  track->set_mid_level(0.5);
+  v1::ConvertedCurve* curve = r.add_curves();
+  curve->set_id("ParamMouthOpenY");
+  for (double value : {0.0, 0.0, 0.5, 0.5, 0.5}) curve->add_values(value);
+  call.sources.voice_name = "voice.wav";
+  call.sources.motion_fps = 30;
+  call.sources.audio = call.request.audio();
+  call.sources.audio_link = "voice.wav";
+  return call;
+}
+
+TEST(LipBlinkVoiceReport, CarriesTheAnalysisAndEmbedsTheRecording) {
+  std::string audio("RIFF\x24\x00\x00\x00WAVEfmt \x10\x00\x00\x00", 20);
+  for (int i = 0; i < 300; ++i) audio.push_back(static_cast<char>(i * 7));  // every byte value
+  const VoiceCall call = MakeVoiceCall(audio);
+  const std::string page =
+      RenderReport(LipBlinkVoiceReportWriter(call.request, call.response, call.sources));
+  EXPECT_THAT(page, HasSubstr("<body data-kind=\"lipblink_voice\""));
+  EXPECT_THAT(page, HasSubstr("function lipBlinkVoiceReport(D)"));  // templates/lipblink_voice.js
+  const nlohmann::json data = PageData(page);
+  const nlohmann::json& v = data["voice"];
+  EXPECT_EQ(v["kind"], "audio");
+  EXPECT_EQ(v["frame_fps"], 24.0);
+  EXPECT_EQ(v["frames"], 4);
+  EXPECT_THAT(v["loudness"]["y"].get<std::vector<double>>(),
+              ElementsAre(-150, -61.25, -20.5, -33.125));
+  EXPECT_THAT(v["loudness"]["x"].get<std::vector<double>>(),
+              ElementsAre(0, Round6(1.0 / 24), Round6(2.0 / 24), Round6(3.0 / 24)));
+  EXPECT_EQ(v["noise_floor_dbfs"], -61.25);
+  EXPECT_EQ(v["start_dbfs"], -49.25);
+  EXPECT_EQ(v["stay_dbfs"], -55.0);
+  EXPECT_EQ(v["loud_dbfs"], -20.5);
+  EXPECT_EQ(v["speech"], nlohmann::json::parse("[[2, 4]]"));
+  EXPECT_EQ(data["mouths"][0]["holds"], nlohmann::json::parse("[[2, 2, \"mid\"]]"));
+  EXPECT_THAT(data["curves"][0]["frames_after"].get<std::vector<double>>(),
+              ElementsAre(0, 0, 0.5, 0.5, 0.5));
+  EXPECT_EQ(data["fps"], 30.0);
+  EXPECT_EQ(data["frames"], 5);
+  EXPECT_EQ(data["unit_fps"], 24.0);
+  // The recording, byte for byte, as a data: URL the page's <audio> plays.
+  const nlohmann::json& a = data["audio"];
+  EXPECT_EQ(a["embedded"], true);
+  EXPECT_EQ(a["mime"], "audio/wav");
+  EXPECT_EQ(a["bytes"], static_cast<int64_t>(audio.size()));
+  const std::string src = a["src"];
+  const std::string prefix = "data:audio/wav;base64,";
+  ASSERT_EQ(src.substr(0, prefix.size()), prefix);
+  EXPECT_EQ(Unbase64(src.substr(prefix.size())), audio);
+  // The header: the recording named, the request's setting given, the server's marked default.
+  EXPECT_EQ(data["header"]["input"], "voice.wav");
+  EXPECT_THAT(data["header"]["options"].dump(),
+              HasSubstr("[\"speech starts above floor\",\"12 dB\"]"));
+  EXPECT_THAT(data["header"]["counts"].dump(),
+              HasSubstr("[\"speech thresholds\",\"start -49.2, stay -55.0 dBFS\"]"));
+  EXPECT_THAT(data["header"]["options"].dump(), HasSubstr("\"shortest speech\",\"2 frames (default)\""));
+  // Same call, same bytes.
+  EXPECT_EQ(page, RenderReport(LipBlinkVoiceReportWriter(call.request, call.response, call.sources)));
+}
+
+TEST(LipBlinkVoiceReport, LinksARecordingOverTheLimit) {
+  VoiceCall call = MakeVoiceCall(std::string("fLaC") + std::string(100, 'x'));
+  call.sources.audio_max_bytes = 103;
+  call.sources.audio_link = "../sound/voice%20take%202.flac";
+  const std::string page =
+      RenderReport(LipBlinkVoiceReportWriter(call.request, call.response, call.sources));
+  const nlohmann::json data = PageData(page);
+  EXPECT_EQ(data["audio"]["embedded"], false);
+  EXPECT_EQ(data["audio"]["mime"], "audio/flac");
+  EXPECT_EQ(data["audio"]["src"], "../sound/voice%20take%202.flac");
+  EXPECT_THAT(page, Not(HasSubstr("data:audio")));
+  // At the limit it is embedded.
+  call.sources.audio_max_bytes = 104;
+  EXPECT_EQ(PageData(RenderReport(LipBlinkVoiceReportWriter(call.request, call.response,
+                                                            call.sources)))["audio"]["embedded"],
+            true);
+}
+
+TEST(LipBlinkVoiceReport, RhubarbCuesHaveNoRecording) {
+  VoiceCall call = MakeVoiceCall("");
+  call.request.set_rhubarb_cues("0.00\tX\n0.10\tD\n");
+  call.response.mutable_voice()->clear_loudness_dbfs();
+  call.sources.audio = {};
+  const nlohmann::json data =
+      PageData(RenderReport(LipBlinkVoiceReportWriter(call.request, call.response, call.sources)));
+  EXPECT_TRUE(data["audio"].is_null());
+  EXPECT_EQ(data["voice"]["kind"], "rhubarb");
+  EXPECT_EQ(data["voice"]["frames"], 0);
+  EXPECT_THAT(data["header"]["options"].dump(), HasSubstr("[\"mouth mode\",\"follow\"]"));
+}
+
+TEST(LipBlinkVoiceReport, AnswerWithoutCurvesIsRefusedNamingThePath) {
+  const std::string path = ::testing::TempDir() + "/never_written_voice.html";
+  VoiceCall call = MakeVoiceCall("RIFF");
+  call.response.clear_curves();
+  const absl::Status s = WriteLipBlinkVoiceReport(path, call.request, call.response, call.sources);
+  EXPECT_FALSE(s.ok());
+  EXPECT_THAT(std::string(s.message()), HasSubstr(path));
+  EXPECT_EQ(std::fopen(path.c_str(), "r"), nullptr);
+}
+
+TEST(AudioMimeType, FromTheFirstBytes) {
+  EXPECT_EQ(AudioMimeType("RIFF....WAVE"), "audio/wav");
+  EXPECT_EQ(AudioMimeType("RF64....WAVE"), "audio/wav");
+  EXPECT_EQ(AudioMimeType("fLaC\0\0\0\x22"), "audio/flac");
+  EXPECT_EQ(AudioMimeType("OggS\0\x02"), "audio/ogg");
+  EXPECT_EQ(AudioMimeType("ID3\x04\0"), "audio/mpeg");
+  EXPECT_EQ(AudioMimeType("\xFF\xFB\x90\x64"), "audio/mpeg");
+  EXPECT_EQ(AudioMimeType("FORM....AIFF"), "audio/aiff");
+  EXPECT_EQ(AudioMimeType("hello"), "application/octet-stream");
+  EXPECT_EQ(AudioMimeType(""), "application/octet-stream");
+}
+
+TEST(AudioLink, RelativeToThePageAndPercentEncoded) {
+  EXPECT_EQ(AudioLink("/a/b/voice.wav", "/a/out/r.html"), "../b/voice.wav");
+  EXPECT_EQ(AudioLink("/a/voice.wav", "/a/r.html"), "voice.wav");
+  EXPECT_EQ(AudioLink("/a/my take#1?.wav", "/a/r.html"), "my%20take%231%3F.wav");
+  EXPECT_EQ(AudioLink("/a/x/../voice.wav", "/a/r.html"), "voice.wav");
+  EXPECT_EQ(AudioLink("/a/b/voice.wav", "-"), "file:///a/b/voice.wav");
 }
 
 TEST(Report, RequestsWithoutParsedDataAreRefusedNamingThePath) {

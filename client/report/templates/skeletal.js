@@ -152,21 +152,23 @@
   const duration = Math.max(D.frames_in * D.frame_time_in, framesOut * D.frame_time_out);
   const ssdSection = section('Speed of the input (SSD between consecutive ' + (grid ? 'grid frames' : 'frames') + ')');
   ssdSection.append(legend([['var(--before)', 'input SSD'], ['var(--omitted)', `omitted frames (${D.deleted.length})`],
-                            ['var(--held)', `frames hidden by holds (${D.hidden.length})`]]));
+                            ['var(--held)', `frames hidden by holds (${D.hidden.length})`],
+                            ...(D.cuts.length ? [['var(--cut)', `cuts: shots retimed separately (${D.cuts.length})`]] : [])]));
   const [, ssdMax] = range(D.ssd.y);
   const ssd = plotFrame({xMax: duration, yMin: 0, yMax: ssdMax, height: 200});
   ssd.svg.id = 'ssd-plot';
   ssd.svg.append(svgEl('path', {class: 'before', id: 'ssd-curve', 'data-points': D.ssd.x.length,
                                 d: pathOf(ssd, D.ssd.x, D.ssd.y, false)}));
-  const markFrames = (frames, cls, y1, y2) => {
+  const markFrames = (frames, cls, y1, y2, what = 'source frame') => {
     const g = svgEl('g', {class: cls + '-marks'});
     for (const k of frames) {
       const x = ssd.x(k * D.frame_time_in);
       g.append(svgEl('line', {class: cls, x1: x, x2: x, y1, y2, 'data-frame': k},
-                     svgEl('title', {}, `source frame ${k}`)));
+                     svgEl('title', {}, `${what} ${k}`)));
     }
     ssd.svg.append(g);
   };
+  markFrames(D.cuts, 'mark-cut', ssd.top, ssd.bottom, 'cut: a new shot starts at source frame');
   markFrames(D.deleted, 'mark-omitted', ssd.top, ssd.bottom);
   markFrames(D.hidden, 'mark-hidden', (ssd.top + ssd.bottom) / 2, ssd.bottom);
   const ssdCursor = svgEl('line', {class: 'cursor', y1: ssd.top, y2: ssd.bottom});

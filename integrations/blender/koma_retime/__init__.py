@@ -71,8 +71,23 @@ class KomaSettings(bpy.types.PropertyGroup):
         name="Holds", default=-1, min=-1,
         description="Hold steps (the stillest frames repeat their predecessor); -1: the "
                     "server's default, frames / 3")
-    max_hold: bpy.props.IntProperty(name="Max hold", default=3, min=1,
-                                    description="Longest run of one drawing, in frames")
+    max_hold: bpy.props.IntProperty(
+        name="Max hold", default=0, min=0,
+        description="Longest run of one drawing, in frames; 0: the server's default (3, or "
+                    "the hold the drawing rate needs)")
+    preset: bpy.props.EnumProperty(
+        name="Preset", default="PAPER",
+        items=[("PAPER", "Paper", "The paper's defaults: 4 omissions, frames / 3 holds"),
+               ("TWOS", "On twos", "12 drawings a second: a median hold of 2 grid frames"),
+               ("THREES", "On threes", "8 drawings a second: a median hold of 3 grid frames")],
+        description="Timing preset, as koma --preset (a drawing rate set below wins)")
+    omissions_per_second: bpy.props.FloatProperty(
+        name="Omissions / s", default=0.0, min=0.0,
+        description="Omission rate per second of the action, so long takes snap as often as "
+                    "short ones; 0: use Omissions")
+    drawings_per_second: bpy.props.FloatProperty(
+        name="Drawings / s", default=0.0, min=0.0,
+        description="Drawing rate (12 on twos, 8 on threes); 0: the preset's, or none")
     timing_fps: bpy.props.FloatProperty(
         name="Timing rate", default=24.0, min=0.0, max=1000.0,
         description="Film grid the drawings are counted on, frames per second (0: the "
@@ -121,6 +136,27 @@ def write_anime_action(source, start, source_frames):
     return action
 
 
+# Drawings a second of the panel's presets (koma --preset twos / threes).
+PRESET_DRAWINGS_PER_SECOND = {"TWOS": 12.0, "THREES": 8.0}
+
+
+def request_options(settings):
+    """The RetimeSkeletal options of the panel's settings (unset ones: the server's defaults)."""
+    options = {"timing_fps": settings.timing_fps, "return_motion": False}
+    if settings.max_hold > 0:
+        options["max_hold"] = settings.max_hold
+    if settings.omissions_per_second > 0:
+        options["omissions_per_second"] = settings.omissions_per_second
+    elif settings.omissions >= 0:
+        options["omissions"] = settings.omissions
+    if settings.holds >= 0:
+        options["holds"] = settings.holds
+    drawings = settings.drawings_per_second or PRESET_DRAWINGS_PER_SECOND.get(settings.preset)
+    if drawings:
+        options["drawings_per_second"] = drawings
+    return options
+
+
 class KOMA_OT_retime_action(bpy.types.Operator):
     """Retime the active armature's action into anime timing with a koma_server"""
     bl_idname = "koma.retime_action"
@@ -150,12 +186,7 @@ class KOMA_OT_retime_action(bpy.types.Operator):
             return {"CANCELLED"}
         names, parents, values = sample_positions(context, armature, start, end)
         fps = context.scene.render.fps / context.scene.render.fps_base
-        options = {"max_hold": settings.max_hold, "timing_fps": settings.timing_fps,
-                   "return_motion": False}
-        if settings.omissions >= 0:
-            options["omissions"] = settings.omissions
-        if settings.holds >= 0:
-            options["holds"] = settings.holds
+        options = request_options(settings)
         try:
             with koma.Client(settings.server, timeout=settings.timeout) as client:
                 result = client.retime_skeletal(
@@ -167,8 +198,9 @@ class KOMA_OT_retime_action(bpy.types.Operator):
         anime = write_anime_action(source, start, result.source_frames)
         armature.animation_data.action = anime
         c = result.counts
+        cuts = f"; cuts before frames {result.cut_frames}" if result.cut_frames else ""
         self.report({"INFO"}, f"{anime.name}: {c['frames']} frames, omitted "
-                              f"{c['omissions_applied']}, held {c['holds_applied']}")
+                              f"{c['omissions_applied']}, held {c['holds_applied']}{cuts}")
         return {"FINISHED"}
 
 
@@ -181,7 +213,8 @@ class KOMA_PT_panel(bpy.types.Panel):
     def draw(self, context):
         settings = context.scene.koma
         layout = self.layout
-        for name in ("omissions", "holds", "max_hold", "timing_fps", "server", "timeout"):
+        for name in ("preset", "omissions", "omissions_per_second", "holds", "max_hold",
+                     "drawings_per_second", "timing_fps", "server", "timeout"):
             layout.prop(settings, name)
         layout.operator(KOMA_OT_retime_action.bl_idname)
 

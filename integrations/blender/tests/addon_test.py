@@ -61,10 +61,32 @@ def main():
                                          expected120.source_frames[1:]) if a != b)
         assert runs <= 24, runs  # at most one drawing per grid frame (5 source frames)
         result = run_operator({"server": address, "omissions": -1, "holds": -1, "max_hold": 3,
-                               "timing_fps": 24.0})
+                               "timing_fps": 24.0, "preset": "PAPER"})
         assert result == {"FINISHED"}, result
         check_anime_action(obj120, source120, expected120)
         print(f"120 fps on the 24 fps grid: {runs} drawings, {expected120.counts}")
+
+        # The panel's "On threes" preset: 8 drawings a second, a median hold of 3 grid frames
+        # (docs/semantics.md, "Drawing rate"), as the Python client asked the same way.
+        obj120.animation_data.action = source120
+        bpy.data.actions.remove(bpy.data.actions[source120.name + ".anime"])  # the last run's
+        expected_threes = expected_source_frames(obj120, address, drawings_per_second=8.0,
+                                                 timing_fps=24.0, output_rate="TIMING_RATE",
+                                                 return_motion=False)
+        grid_runs = []
+        for t, frame in enumerate(expected_threes.source_frames):
+            if t == 0 or frame != expected_threes.source_frames[t - 1]:
+                grid_runs.append(0)
+            grid_runs[-1] += 1
+        grid_runs.sort()
+        assert grid_runs[(len(grid_runs) - 1) // 2] == 3, grid_runs
+        expected_threes = expected_source_frames(obj120, address, drawings_per_second=8.0,
+                                                 timing_fps=24.0, return_motion=False)
+        result = run_operator({"server": address, "omissions": -1, "holds": -1, "max_hold": 0,
+                               "preset": "THREES", "timing_fps": 24.0})
+        assert result == {"FINISHED"}, result
+        check_anime_action(obj120, source120, expected_threes)
+        print(f"on threes: {len(grid_runs)} drawings on the grid, {expected_threes.counts}")
 
         # No server there: the operator reports koma's error and changes nothing.
         actions_before = len(bpy.data.actions)
