@@ -45,6 +45,8 @@ void AddTlsFlags(CLI::App& app, TlsFiles& tls);
 void AddCurveInputFlag(CLI::App* cmd, std::string* input);
 // --report OUT.html.
 void AddReportFlag(CLI::App* cmd, std::string* report);
+// --xdts OUT.xdts.
+void AddXdtsFlag(CLI::App* cmd, std::string* xdts);
 // --timing-fps: "film grid `counted` counted on ... 0 = count in `frames_of` own frames".
 void AddTimingFpsFlag(CLI::App* cmd, std::optional<double>* timing_fps, const std::string& counted,
                       const std::string& frames_of);

@@ -98,6 +98,10 @@ void CommandOutput::Success(const std::string& text, nlohmann::json summary,
   std::fflush(stdout);
 }
 
+std::string XdtsLine(const std::string& xdts_path) {
+  return xdts_path.empty() ? std::string() : "  exposure sheet (XDTS): " + xdts_path + "\n";
+}
+
 std::string ReportLine(const std::string& report_path) {
   return report_path.empty() ? std::string() : "  report: " + report_path + "\n";
 }

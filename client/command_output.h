@@ -54,6 +54,8 @@ class CommandOutput {
 
 // "  report: PATH\n" for the human summary when --report was given, else "".
 std::string ReportLine(const std::string& report_path);
+// "  exposure sheet (XDTS): PATH\n" when --xdts was given, else "".
+std::string XdtsLine(const std::string& xdts_path);
 
 }  // namespace koma::client
 

@@ -80,6 +80,13 @@ void AddReportFlag(CLI::App* cmd, std::string* report) {
       ->type_name("OUT.html");
 }
 
+void AddXdtsFlag(CLI::App* cmd, std::string* xdts) {
+  cmd->add_option("--xdts", *xdts,
+                  "XDTS exposure sheet to write (CLIP STUDIO PAINT, OpenToonz, Tahoma2D, TVPaint; "
+                  "docs/formats.md); - writes standard output")
+      ->type_name("OUT.xdts");
+}
+
 void AddTimingFpsFlag(CLI::App* cmd, std::optional<double>* timing_fps, const std::string& counted,
                       const std::string& frames_of) {
   AddNumber(cmd, "--timing-fps", timing_fps, {},

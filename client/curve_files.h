@@ -57,6 +57,7 @@ struct CurveFileArgs : CallFlags {
   std::string input;                 // .motion3.json or .csv; "-": standard input
   std::string output;                // .motion3.json (needs a motion3 input) or .csv; "-"
   std::string report;                // --report: HTML report to write; empty: none
+  std::string xdts;                  // --xdts: XDTS exposure sheet to write; empty: none
   double csv_fps = 30.0;             // --fps, frames per second of a CSV input
   std::optional<double> timing_fps;  // --timing-fps: the film grid; unset: the server's 24
   std::string format;                // --format motion3|csv: of the output "-"

@@ -18,6 +18,8 @@
 #include "client/files.h"
 #include "client/flag_values.h"
 #include "client/report/curves_report.h"
+#include "client/xdts_sheets.h"
+#include "formats/xdts.h"
 #include "client/retime_call.h"
 #include "core/timing_groups.h"
 #include "formats/drawing_sheet.h"
@@ -278,8 +280,9 @@ absl::StatusOr<v1::RetimeCurvesRequest> BuildCurvesFileRequest(const CurvesArgs&
 }
 
 absl::Status CheckCurvesFlags(const CurvesArgs& args) {
-  if (args.timing_only && args.timing.empty()) {
-    return absl::InvalidArgumentError("--timing-only needs --timing OUT.csv (the sheet it writes)");
+  if (args.timing_only && args.timing.empty() && args.xdts.empty()) {
+    return absl::InvalidArgumentError(
+        "--timing-only needs --timing OUT.csv or --xdts OUT.xdts (the sheet it writes)");
   }
   if (args.timing_only && !args.output.empty()) {
     return absl::InvalidArgumentError("-o: --timing-only writes only the sheet; drop -o");
@@ -289,8 +292,11 @@ absl::Status CheckCurvesFlags(const CurvesArgs& args) {
         "-o/--output OUT.motion3.json or OUT.csv is required (or --timing-only with --timing "
         "OUT.csv)");
   }
-  return CheckOneOnStdout(
-      {{"-o", args.output}, {"--timing", args.timing}, {"--report", args.report}}, args.json);
+  return CheckOneOnStdout({{"-o", args.output},
+                           {"--timing", args.timing},
+                           {"--report", args.report},
+                           {"--xdts", args.xdts}},
+                          args.json);
 }
 
 absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
@@ -337,6 +343,12 @@ absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
     const std::string sheet = formats::WriteGroupedDrawingSheetCsv(tracks, input.curves.fps);
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }
+  if (!args.xdts.empty()) {
+    absl::StatusOr<formats::XdtsSheet> sheet =
+        CurvesXdtsSheet(response, XdtsClipName(args.input, args.xdts));
+    if (!sheet.ok()) return sheet.status();
+    if (absl::Status s = WriteFile(args.xdts, formats::WriteXdts(*sheet)); !s.ok()) return s;
+  }
   return absl::OkStatus();
 }
 
@@ -360,7 +372,7 @@ int RunCurves(const CurvesArgs& args) {
     if (!with_file.ok()) return out.UsageFailure(with_file.status());
     file_request = *std::move(with_file);
   }
-  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok())
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report, args.xdts}); !s.ok())
     return out.Failure(s);
 
   v1::RetimeCurvesResponse response;
@@ -377,9 +389,11 @@ int RunCurves(const CurvesArgs& args) {
       return out.Failure(s);
     }
   }
-  out.Success(CurvesSummaryText(args, input->curves, *request, response) + ReportLine(args.report),
+  out.Success(CurvesSummaryText(args, input->curves, *request, response) + XdtsLine(args.xdts) +
+                  ReportLine(args.report),
               CurvesSummaryJson(args, input->curves, *request, response),
-              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
+              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report) ||
+                  IsStdio(args.xdts));
   return kExitOk;
 }
 

@@ -16,8 +16,10 @@ CLI::App* AddCurvesCommand(CLI::App& app, CurvesArgs& args) {
                   "drawing sheet CSV to write (output_frame,drawing,source_frame,time_s); - "
                   "writes standard output")
       ->type_name("OUT.csv");
-  cmd->add_flag("--timing-only", args.timing_only, "write only the --timing sheet, no curves");
+  cmd->add_flag("--timing-only", args.timing_only,
+                "write only the sheets (--timing, --xdts), no curves");
   AddReportFlag(cmd, &args.report);
+  AddXdtsFlag(cmd, &args.xdts);
   AddWholeNumber(cmd, "--on,--frames-per-drawing", &args.frames_per_drawing, 1, INT32_MAX,
                  "koma-uchi: frames each drawing is held, 2 'on twos', 3 'on threes' (grid "
                  "frames with a film grid; default 3)");

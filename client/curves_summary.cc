@@ -142,6 +142,7 @@ nlohmann::json CurvesSummaryJson(const CurvesArgs& args, const CurveSet& curves,
   if (!args.timing_only && !args.output.empty()) j["outputs"]["curves"] = args.output;
   if (!args.timing.empty()) j["outputs"]["timing"] = args.timing;
   if (!args.report.empty()) j["outputs"]["report"] = args.report;
+  if (!args.xdts.empty()) j["outputs"]["xdts"] = args.xdts;
   j["curve_count"] = curves.curves.size();
   j["frames"] = curves.frame_count;
   j["fps"] = curves.fps;

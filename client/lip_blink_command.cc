@@ -16,6 +16,8 @@
 #include "client/report/lip_blink_report.h"
 #include "client/report/lip_blink_voice_report.h"
 #include "client/retime_call.h"
+#include "client/xdts_sheets.h"
+#include "formats/xdts.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
@@ -127,10 +129,14 @@ absl::Status CheckLipBlinkFlags(const LipBlinkArgs& args) {
     return absl::InvalidArgumentError("--report-audio-max-bytes: needs --audio FILE");
   }
   if (HasVoice(args)) {
-    return CheckOneOnStdout(
-        {{"-o", args.output}, {"--cues", args.cues}, {"--report", args.report}}, args.json);
+    return CheckOneOnStdout({{"-o", args.output},
+                             {"--cues", args.cues},
+                             {"--report", args.report},
+                             {"--xdts", args.xdts}},
+                            args.json);
   }
-  return CheckOneOnStdout({{"-o", args.output}, {"--report", args.report}}, args.json);
+  return CheckOneOnStdout(
+      {{"-o", args.output}, {"--report", args.report}, {"--xdts", args.xdts}}, args.json);
 }
 
 v1::LipBlinkRequest BuildLipBlinkVoiceRequest(const LipBlinkArgs& args, std::string voice,
@@ -155,7 +161,7 @@ v1::LipBlinkRequest BuildLipBlinkVoiceRequest(const LipBlinkArgs& args, std::str
 }
 
 absl::Status WriteLipBlinkVoiceOutputs(const LipBlinkArgs& args, bool csv_output,
-                                       const v1::LipBlinkResponse& response) {
+                                       double source_fps, const v1::LipBlinkResponse& response) {
   std::string text;
   if (response.has_csv_text()) {
     if (!csv_output) {
@@ -176,9 +182,22 @@ absl::Status WriteLipBlinkVoiceOutputs(const LipBlinkArgs& args, bool csv_output
     text = response.motion3_json();
   }
   if (absl::Status s = WriteFile(args.output, text); !s.ok()) return s;
-  if (args.cues.empty()) return absl::OkStatus();
-  const bool tsv = absl::EndsWithIgnoreCase(args.cues, ".tsv");
-  return WriteFile(args.cues, tsv ? response.rhubarb_tsv() : response.rhubarb_json());
+  if (!args.cues.empty()) {
+    const bool tsv = absl::EndsWithIgnoreCase(args.cues, ".tsv");
+    if (absl::Status s =
+            WriteFile(args.cues, tsv ? response.rhubarb_tsv() : response.rhubarb_json());
+        !s.ok()) {
+      return s;
+    }
+  }
+  if (args.xdts.empty()) return absl::OkStatus();
+  // Named after the motion, else the voice (a new motion has no file of its own).
+  const std::string& motion = args.motion.empty() ? args.input : args.motion;
+  const std::string& voice = args.audio.empty() ? args.rhubarb : args.audio;
+  absl::StatusOr<formats::XdtsSheet> sheet = LipBlinkXdtsSheet(
+      response, source_fps, XdtsClipName(motion.empty() ? voice : motion, args.xdts));
+  if (!sheet.ok()) return sheet.status();
+  return WriteFile(args.xdts, formats::WriteXdts(*sheet));
 }
 
 namespace {
@@ -205,7 +224,7 @@ int RunLipBlinkVoice(const LipBlinkArgs& args, const CommandOutput& out) {
     csv_output =
         format == CurveFormat::kCsv || (format == CurveFormat::kAuto && IsCsvPath(args.output));
   }
-  if (absl::Status s = CheckWritable({args.output, args.cues, args.report}); !s.ok()) {
+  if (absl::Status s = CheckWritable({args.output, args.cues, args.report, args.xdts}); !s.ok()) {
     return out.Failure(s);
   }
   absl::StatusOr<std::string> voice = ReadFile(voice_path);
@@ -217,7 +236,10 @@ int RunLipBlinkVoice(const LipBlinkArgs& args, const CommandOutput& out) {
       code >= 0) {
     return code;
   }
-  if (absl::Status s = WriteLipBlinkVoiceOutputs(args, csv_output, response); !s.ok()) {
+  // The written motion's rate: the input's, or the new motion's (voice_motion_fps).
+  const double source_fps = input ? input->curves.fps : request.voice_motion_fps();
+  if (absl::Status s = WriteLipBlinkVoiceOutputs(args, csv_output, source_fps, response);
+      !s.ok()) {
     return out.Failure(s);
   }
   if (!args.report.empty()) {
@@ -225,7 +247,7 @@ int RunLipBlinkVoice(const LipBlinkArgs& args, const CommandOutput& out) {
     sources.voice_name = voice_path;
     sources.motion_name = motion_path;
     // The curves' rate: the body motion's, or the new motion's (BuildLipBlinkVoiceRequest).
-    sources.motion_fps = input ? input->curves.fps : request.voice_motion_fps();
+    sources.motion_fps = source_fps;
     sources.audio = request.audio();
     sources.audio_max_bytes =
         args.report_audio_max_bytes.value_or(report::kDefaultReportAudioMaxBytes);
@@ -236,9 +258,11 @@ int RunLipBlinkVoice(const LipBlinkArgs& args, const CommandOutput& out) {
       return out.Failure(s);
     }
   }
-  out.Success(LipBlinkVoiceSummaryText(args, response) + ReportLine(args.report),
+  out.Success(LipBlinkVoiceSummaryText(args, response) + XdtsLine(args.xdts) +
+                  ReportLine(args.report),
               LipBlinkVoiceSummaryJson(args, response),
-              IsStdio(args.output) || IsStdio(args.cues) || IsStdio(args.report));
+              IsStdio(args.output) || IsStdio(args.cues) || IsStdio(args.report) ||
+                  IsStdio(args.xdts));
   return kExitOk;
 }
 
@@ -257,7 +281,18 @@ absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& in
     }
     replacements[it->second] = convert::ReplacementFromProto(curve);
   }
-  return WriteCurveOutput(args.output, input, replacements, CurveFormatFromFlag(args.format));
+  if (absl::Status s =
+          WriteCurveOutput(args.output, input, replacements, CurveFormatFromFlag(args.format));
+      !s.ok()) {
+    return s;
+  }
+  if (!args.xdts.empty()) {
+    absl::StatusOr<formats::XdtsSheet> sheet =
+        LipBlinkXdtsSheet(response, input.curves.fps, XdtsClipName(args.input, args.xdts));
+    if (!sheet.ok()) return sheet.status();
+    if (absl::Status s = WriteFile(args.xdts, formats::WriteXdts(*sheet)); !s.ok()) return s;
+  }
+  return absl::OkStatus();
 }
 
 int RunLipBlink(const LipBlinkArgs& args) {
@@ -270,7 +305,7 @@ int RunLipBlink(const LipBlinkArgs& args) {
   absl::StatusOr<CurveFormat> format =
       CurveOutputFormat(args.output, CurveFormatFromFlag(args.format), *input);
   if (!format.ok()) return out.UsageFailure(format.status());
-  if (absl::Status s = CheckWritable({args.output, args.report}); !s.ok()) return out.Failure(s);
+  if (absl::Status s = CheckWritable({args.output, args.report, args.xdts}); !s.ok()) return out.Failure(s);
 
   const v1::LipBlinkRequest request = BuildLipBlinkRequest(args, input->curves);
   // --send-file: the wire carries the file; the report still reads the decoded request.
@@ -291,9 +326,10 @@ int RunLipBlink(const LipBlinkArgs& args) {
       return out.Failure(s);
     }
   }
-  out.Success(LipBlinkSummaryText(args, input->curves, response) + ReportLine(args.report),
+  out.Success(LipBlinkSummaryText(args, input->curves, response) + XdtsLine(args.xdts) +
+                  ReportLine(args.report),
               LipBlinkSummaryJson(args, input->curves, response),
-              IsStdio(args.output) || IsStdio(args.report));
+              IsStdio(args.output) || IsStdio(args.report) || IsStdio(args.xdts));
   return kExitOk;
 }
 

@@ -73,10 +73,11 @@ inline bool HasVoice(const LipBlinkArgs& args) {
 v1::LipBlinkRequest BuildLipBlinkVoiceRequest(const LipBlinkArgs& args, std::string voice,
                                               const CurveInput* input, bool csv_output);
 
-// Writes -o (and --cues) from a voice answer: the server's file, as CSV when -o asks for CSV
-// and the server wrote motion3.json.
+// Writes -o (and --cues, --xdts) from a voice answer: the server's file, as CSV when -o asks
+// for CSV and the server wrote motion3.json. `source_fps`: the written motion's frames per
+// second (the input motion's, or voice_motion_fps for a new one), the XDTS sheet's source rate.
 absl::Status WriteLipBlinkVoiceOutputs(const LipBlinkArgs& args, bool csv_output,
-                                       const v1::LipBlinkResponse& response);
+                                       double source_fps, const v1::LipBlinkResponse& response);
 
 v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSet& curves);
 

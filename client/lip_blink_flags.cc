@@ -14,6 +14,7 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
                   "motion3.json or .csv to write; - writes standard output")
       ->type_name("OUT");
   AddReportFlag(cmd, &args.report);
+  AddXdtsFlag(cmd, &args.xdts);
   // mouth
   AddStringList(cmd, "--mouth,--mouth-ids", &args.mouth_ids,
                 "mouth-open curve ids (default ParamMouthOpenY)");

@@ -91,6 +91,7 @@ nlohmann::json LipBlinkSummaryJson(const LipBlinkArgs& args, const CurveSet& cur
   j["input"] = args.input;
   j["outputs"] = {{"curves", args.output}};
   if (!args.report.empty()) j["outputs"]["report"] = args.report;
+  if (!args.xdts.empty()) j["outputs"]["xdts"] = args.xdts;
   j["frames"] = curves.frame_count;
   j["fps"] = curves.fps;
   j["seed"] = response.seed();

@@ -18,9 +18,11 @@
 #include "client/skeletal_gltf.h"
 #include "client/skeletal_convert.h"
 #include "client/skeletal_summary.h"
+#include "client/xdts_sheets.h"
 #include "core/film_grid.h"
 #include "formats/bvh.h"
 #include "formats/timing_sheet.h"
+#include "formats/xdts.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
@@ -146,8 +148,10 @@ absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalFileRequest(const Skeleta
 
 absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
   const bool motion_wanted = !args.timing_only && args.return_motion.value_or(true);
-  if (args.timing_only && args.timing.empty()) {
-    return absl::InvalidArgumentError("--timing-only needs --timing OUT.csv (the sheet it writes)");
+  const bool sheet_wanted = !args.timing.empty() || !args.xdts.empty();
+  if (args.timing_only && !sheet_wanted) {
+    return absl::InvalidArgumentError(
+        "--timing-only needs --timing OUT.csv or --xdts OUT.xdts (the sheet it writes)");
   }
   if (motion_wanted && args.output.empty()) {
     return absl::InvalidArgumentError(
@@ -158,11 +162,14 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
         "-o: no motion is asked for (--timing-only or --return-motion false), so there is "
         "nothing to write there; drop -o");
   }
-  if (args.timing.empty() && !motion_wanted) {
-    return absl::InvalidArgumentError("--return-motion false needs --timing OUT.csv");
+  if (!sheet_wanted && !motion_wanted) {
+    return absl::InvalidArgumentError("--return-motion false needs --timing OUT.csv or --xdts OUT.xdts");
   }
-  if (absl::Status s = CheckOneOnStdout(
-          {{"-o", args.output}, {"--timing", args.timing}, {"--report", args.report}}, args.json);
+  if (absl::Status s = CheckOneOnStdout({{"-o", args.output},
+                                         {"--timing", args.timing},
+                                         {"--report", args.report},
+                                         {"--xdts", args.xdts}},
+                                        args.json);
       !s.ok()) {
     return s;
   }
@@ -211,13 +218,19 @@ absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& 
         formats::RecognisedFps(frame_time, film_fps));
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }
+  if (!args.xdts.empty()) {
+    absl::StatusOr<formats::XdtsSheet> sheet =
+        SkeletalXdtsSheet(response, XdtsClipName(args.input, args.xdts));
+    if (!sheet.ok()) return sheet.status();
+    if (absl::Status s = WriteFile(args.xdts, formats::WriteXdts(*sheet)); !s.ok()) return s;
+  }
   return absl::OkStatus();
 }
 
 int RunSkeletal(const SkeletalArgs& args) {
   const CommandOutput out("skeletal", args.json, args.quiet, args.server);
   if (absl::Status s = CheckSkeletalFlags(args); !s.ok()) return out.UsageFailure(s);
-  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok())
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report, args.xdts}); !s.ok())
     return out.Failure(s);
   absl::StatusOr<std::string> bytes = ReadFile(args.input);
   if (!bytes.ok()) return out.Failure(bytes.status());
@@ -256,9 +269,10 @@ int RunSkeletal(const SkeletalArgs& args) {
       return out.Failure(s);
     }
   }
-  out.Success(SkeletalSummaryText(args, *clip, response) + ReportLine(args.report),
-              SkeletalSummaryJson(args, *clip, response),
-              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
+  out.Success(
+      SkeletalSummaryText(args, *clip, response) + XdtsLine(args.xdts) + ReportLine(args.report),
+      SkeletalSummaryJson(args, *clip, response),
+      IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report) || IsStdio(args.xdts));
   return kExitOk;
 }
 

@@ -25,6 +25,7 @@ struct SkeletalArgs : CallFlags {
   std::string output;                      // BVH file to write; "-": standard output
   std::string timing;                      // timing sheet CSV to write; empty: none; "-": stdout
   std::string report;                      // --report: HTML report to write; empty: none
+  std::string xdts;                        // --xdts: XDTS exposure sheet to write; empty: none
   std::optional<int> omissions;            // --omit / --omissions; unset: server default (4)
   std::optional<int> holds;                // --hold / --holds; unset: server default (N / 3)
   std::optional<int> max_hold;             // --max-hold; unset: server default (3)

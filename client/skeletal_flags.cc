@@ -19,8 +19,9 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
                   "standard output")
       ->type_name("OUT.csv");
   cmd->add_flag("--timing-only", args.timing_only,
-                "ask for no motion (return_motion false) and write only --timing");
+                "ask for no motion (return_motion false) and write only --timing and/or --xdts");
   AddReportFlag(cmd, &args.report);
+  AddXdtsFlag(cmd, &args.xdts);
   AddWholeNumber(cmd, "--omit,--omissions", &args.omissions, 0, INT32_MAX,
                  "Nio, inbetween omissions (nakanashi): frames removed where the motion is "
                  "fastest (default min(4, frames - 3))");

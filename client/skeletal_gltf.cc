@@ -13,10 +13,12 @@
 #include "client/retime_call.h"
 #include "client/skeletal_convert.h"
 #include "client/skeletal_summary.h"
+#include "client/xdts_sheets.h"
 #include "convert/gltf_convert.h"
 #include "formats/gltf.h"
 #include "formats/number_format.h"
 #include "formats/timing_sheet.h"
+#include "formats/xdts.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
@@ -132,6 +134,18 @@ absl::Status WriteGltfOutputs(const SkeletalArgs& args,
                                      response.timing_fps() > 0 ? &grid_frames : nullptr);
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }
+  if (!args.xdts.empty()) {
+    // The first retimed animation's timing, as --timing writes it.
+    if (response.gltf_animations_size() == 0) {
+      return absl::FailedPreconditionError(
+          absl::StrCat("--xdts ", args.xdts, ": no animation was retimed, so there is no "
+                       "exposure sheet to write"));
+    }
+    absl::StatusOr<formats::XdtsSheet> sheet =
+        SkeletalXdtsSheet(response, XdtsClipName(args.input, args.xdts));
+    if (!sheet.ok()) return sheet.status();
+    if (absl::Status s = WriteFile(args.xdts, formats::WriteXdts(*sheet)); !s.ok()) return s;
+  }
   return absl::OkStatus();
 }
 
@@ -203,8 +217,10 @@ int RunSkeletalGltf(const SkeletalArgs& args, std::string bytes) {
   if (response.gltf_animations_size() > 0) {
     json = SkeletalSummaryJson(args, SummaryClip(response.gltf_animations(0)), response);
   }
-  out.Success(GltfSummaryText(args, response) + ReportLine(args.report), json,
-              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
+  out.Success(GltfSummaryText(args, response) + XdtsLine(args.xdts) + ReportLine(args.report),
+              json,
+              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report) ||
+                  IsStdio(args.xdts));
   return kExitOk;
 }
 

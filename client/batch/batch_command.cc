@@ -45,7 +45,7 @@ constexpr double kManifestSaveEveryS = 5.0;  // a killed client loses at most th
 // Options of the single-file commands that name one file or choose how one summary is
 // printed: a batch has its own (-o OUTDIR, --timing as a switch, --summary).
 constexpr const char* kPerFileOptions[] = {"input",    "-o",           "--timing", "--timing-only",
-                                           "--format", "--return-motion", "--report",
+                                           "--format", "--return-motion", "--report", "--xdts",
                                            "--audio",  "--rhubarb",    "--motion", "--cues",
                                            "--voice-output"};
 
@@ -69,6 +69,8 @@ std::set<const CLI::Option*> AddBatchOptions(CLI::App* cmd, BatchCommandArgs& a)
   }
   own.insert(cmd->add_flag("--report", a.report,
                            "write each clip's HTML report beside its output as NAME.report.html"));
+  own.insert(cmd->add_flag("--xdts", a.xdts,
+                           "write each clip's XDTS exposure sheet beside its output as NAME.xdts"));
   own.insert(cmd->add_option("-j,--jobs", a.jobs, "calls in flight (default 2 per server)")
                  ->check(CLI::Range(1, 4096)));
   own.insert(cmd->add_option("--io-threads", a.io_threads,
@@ -204,6 +206,7 @@ absl::Status WriteSummary(const std::string& path, const std::string& rpc,
                            {"attempts", r.attempts}};
     if (!items[i].timing.empty()) file["timing"] = items[i].timing;
     if (!items[i].report.empty()) file["report"] = items[i].report;
+    if (!items[i].xdts.empty()) file["xdts"] = items[i].xdts;
     if (!r.server.empty()) file["server"] = r.server;
     if (r.status == ItemStatus::kFailed) {
       file["code"] = r.code;
@@ -257,7 +260,8 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
 
   const std::vector<std::string> extensions = ExtensionsOf(rpc_name);
   absl::StatusOr<std::vector<BatchItem>> all_items =
-      DiscoverInputs(args.inputs, extensions, args.out_dir, args.timing, args.report);
+      DiscoverInputs(args.inputs, extensions, args.out_dir, args.timing, args.report,
+                     args.xdts);
   if (!all_items.ok()) {
     std::fprintf(stderr, "koma: %s\n", std::string(all_items.status().message()).c_str());
     return kUsageError;

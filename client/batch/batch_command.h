@@ -26,6 +26,7 @@ struct BatchCommandArgs {
   bool verbose = false;
   bool timing = false;  // NAME.timing.csv beside each output
   bool report = false;  // NAME.report.html beside each output
+  bool xdts = false;    // NAME.xdts beside each output
   std::string summary;
   double progress_every_s = 10.0;
   std::string shard;            // --shard K/N; empty: the whole batch

@@ -163,7 +163,8 @@ std::string BesidePath(const std::string& output, const std::vector<std::string>
 absl::StatusOr<std::vector<BatchItem>> DiscoverInputs(const std::vector<std::string>& arguments,
                                                       const std::vector<std::string>& extensions,
                                                       const std::string& out_dir,
-                                                      bool with_timing, bool with_report) {
+                                                      bool with_timing, bool with_report,
+                                                      bool with_xdts) {
   Collector collector(extensions, out_dir);
   for (const std::string& argument : arguments) {
     absl::Status status = absl::StartsWith(argument, "@")
@@ -177,7 +178,8 @@ absl::StatusOr<std::vector<BatchItem>> DiscoverInputs(const std::vector<std::str
   for (BatchItem& item : items) {
     if (with_timing) item.timing = TimingPathFor(item.output, extensions);
     if (with_report) item.report = ReportPathFor(item.output, extensions);
-    for (const std::string* path : {&item.output, &item.timing, &item.report}) {
+    if (with_xdts) item.xdts = XdtsPathFor(item.output, extensions);
+    for (const std::string* path : {&item.output, &item.timing, &item.report, &item.xdts}) {
       if (path->empty()) continue;
       const std::string key = fs::path(*path).lexically_normal().string();
       auto [it, inserted] = writer.emplace(key, &item.input);

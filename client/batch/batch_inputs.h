@@ -17,6 +17,7 @@ struct BatchItem {
   std::string output;    // out_dir / relative
   std::string timing;    // the timing sheet beside the output; empty when none is asked for
   std::string report;    // the HTML report beside the output; empty when none is asked for
+  std::string xdts;      // the XDTS exposure sheet beside the output; empty when none
 };
 
 // File name endings the RPC reads, lower case: {".bvh", ".glb", ".gltf", ".vrm", ".vrma"}, or
@@ -41,6 +42,10 @@ inline std::string ReportPathFor(const std::string& output,
                                  const std::vector<std::string>& extensions) {
   return BesidePath(output, extensions, ".report.html");
 }
+inline std::string XdtsPathFor(const std::string& output,
+                               const std::vector<std::string>& extensions) {
+  return BesidePath(output, extensions, ".xdts");
+}
 
 // The clips named by `arguments`, in order, each input once:
 // - a file: taken whatever its name; its output is out_dir/<file name>;
@@ -48,13 +53,14 @@ inline std::string ReportPathFor(const std::string& output,
 //   path order; each keeps its path below the folder (out_dir itself is never searched);
 // - "@LIST": a text file naming one file or folder per line (treated as above; blank lines
 //   and lines starting with '#' skipped; relative paths from the current folder).
-// `with_timing`, `with_report`: fill BatchItem::timing, ::report. INVALID_ARGUMENT naming the argument (or the list
+// `with_timing`, `with_report`, `with_xdts`: fill BatchItem::timing, ::report, ::xdts. INVALID_ARGUMENT naming the argument (or the list
 // file and line) for a path that does not exist, a list that cannot be read, and two inputs
 // whose outputs (or sheets, or reports) would be the same file.
 absl::StatusOr<std::vector<BatchItem>> DiscoverInputs(const std::vector<std::string>& arguments,
                                                       const std::vector<std::string>& extensions,
                                                       const std::string& out_dir,
-                                                      bool with_timing, bool with_report = false);
+                                                      bool with_timing, bool with_report = false,
+                                                      bool with_xdts = false);
 
 }  // namespace koma::client::batch
 

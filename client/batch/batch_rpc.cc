@@ -42,6 +42,7 @@ SkeletalArgs ArgsFor(const SkeletalArgs& batch_args, const BatchItem& item) {
   args.input = item.input;
   args.output = item.output;
   args.timing = item.timing;
+  args.xdts = item.xdts;
   return args;
 }
 
@@ -138,6 +139,7 @@ class CurvesClipCall final : public Clip {
     args.input = item.input;
     args.output = item.output;
     args.timing = item.timing;
+    args.xdts = item.xdts;
     if (absl::Status s = WriteCurvesOutputs(args, input_, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
     return report::WriteCurvesReport(item.report, request_, response_, item.input);
@@ -183,6 +185,7 @@ class LipBlinkClipCall final : public Clip {
     LipBlinkArgs args = args_;
     args.input = item.input;
     args.output = item.output;
+    args.xdts = item.xdts;
     if (absl::Status s = WriteLipBlinkOutputs(args, input_, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
     return report::WriteLipBlinkReport(item.report, request_, response_, item.input);
@@ -220,7 +223,9 @@ class LipBlinkVoiceCall final : public Clip {
     args.audio = item.input;
     args.output = item.output;
     args.cues.clear();
-    if (absl::Status s = WriteLipBlinkVoiceOutputs(args, /*csv_output=*/false, response_);
+    args.xdts = item.xdts;
+    if (absl::Status s = WriteLipBlinkVoiceOutputs(args, /*csv_output=*/false,
+                                                   request_.voice_motion_fps(), response_);
         !s.ok() || item.report.empty()) {
       return s;
     }

@@ -61,7 +61,8 @@ bool Manifest::UpToDate(const BatchItem& item, const std::string& fingerprint) c
   }
   if (!NotOlder(item.output, item.input)) return false;
   return (item.timing.empty() || NotOlder(item.timing, item.input)) &&
-         (item.report.empty() || NotOlder(item.report, item.input));
+         (item.report.empty() || NotOlder(item.report, item.input)) &&
+         (item.xdts.empty() || NotOlder(item.xdts, item.input));
 }
 
 absl::Status Manifest::Save() const {

@@ -10,6 +10,7 @@
 #include "absl/strings/str_join.h"
 #include "client/report/input_curves.h"
 #include "client/report/report_data.h"
+#include "client/xdts_sheets.h"
 #include "convert/curves_convert.h"
 #include "core/film_grid.h"
 
@@ -164,6 +165,7 @@ nlohmann::json CurvesReportWriter::Data() const {
                       {"histogram", histogram}});
   }
   data["curves"] = curves;
+  data["xdts"] = ExposureSheetData(CurvesXdtsSheet(r, XdtsClipName(input_name_, "")));
   return data;
 }
 

@@ -9,6 +9,7 @@
 #include "convert/curves_convert.h"
 #include "client/report/input_curves.h"
 #include "client/report/report_data.h"
+#include "client/xdts_sheets.h"
 
 namespace koma::client::report {
 namespace {
@@ -114,6 +115,7 @@ nlohmann::json LipBlinkReportWriter::Data() const {
   data["mouths"] = mouths;
   data["eyes"] = eyes;
   data["curves"] = curves;
+  data["xdts"] = ExposureSheetData(LipBlinkXdtsSheet(r, fps, XdtsClipName(input_name_, "")));
   return data;
 }
 

@@ -10,6 +10,7 @@
 #include "absl/strings/str_format.h"
 #include "client/files.h"
 #include "client/report/report_data.h"
+#include "client/xdts_sheets.h"
 #include "convert/curves_convert.h"
 
 namespace koma::client::report {
@@ -241,6 +242,11 @@ nlohmann::json LipBlinkVoiceReportWriter::Data() const {
   data["mouths"] = mouths;
   data["eyes"] = eyes;
   data["curves"] = curves;
+  // The sheet --xdts writes for the same call, named after the motion, else the voice.
+  data["xdts"] = ExposureSheetData(LipBlinkXdtsSheet(
+      r, fps,
+      XdtsClipName(sources_.motion_name.empty() ? sources_.voice_name : sources_.motion_name,
+                   "")));
   return data;
 }
 

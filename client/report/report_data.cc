@@ -101,4 +101,28 @@ std::string Base64(const std::string& bytes) {
   return out;
 }
 
+nlohmann::json ExposureSheetData(const absl::StatusOr<formats::XdtsSheet>& sheet) {
+  if (!sheet.ok()) return {{"error", std::string(sheet.status().message())}};
+  nlohmann::json tracks = nlohmann::json::array();
+  for (const formats::XdtsCellTrack& track : sheet->cell_tracks) {
+    nlohmann::json changes = nlohmann::json::array();
+    for (size_t r = 0; r < track.cells.size(); ++r) {
+      if (r == 0 || track.cells[r] != track.cells[r - 1]) {
+        changes.push_back({static_cast<int>(r), track.cells[r]});
+      }
+    }
+    tracks.push_back({{"name", track.name}, {"changes", std::move(changes)}});
+  }
+  nlohmann::json dialog = nlohmann::json::array();
+  for (const formats::XdtsDialogTrack& track : sheet->dialog_tracks) {
+    nlohmann::json lines = nlohmann::json::array();
+    for (const formats::XdtsDialogLine& line : track.lines) {
+      lines.push_back({line.begin, line.end, line.speaker, line.text});
+    }
+    dialog.push_back({{"name", track.name}, {"lines", std::move(lines)}});
+  }
+  return {{"name", sheet->name}, {"rows", sheet->duration}, {"tracks", std::move(tracks)},
+          {"dialog", std::move(dialog)}};
+}
+
 }  // namespace koma::client::report

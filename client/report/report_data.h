@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "absl/status/statusor.h"
 #include "absl/types/span.h"
+#include "formats/xdts.h"
 #include "nlohmann/json.hpp"
 
 namespace koma::client::report {
@@ -34,6 +36,12 @@ nlohmann::json Runs(absl::Span<const int> values);
 // changes little from one frame to the next, so most values take one byte. report.js's
 // unpackPositions reverses it. Values beyond +-2^52 steps are clamped.
 std::string PackQuantised(absl::Span<const double> values, int per_frame, double step);
+
+// The exposure sheet `--xdts` writes (client/xdts_sheets.h), for the page's "Exposure sheet
+// (XDTS)" section: {"name", "rows", "tracks": [{"name", "changes": [[row, cell], ...]}],
+// "dialog": [{"name", "lines": [[begin, end, speaker, text], ...]}]}, a cell listed where it
+// changes ("" empty), as the file has it; {"error": message} when the answer has no sheet.
+nlohmann::json ExposureSheetData(const absl::StatusOr<formats::XdtsSheet>& sheet);
 
 // RFC 4648 base64 with padding.
 std::string Base64(const std::string& bytes);

@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "client/report/report_data.h"
+#include "client/xdts_sheets.h"
 #include "core/forward_kinematics.h"
 #include "core/skeleton.h"
 
@@ -211,6 +212,7 @@ nlohmann::json SkeletalReportWriter::Data() const {
   }
   data["joints"] = {{"names", names}, {"parents", parents}};
   data["pose"] = Pose(q);
+  data["xdts"] = ExposureSheetData(SkeletalXdtsSheet(r, XdtsClipName(input_name_, "")));
   return data;
 }
 

@@ -1,4 +1,5 @@
 """koma.Client: the three koma RPCs and the health check, from a file path or its text."""
+import json
 import os
 
 import grpc
@@ -206,6 +207,7 @@ class Client:
         """
         request = retime_pb2.RetimeSkeletalRequest()
         _options.fill(request, options, skip=("motion", "bvh_text", "gltf"))
+        path = None
         if isinstance(source, Positions):
             request.motion.CopyFrom(source.to_proto())
         else:
@@ -214,18 +216,22 @@ class Client:
                 request.gltf = data
             else:
                 request.bvh_text = data
-        return SkeletalResult(self._call(self._stub.RetimeSkeletal, request))
+        result = SkeletalResult(self._call(self._stub.RetimeSkeletal, request))
+        result.source_path = path
+        return result
 
     def _curve_request(self, request, source, file_format, csv_fps):
+        """Fills the request's file; returns (its path or None, a function giving its fps)."""
         data, path = _read_source(source, ("{", "frame,"))
         if _is_csv(data, path, file_format):
             request.csv_text = data
             if csv_fps is not None:
                 _options.fill(request, {"csv_fps": csv_fps})
-        else:
-            if csv_fps is not None:
-                raise ValueError("csv_fps: only for a CSV input")
-            request.motion3_json = data
+            return path, lambda: request.csv_fps or 30.0
+        if csv_fps is not None:
+            raise ValueError("csv_fps: only for a CSV input")
+        request.motion3_json = data
+        return path, lambda: float(json.loads(data)["Meta"]["Fps"])
 
     def retime_curves(self, source, format=None, csv_fps=None, **options):
         """Koma-uchi on twos/threes with tame/tsume spacing (RetimeCurves).
@@ -255,8 +261,10 @@ class Client:
         request = retime_pb2.RetimeCurvesRequest()
         _options.fill(request, options,
                       skip=("curves", "motion3_json", "csv_text", "csv_fps"))
-        self._curve_request(request, source, format, csv_fps)
-        return CurvesResult(self._call(self._stub.RetimeCurves, request))
+        path, _ = self._curve_request(request, source, format, csv_fps)
+        result = CurvesResult(self._call(self._stub.RetimeCurves, request))
+        result.source_path = path
+        return result
 
     def lip_blink(self, source=None, format=None, csv_fps=None, audio=None, rhubarb_cues=None,
                   **options):
@@ -291,21 +299,30 @@ class Client:
                                               "audio", "rhubarb_cues"))
         if audio is not None and rhubarb_cues is not None:
             raise ValueError("audio, rhubarb_cues: give one voice, not both")
+        # The sheet's name (xdts()): the motion's file, else the voice's, as `koma lipblink`.
+        voice_path = None
         if audio is not None:
             if isinstance(audio, (bytes, bytearray)):
                 request.audio = bytes(audio)
             elif isinstance(audio, (str, os.PathLike)):
-                with open(os.fspath(audio), "rb") as f:
+                voice_path = os.fspath(audio)
+                with open(voice_path, "rb") as f:
                     request.audio = f.read()
             else:
                 raise TypeError(f"audio: expected a path or bytes, got {type(audio).__name__}")
         if rhubarb_cues is not None:
-            request.rhubarb_cues, _ = _read_source(rhubarb_cues, ("{", "0"))
+            request.rhubarb_cues, voice_path = _read_source(rhubarb_cues, ("{", "0"))
         if source is not None:
-            self._curve_request(request, source, format, csv_fps)
+            path, fps = self._curve_request(request, source, format, csv_fps)
         elif audio is None and rhubarb_cues is None:
             raise TypeError("lip_blink: a source motion, audio or rhubarb_cues is required")
-        return LipBlinkResult(self._call(self._stub.LipBlink, request))
+        else:
+            # A new motion at voice_motion_fps (unset or 0: 30, as the server writes it).
+            path, fps = voice_path, lambda: request.voice_motion_fps or 30.0
+        result = LipBlinkResult(self._call(self._stub.LipBlink, request))
+        result.source_path = path
+        result._source_fps = fps
+        return result
 
     def health(self, service=""):
         """The server's grpc.health.v1 status: "SERVING" when it takes calls ("NOT_SERVING"

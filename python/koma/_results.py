@@ -1,4 +1,7 @@
 """What the three calls return: the retimed file's text, the timing map and the counts."""
+import os
+
+from koma import _xdts
 from koma.v1 import retime_pb2
 
 
@@ -10,6 +13,20 @@ class _Result:
     """Common part: `output` (str, the retimed file) and writing it."""
 
     output_bytes = None
+    source_path = None  # the input file's path when the call was given one
+
+    def xdts(self, name=None):
+        """The timing as an XDTS exposure sheet (str), byte for byte what `koma ... --xdts`
+        writes (docs/formats.md). `name` names the sheet and its layers; default the input
+        file's name without its extension (else "koma")."""
+        return _xdts.write(self._xdts_sheet(name or _xdts.clip_name(self.source_path, None)))
+
+    def write_xdts(self, path, name=None):
+        """Writes xdts() to `path`; the default name is the input file's, else `path`'s, without
+        the extension."""
+        text = self.xdts(name or _xdts.clip_name(self.source_path, os.fspath(path)))
+        with open(path, "wb") as out:
+            out.write(text.encode("utf-8"))
 
     @property
     def output(self):
@@ -92,6 +109,9 @@ class SkeletalResult(_Result):
             "max_hold": response.max_hold,
         }
 
+    def _xdts_sheet(self, name):
+        return _xdts.skeletal_sheet(self.response, name)
+
     def __repr__(self):
         return f"SkeletalResult(counts={self.counts})"
 
@@ -150,6 +170,9 @@ class CurvesResult(_Result):
             "key_poses": len(self.key_frames),
             "drawings": len(self.timings[0]["drawing_start"]) if self.timings else 0,
         }
+
+    def _xdts_sheet(self, name):
+        return _xdts.curves_sheet(self.response, name)
 
     def __repr__(self):
         return f"CurvesResult(counts={self.counts})"
@@ -217,6 +240,10 @@ class LipBlinkResult(_Result):
             "mouth_holds": sum(len(m["holds"]) for m in self.mouths),
             "blinks": sum(len(e["blinks"]) for e in self.eyes),
         }
+
+    def _xdts_sheet(self, name):
+        # The grid's rows need the curves' own rate: the file's Meta.Fps, or the CSV's csv_fps.
+        return _xdts.lip_blink_sheet(self.response, self._source_fps(), name)
 
     def __repr__(self):
         return f"LipBlinkResult(counts={self.counts})"

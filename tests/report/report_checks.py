@@ -4,6 +4,7 @@
   report_checks.py skeletal REPORT TIMING_CSV SUMMARY [SHOT.png]
   report_checks.py curves REPORT DRAWING_CSV SUMMARY [SHOT.png]
   report_checks.py lipblink REPORT SUMMARY [SHOT.png [VALUES_CSV]]
+  report_checks.py xdts REPORT XDTS                   the exposure sheet against --xdts
   report_checks.py voice REPORT SUMMARY [SHOT.png]
   report_checks.py audio REPORT SUMMARY
   report_checks.py player REPORT TIMING_CSV
@@ -123,9 +124,48 @@ SHEET_JS = """(() => {
 })()"""
 
 
-def read_sheet(browser):
-    sheet = browser.evaluate(SHEET_JS)
+def read_sheet(browser, sheet_id="sheet"):
+    """(header, rows) of a paged sheet table: `sheet_id` and its -page, -prev, -next controls."""
+    script = SHEET_JS.replace("'sheet-", f"'{sheet_id}-").replace("#sheet ", f"#{sheet_id} ")
+    sheet = browser.evaluate(script)
     return sheet["header"], sheet["rows"]
+
+
+def check_xdts(report, xdts_path):
+    """The report's "Exposure sheet (XDTS)" table against the --xdts file of the same call, read
+    by the tests' independent reader (OpenToonz's rules, tests/python/xdts_reference.py)."""
+    import cdp
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+    import xdts_reference
+    with open(xdts_path, "rb") as f:
+        sheet = xdts_reference.read(f.read())
+    b = cdp.Browser()
+    try:
+        b.open("file://" + os.path.abspath(report))
+        header, rows = read_sheet(b, "xdts-sheet")
+        expect("exposure sheet header", header,
+               ["frame"] + [n for n, _ in sheet["cells"]] + [n for n, _ in sheet["dialog"]])
+        expect("exposure sheet rows", len(rows), sheet["duration"])
+        dialog = []
+        for _, lines in sheet["dialog"]:
+            column = [""] * sheet["duration"]
+            for begin, end, values in lines:
+                for r in range(begin, end):
+                    column[r] = f"{values[0]}: {values[1] if len(values) > 1 else ''}" if r == begin else "|"
+            dialog.append(column)
+        for r, row in enumerate(rows):
+            want = [str(r)]
+            for _, cells in sheet["cells"]:
+                cell = cells[r]
+                want.append("×" if cell is None else cell if r == 0 or cells[r - 1] != cell else "|")
+            want += [column[r] for column in dialog]
+            expect(f"exposure sheet row {r}", [text for text, _ in row], want)
+        if b.errors:
+            fail(f"script errors: {b.errors}")
+    finally:
+        b.close()
+    print(f"ok: {report}: the exposure sheet's {len(rows)} rows and {len(header) - 1} columns are "
+          f"the --xdts file's")
 
 
 def summary_field(summary, pattern):
@@ -671,6 +711,8 @@ def main(argv):
         check_curves(*args)
     elif command == "lipblink":
         check_lipblink(*args)
+    elif command == "xdts":
+        check_xdts(*args)
     elif command == "voice":
         check_voice(*args)
     elif command == "audio":

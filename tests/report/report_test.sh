@@ -30,14 +30,18 @@ mkdir -p "$shots"
 run_samples() {
   local tag=$1
   "$koma" skeletal "$samples/pitch.bvh" -o "$work/pitch.bvh" --timing "$work/pitch.csv" \
-    --report "$work/pitch$tag.html" --server "$target" >"$work/pitch.txt" || fail "koma skeletal pitch"
+    --report "$work/pitch$tag.html" --xdts "$work/pitch.xdts" --server "$target" >"$work/pitch.txt" \
+    || fail "koma skeletal pitch"
   "$koma" skeletal "$samples/mocap_120fps.bvh" -o "$work/mocap.bvh" --timing "$work/mocap.csv" \
-    --report "$work/mocap$tag.html" --server "$target" >"$work/mocap.txt" || fail "koma skeletal mocap"
+    --report "$work/mocap$tag.html" --xdts "$work/mocap.xdts" --server "$target" >"$work/mocap.txt" \
+    || fail "koma skeletal mocap"
   "$koma" curves "$samples/arm_head.motion3.json" -o "$work/arm.motion3.json" --timing "$work/arm.csv" \
-    --on 3 --tame 1.5 --tsume 1.5 --report "$work/arm$tag.html" --server "$target" >"$work/arm.txt" \
+    --on 3 --tame 1.5 --tsume 1.5 --report "$work/arm$tag.html" --xdts "$work/arm.xdts" \
+    --server "$target" >"$work/arm.txt" \
     || fail "koma curves"
   "$koma" lipblink "$samples/talk_blink.motion3.json" -o "$work/talk_values.csv" \
-    --report "$work/talk$tag.html" --server "$target" >"$work/talk.txt" || fail "koma lipblink"
+    --report "$work/talk$tag.html" --xdts "$work/talk.xdts" --server "$target" >"$work/talk.txt" \
+    || fail "koma lipblink"
 }
 
 case "$mode" in
@@ -80,10 +84,13 @@ case "$mode" in
       "$work/talk_values.csv" || fail "talk"
     # A glTF 2.0 file (samples/wave.glb): the report's stick figures are the skin's joints.
     "$koma" skeletal "$samples/wave.glb" -o "$work/wave.glb" --timing "$work/wave.csv" \
-      --report "$work/wave.html" --server "$target" >"$work/wave.txt" || fail "koma skeletal wave.glb"
+      --report "$work/wave.html" --xdts "$work/wave.xdts" --server "$target" >"$work/wave.txt" || fail "koma skeletal wave.glb"
     "${checks[@]}" validate "$work/wave.html" || fail "wave.glb: HTML5 validation"
     "${checks[@]}" skeletal "$work/wave.html" "$work/wave.csv" "$work/wave.txt" "$shots/wave.png" \
       || fail "wave.glb"
+    for name in pitch mocap arm talk wave; do
+      "${checks[@]}" xdts "$work/$name.html" "$work/$name.xdts" || fail "$name: exposure sheet"
+    done
     ;;
   player)
     run_samples ""
@@ -161,13 +168,15 @@ case "$mode" in
     # A recording (made by samples/make_voice.sh with espeak-ng and sox) and a new motion.
     for tag in "" _again; do
       "$koma" lipblink --audio "$samples/voice.flac" -o "$work/voice.csv" --auto-blink 3 \
-        --report "$work/voice$tag.html" --server "$target" >"$work/voice$tag.txt" || fail "koma lipblink --audio"
+        --report "$work/voice$tag.html" --xdts "$work/voice$tag.xdts" --server "$target" \
+        >"$work/voice$tag.txt" || fail "koma lipblink --audio"
     done
     cmp "$work/voice.html" "$work/voice_again.html" || fail "voice: same call, different report bytes"
     grep -qF "report: $work/voice.html" "$work/voice.txt" || fail "voice: summary does not name the report"
     "${checks[@]}" validate "$work/voice.html" || fail "voice: HTML5"
     "${checks[@]}" voice "$work/voice.html" "$work/voice.txt" "$shots/voice.png" || fail "voice"
     "${checks[@]}" lipblink "$work/voice.html" "$work/voice.txt" "" "$work/voice.csv" || fail "voice: drawings and face"
+    "${checks[@]}" xdts "$work/voice.html" "$work/voice.xdts" || fail "voice: exposure sheet"
     # Over --report-audio-max-bytes the page links the recording by its relative path.
     mkdir -p "$work/sub/pages" "$work/sub/sound"
     cp "$samples/voice.flac" "$work/sub/sound/take 1.flac"
@@ -188,10 +197,12 @@ case "$mode" in
     "$koma" lipblink --audio "$samples/voice.flac" -o "$work/c.motion3.json" --cues "$work/cues.tsv" \
       --server "$target" >/dev/null || fail "koma lipblink --cues"
     "$koma" lipblink --rhubarb "$work/cues.tsv" -o "$work/rhubarb.csv" --report "$work/rhubarb.html" \
-      --server "$target" >"$work/rhubarb.txt" || fail "koma lipblink --rhubarb --report"
+      --xdts "$work/rhubarb.xdts" --server "$target" >"$work/rhubarb.txt" \
+      || fail "koma lipblink --rhubarb --report"
     "${checks[@]}" validate "$work/rhubarb.html" || fail "rhubarb: HTML5"
     "${checks[@]}" lipblink "$work/rhubarb.html" "$work/rhubarb.txt" "$shots/rhubarb.png" "$work/rhubarb.csv" \
       || fail "rhubarb: drawings and face"
+    "${checks[@]}" xdts "$work/rhubarb.html" "$work/rhubarb.xdts" || fail "rhubarb: exposure sheet"
     ;;
   camera)
     "$camera_tool" "$work/camera.html" || fail "write_camera_report"

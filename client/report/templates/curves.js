@@ -125,6 +125,7 @@
   const rowFps = grid ? D.timing_fps : D.fps;
   const sheet = makeSheet(rows, columns, cell, (r) => ({second: r > 0 && Math.abs(r / rowFps - Math.round(r / rowFps)) < 1e-9}));
   sheetSection.append(sheet.element);
+  exposureSheetSection(D.xdts, rowFps);
   // ---- the player: scrub the curves' frames; the cursors and the sheet follow ------------------
   // Output frame t shows, per timing, drawing drawing_of_frame[t]; with a grid it lies in the
   // grid frame whose source frames (grid_first_frame) include it.

@@ -245,6 +245,7 @@
   if (D.timing_fps > 0) {
     section('Film grid', el('p', {}, `Loudness, speech, holds and blinks are counted on the ${D.timing_fps} fps film grid: frame numbers above are grid frames (${(1000 / D.timing_fps).toFixed(1)} ms each); the motion written has ${D.frames} frames at ${D.fps} fps.`));
   }
+  exposureSheetSection(D.xdts, D.timing_fps > 0 ? D.timing_fps : D.fps);
   show(0);
   reportReady();
 })(KOMA);

@@ -170,17 +170,18 @@ function makePlayer(frames, fps, onFrame, describe) {
 
 // An exposure sheet shown a page at a time: 144 rows = 6 s at 24 fps, the page of a Japanese
 // timesheet. columns: header names; cell(r, c) -> [text, class]; rowInfo(r) -> {second: bool}.
-function makeSheet(rows, columns, cell, rowInfo, pageSize) {
+function makeSheet(rows, columns, cell, rowInfo, pageSize, id) {
   pageSize = pageSize || 144;
+  id = id || 'sheet';  // the table's id; its page controls are id-page, id-prev, id-next
   const pages = Math.max(1, Math.ceil(rows / pageSize));
   let page = -1, current = -1;
-  const table = el('table', {class: 'sheet', id: 'sheet', 'data-rows': rows});
+  const table = el('table', {class: 'sheet', id, 'data-rows': rows});
   const head = el('tr', {}, ...columns.map((c) => el('th', {}, c)));
   const body = el('tbody');
   table.append(el('thead', {}, head), body);
-  const label = el('span', {id: 'sheet-page'});
-  const prev = el('button', {type: 'button', id: 'sheet-prev'}, '◀ page');
-  const nextPage = el('button', {type: 'button', id: 'sheet-next'}, 'page ▶');
+  const label = el('span', {id: id + '-page'});
+  const prev = el('button', {type: 'button', id: id + '-prev'}, '◀ page');
+  const nextPage = el('button', {type: 'button', id: id + '-next'}, 'page ▶');
   const render = (p) => {
     page = Math.max(0, Math.min(pages - 1, p));
     body.replaceChildren();
@@ -223,6 +224,47 @@ function makeSheet(rows, columns, cell, rowInfo, pageSize) {
 // vertical stroke while it is held.
 function drawingCell(isNew, number) {
   return isNew ? [String(number), 'new'] : ['|', 'hold'];
+}
+
+// The exposure sheet `--xdts` writes (docs/formats.md, XDTS): one row per sheet row, a column
+// per Cell track (the drawing number where it changes, | while held, × for an empty cell) and
+// per Dialog track (speaker: text on a line's first row, | after). `rowFps` marks seconds.
+// Returns the sheet (its highlight(row) follows a player), or null without one.
+function exposureSheetSection(X, rowFps) {
+  if (!X || X.error !== undefined) return null;
+  const s = section('Exposure sheet (XDTS)');
+  s.append(el('p', {class: 'legend'},
+    `The sheet --xdts writes for CLIP STUDIO PAINT, OpenToonz, Tahoma2D and TVPaint ("${X.name}", ${X.rows} rows): ` +
+    'a column per layer (Cell track) numbering its drawings, | while a drawing is held; dialog columns give the speech.'));
+  // Per track, per row: [text, class].
+  const columns = X.tracks.map((t) => {
+    const out = new Array(X.rows);
+    for (let k = 0; k < t.changes.length; ++k) {
+      const [row, cell] = t.changes[k];
+      const end = k + 1 < t.changes.length ? t.changes[k + 1][0] : X.rows;
+      for (let r = row; r < end; ++r) {
+        out[r] = cell === '' ? ['×', 'empty'] : r === row ? [cell, 'new'] : ['|', 'hold'];
+      }
+    }
+    return out;
+  });
+  const dialog = X.dialog.map((d) => {
+    const out = new Array(X.rows).fill(null);
+    for (const [b, e, speaker, text] of d.lines) {
+      for (let r = b; r < e && r < X.rows; ++r) out[r] = r === b ? [speaker + ': ' + text, 'new'] : ['|', 'hold'];
+    }
+    return out;
+  });
+  const names = ['frame', ...X.tracks.map((t) => t.name), ...X.dialog.map((d) => d.name)];
+  const cell = (r, c) => {
+    if (c === 0) return [String(r)];
+    if (c <= columns.length) return columns[c - 1][r];
+    return dialog[c - 1 - columns.length][r] || [''];
+  };
+  const sheet = makeSheet(X.rows, names, cell,
+    (r) => ({second: r > 0 && Math.abs(r / rowFps - Math.round(r / rowFps)) < 1e-9}), 144, 'xdts-sheet');
+  s.append(sheet.element);
+  return sheet;
 }
 
 // Called by <kind>.js when every figure is drawn (tests wait for data-ready="1").

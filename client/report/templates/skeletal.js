@@ -240,6 +240,7 @@
   sheet.element.querySelector('table').dataset.drawings = drawings;
   sheetSection.append(sheet.element);
 
+  exposureSheetSection(D.xdts, rowFps);
   player.show(0);
   reportReady();
 })(KOMA);
