@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <algorithm>
@@ -49,34 +50,55 @@ absl::Status AddCurveOverrides(const std::vector<std::string>& entries,
 
 // --group / --group-on / --no-default-groups -> request.timing_groups (the default grouping
 // spelt out when --group-on changes one of its groups).
+// The group of a --group-on / --group-mode entry "NAME=VALUE" (`example` shows one), and VALUE.
+absl::StatusOr<std::pair<TimingGroupFlag*, std::string>> GroupEntry(
+    const std::string& flag, const std::string& entry, const char* example,
+    std::vector<TimingGroupFlag>& groups) {
+  const size_t equals = entry.rfind('=');
+  if (equals == std::string::npos || equals == 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(flag, ": \"", entry, "\" is not NAME=", example));
+  }
+  const std::string name = entry.substr(0, equals);
+  auto it = std::find_if(groups.begin(), groups.end(),
+                         [&name](const TimingGroupFlag& g) { return g.name == name; });
+  if (it == groups.end()) {
+    std::string names;
+    for (const TimingGroupFlag& g : groups) absl::StrAppend(&names, names.empty() ? "" : ", ", g.name);
+    return absl::InvalidArgumentError(absl::StrCat(
+        flag, ": no timing group \"", name, "\" (groups: ", names.empty() ? "none" : names,
+        name == kDefaultTimingGroupName ? "; body is --on" : "", ")"));
+  }
+  return std::make_pair(&*it, entry.substr(equals + 1));
+}
+
 absl::Status AddTimingGroups(const CurvesArgs& args, v1::RetimeCurvesRequest& request) {
   std::vector<TimingGroupFlag> groups = args.groups;
-  if (groups.empty() && !args.group_on.empty() && !!args.default_groups) {
+  if (groups.empty() && (!args.group_on.empty() || !args.group_mode.empty()) &&
+      !!args.default_groups) {
     for (const CurveTimingGroup& g : DefaultLive2dTimingGroups()) {
-      groups.push_back({g.name, g.ids, std::nullopt, std::nullopt, std::nullopt, {}});
+      groups.push_back(
+          {g.name, g.ids, std::nullopt, std::nullopt, std::nullopt, {},
+           convert::TimingGroupModeToProto(g.mode), {}, {}, "", std::nullopt});
     }
   }
   for (const std::string& entry : args.group_on) {
-    const size_t equals = entry.rfind('=');
-    if (equals == std::string::npos || equals == 0) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("--group-on: \"", entry, "\" is not NAME=N, e.g. hair=2"));
-    }
-    const std::string name = entry.substr(0, equals);
+    absl::StatusOr<std::pair<TimingGroupFlag*, std::string>> group =
+        GroupEntry("--group-on", entry, "N, e.g. hair=2", groups);
+    if (!group.ok()) return group.status();
     absl::StatusOr<int64_t> n =
-        ParseWholeNumber("--group-on " + name, entry.substr(equals + 1), 1, INT32_MAX);
+        ParseWholeNumber("--group-on " + group->first->name, group->second, 1, INT32_MAX);
     if (!n.ok()) return n.status();
-    auto it = std::find_if(groups.begin(), groups.end(),
-                           [&name](const TimingGroupFlag& g) { return g.name == name; });
-    if (it == groups.end()) {
-      std::string names;
-      for (const TimingGroupFlag& g : groups) absl::StrAppend(&names, names.empty() ? "" : ", ", g.name);
-      return absl::InvalidArgumentError(absl::StrCat(
-          "--group-on: no timing group \"", name, "\" (groups: ",
-          names.empty() ? "none" : names, name == kDefaultTimingGroupName ? "; body is --on" : "",
-          ")"));
-    }
-    it->frames_per_drawing = static_cast<int>(*n);
+    group->first->frames_per_drawing = static_cast<int>(*n);
+  }
+  for (const std::string& entry : args.group_mode) {
+    absl::StatusOr<std::pair<TimingGroupFlag*, std::string>> group =
+        GroupEntry("--group-mode", entry, "MODE, e.g. face=keep", groups);
+    if (!group.ok()) return group.status();
+    absl::StatusOr<v1::CurveTimingGroupMode> mode =
+        ParseGroupMode("--group-mode " + group->first->name, group->second);
+    if (!mode.ok()) return mode.status();
+    group->first->mode = *mode;
   }
   for (const TimingGroupFlag& flag : groups) {
     v1::CurveTimingGroup* g = request.add_timing_groups();
@@ -86,6 +108,13 @@ absl::Status AddTimingGroups(const CurvesArgs& args, v1::RetimeCurvesRequest& re
     if (flag.tame) g->set_tame(*flag.tame);
     if (flag.tsume) g->set_tsume(*flag.tsume);
     for (int key : flag.key_frames) g->add_key_frames(key);
+    if (flag.mode != v1::CURVE_TIMING_GROUP_MODE_UNSPECIFIED) g->set_mode(flag.mode);
+    for (const std::string& id : flag.mouth_ids) g->mutable_mouth()->add_ids(id);
+    if (!flag.mouth_mode.empty()) {
+      g->mutable_mouth()->set_mode(flag.mouth_mode == "follow" ? v1::MOUTH_FOLLOW : v1::MOUTH_RANDOM);
+    }
+    for (const std::string& id : flag.eye_ids) g->mutable_eyes()->add_ids(id);
+    if (flag.seed) g->set_seed(*flag.seed);
   }
   if (!args.default_groups) request.set_default_timing_groups(false);
   return absl::OkStatus();
@@ -118,11 +147,21 @@ absl::StatusOr<bool> ParseDrawingSettings(const std::string& flag_name, const st
 
 }  // namespace
 
+absl::StatusOr<v1::CurveTimingGroupMode> ParseGroupMode(const std::string& flag,
+                                                        const std::string& text) {
+  if (text == "step") return v1::GROUP_STEP;
+  if (text == "keep") return v1::GROUP_KEEP;
+  if (text == "lipblink" || text == "lip-blink" || text == "lip_blink") return v1::GROUP_LIP_BLINK;
+  return absl::InvalidArgumentError(
+      absl::StrCat(flag, ": \"", text, "\" is not a group mode (step, keep or lipblink)"));
+}
+
 absl::StatusOr<TimingGroupFlag> ParseTimingGroup(const std::string& text) {
   constexpr char kFlag[] = "--group";
   const std::string usage = absl::StrCat(
       kFlag, ": \"", text,
-      "\" is not NAME=ID,...[:on=N,tame=S,tsume=S,keys=F/F/...], e.g. "
+      "\" is not NAME=ID,...[:on=N,tame=S,tsume=S,keys=F/F/...,mode=step|keep|lipblink,"
+      "mouth=ID/ID,eyes=ID/ID,mouth-mode=random|follow,seed=N], e.g. "
       "hair=ParamHair*,ParamBust*:on=2");
   const size_t equals = text.find('=');
   if (equals == std::string::npos || equals == 0) return absl::InvalidArgumentError(usage);
@@ -140,6 +179,38 @@ absl::StatusOr<TimingGroupFlag> ParseTimingGroup(const std::string& text) {
     // on, tame and tsume as for --segment-overrides.
     std::vector<std::string> settings;
     for (absl::string_view setting : absl::StrSplit(text.substr(colon + 1), ',')) {
+      if (absl::StartsWith(setting, "mode=")) {
+        absl::StatusOr<v1::CurveTimingGroupMode> mode =
+            ParseGroupMode(absl::StrCat(kFlag, " mode"), std::string(setting.substr(5)));
+        if (!mode.ok()) return mode.status();
+        out.mode = *mode;
+        continue;
+      }
+      // LipBlink's settings of a lipblink group (the server refuses them in other modes).
+      if (absl::StartsWith(setting, "mouth=") || absl::StartsWith(setting, "eyes=")) {
+        const size_t eq = setting.find('=');
+        std::vector<std::string>& ids = setting[0] == 'm' ? out.mouth_ids : out.eye_ids;
+        for (absl::string_view id : absl::StrSplit(setting.substr(eq + 1), '/')) {
+          if (id.empty()) return absl::InvalidArgumentError(usage);
+          ids.emplace_back(id);
+        }
+        continue;
+      }
+      if (absl::StartsWith(setting, "mouth-mode=")) {
+        out.mouth_mode = std::string(setting.substr(11));
+        if (out.mouth_mode != "random" && out.mouth_mode != "follow") {
+          return absl::InvalidArgumentError(absl::StrCat(
+              kFlag, " mouth-mode: \"", out.mouth_mode, "\" is not random or follow"));
+        }
+        continue;
+      }
+      if (absl::StartsWith(setting, "seed=")) {
+        absl::StatusOr<uint64_t> seed =
+            ParseUnsigned64(absl::StrCat(kFlag, " seed"), setting.substr(5));
+        if (!seed.ok()) return seed.status();
+        out.seed = *seed;
+        continue;
+      }
       if (!absl::StartsWith(setting, "keys=")) {
         settings.emplace_back(setting);
         continue;
@@ -247,7 +318,12 @@ absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
   if (!args.timing_only) {
     std::vector<std::optional<CurveReplacement>> replacements;
     for (const v1::RetimedCurve& curve : response.curves()) {
-      replacements.push_back(convert::ReplacementFromProto(curve));
+      // A GROUP_KEEP curve (timing -1) stays as it came in.
+      if (curve.timing() < 0) {
+        replacements.emplace_back();
+      } else {
+        replacements.push_back(convert::ReplacementFromProto(curve));
+      }
     }
     if (replacements.size() != input.curves.curves.size()) {
       return absl::InternalError(absl::StrCat("the server answered ", replacements.size(),
@@ -268,7 +344,7 @@ absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
       names.emplace_back(kDefaultTimingGroupName);
     }
     for (const v1::CurveTimingGroupResult& group : response.timing_groups()) {
-      if (group.curves_size() == 0) continue;  // no curves, no track
+      if (group.curves_size() == 0 || group.frames_per_drawing() == 0) continue;  // no drawings
       if (group.timing() < 0 || group.timing() >= response.timings_size()) {
         return absl::InternalError(absl::StrCat("the server answered timing group \"",
                                                 group.name(), "\" with timing ", group.timing()));
@@ -332,9 +408,9 @@ int RunCurves(const CurvesArgs& args) {
       return out.Failure(s);
     }
   }
-  out.Success(CurvesSummaryText(args, input->curves, response) + XdtsLine(args.xdts) +
+  out.Success(CurvesSummaryText(args, input->curves, *request, response) + XdtsLine(args.xdts) +
                   ReportLine(args.report),
-              CurvesSummaryJson(args, input->curves, response),
+              CurvesSummaryJson(args, input->curves, *request, response),
               IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report) ||
                   IsStdio(args.xdts));
   return kExitOk;

@@ -27,8 +27,9 @@ struct SegmentOverrideFlag {
 };
 absl::StatusOr<SegmentOverrideFlag> ParseSegmentOverride(const std::string& text);
 
-// One --group value: "NAME=ID,ID*,...[:on=N,tame=S,tsume=S,keys=F/F/...]" (a timing group:
-// its curves by id or pattern, its own n and spacing, and its named key poses).
+// One --group value: "NAME=ID,ID*,...[:on=N,tame=S,tsume=S,keys=F/F/...,mode=M,...]" (a
+// timing group: its curves by id or pattern, its own n and spacing, its named key poses, its
+// mode and, in mode lipblink, mouth=ID/ID, eyes=ID/ID, mouth-mode=random|follow, seed=N).
 struct TimingGroupFlag {
   std::string name;
   std::vector<std::string> ids;
@@ -36,8 +37,19 @@ struct TimingGroupFlag {
   std::optional<double> tame;
   std::optional<double> tsume;
   std::vector<int> key_frames;
+  v1::CurveTimingGroupMode mode = v1::CURVE_TIMING_GROUP_MODE_UNSPECIFIED;  // mode=step|keep|lipblink
+  // mode=lipblink only: mouth=ID/ID and eyes=ID/ID (the curves LipBlink draws), mouth-mode=
+  // random|follow, seed=N.
+  std::vector<std::string> mouth_ids, eye_ids;
+  std::string mouth_mode;
+  std::optional<uint64_t> seed;
 };
 absl::StatusOr<TimingGroupFlag> ParseTimingGroup(const std::string& text);
+
+// "step", "keep", "lipblink" (also "lip-blink", "lip_blink") -> the mode; INVALID_ARGUMENT
+// naming `flag` otherwise.
+absl::StatusOr<v1::CurveTimingGroupMode> ParseGroupMode(const std::string& flag,
+                                                        const std::string& text);
 
 struct CurvesArgs : CurveFileArgs {
   std::string timing;                     // drawing sheet CSV to write; empty: none; "-"
@@ -54,6 +66,7 @@ struct CurvesArgs : CurveFileArgs {
   bool merge_key_poses = true;  // --no-merge-keys (false): every keyframe time a key pose
   std::vector<TimingGroupFlag> groups;  // --group, repeatable, in order of precedence
   std::vector<std::string> group_on;    // --group-on NAME=N: a group's n (also face, hair)
+  std::vector<std::string> group_mode;  // --group-mode NAME=MODE: a group's mode (also face, hair)
   bool default_groups = true;           // --no-default-groups (false): one group
 };
 

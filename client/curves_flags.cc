@@ -65,15 +65,22 @@ CLI::App* AddCurvesCommand(CLI::App& app, CurvesArgs& args) {
              args.groups.push_back(*parsed);
            }
          },
-         "NAME=ID,...[:on=N,tame=S,tsume=S,keys=F/F/...]: a timing group, its curves by id or "
-         "pattern (ParamHair*) timed on their own key poses; repeatable, the first match wins; "
-         "replaces the default groups (face, hair; the rest is body)")
+         "NAME=ID,...[:on=N,tame=S,tsume=S,keys=F/F/...,mode=M,...]: a timing group, its curves "
+         "by id or pattern (ParamHair*) timed on their own key poses; mode step (default), keep "
+         "or lipblink (with mouth=ID/ID, eyes=ID/ID, mouth-mode=random|follow, seed=N); "
+         "repeatable, the first match wins; replaces the default groups (face in mode lipblink, "
+         "hair; the rest is body)")
       ->type_name("NAME=IDS[:KEY=V,...]")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   AddStringList(cmd, "--group-on", &args.group_on,
                 "NAME=N: frames per drawing of a timing group (of --group, or the default face "
                 "and hair); repeatable or comma-separated")
       ->type_name("NAME=N,...");
+  AddStringList(cmd, "--group-mode", &args.group_mode,
+                "NAME=MODE: a timing group's mode (of --group, or the default face and hair): "
+                "step (koma-uchi), keep (its curves as they came in) or lipblink (LipBlink's "
+                "mouth flaps and blinks, the rest stepped; the default face's); repeatable")
+      ->type_name("NAME=MODE,...");
   cmd->add_flag("--default-timing-groups,!--no-default-groups", args.default_groups,
                 "without --group, Live2D's standard ids in the groups face and hair, the rest "
                 "body (default); --no-default-groups: every curve on the same key poses");

@@ -7,6 +7,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "client/files.h"
+#include "convert/curves_convert.h"
 
 namespace koma::client {
 namespace {
@@ -58,6 +59,7 @@ std::map<int, std::string> GroupOfTiming(const v1::RetimeCurvesResponse& respons
 }  // namespace
 
 std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
+                              const v1::RetimeCurvesRequest& request,
                               const v1::RetimeCurvesResponse& response) {
   std::string text =
       absl::StrFormat("%s: %zu curves, %d frames at %.4g fps -> %s\n", InputName(args.input),
@@ -68,10 +70,19 @@ std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
                         absl::StrJoin(response.key_frames(), ", "));
   if (response.timing_groups_size() > 0) {
     std::vector<std::string> groups;
+    const std::map<std::string, v1::CurveTimingGroupMode> modes = convert::TimingGroupModes(request);
     for (const v1::CurveTimingGroupResult& g : response.timing_groups()) {
-      groups.push_back(absl::StrFormat("%s (%d curves, %s, %d key poses%s)", g.name(),
-                                       g.curves_size(), OnName(g.frames_per_drawing()),
-                                       g.key_frames_size(), MergedText(g.key_frames_merged())));
+      const auto mode = modes.find(g.name());
+      if (mode != modes.end() && mode->second == v1::GROUP_KEEP) {
+        groups.push_back(absl::StrFormat("%s (%d curves, kept as they are)", g.name(),
+                                         g.curves_size()));
+        continue;
+      }
+      const bool lip_blink = mode != modes.end() && mode->second == v1::GROUP_LIP_BLINK;
+      groups.push_back(absl::StrFormat("%s (%d curves, %s%s, %d key poses%s)", g.name(),
+                                       g.curves_size(), lip_blink ? "lipblink, the rest " : "",
+                                       OnName(g.frames_per_drawing()), g.key_frames_size(),
+                                       MergedText(g.key_frames_merged())));
     }
     absl::StrAppend(&text, "  timing groups: ", absl::StrJoin(groups, "; "), "\n");
   }
@@ -91,13 +102,29 @@ std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
   for (const auto& [index, members] : curves_by_timing) {
     if (index < 0 || index >= response.timings_size()) continue;
     const v1::DrawingTiming& timing = response.timings(index);
-    std::vector<std::string> ids;
-    for (const v1::RetimedCurve* curve : members) ids.push_back(curve->id());
+    // A stepped curve always has holds; the mouth and eyes LipBlink draws have none.
+    std::vector<std::string> ids, drawn;
+    const v1::RetimedCurve* shown = nullptr;
+    for (const v1::RetimedCurve* curve : members) {
+      if (curve->hold_histogram_size() == 0) {
+        drawn.push_back(curve->id());
+        continue;
+      }
+      ids.push_back(curve->id());
+      if (shown == nullptr) shown = curve;
+    }
     const auto group = group_of_timing.find(index);
-    absl::StrAppendFormat(&text, "  %s%s: %d drawings (holds %s) for %s\n",
-                          group == group_of_timing.end() ? "" : group->second + " ",
-                          OnName(timing.frames_per_drawing()), timing.drawing_start_size(),
-                          Histogram(*members.front()), absl::StrJoin(ids, ", "));
+    const std::string name = group == group_of_timing.end() ? "" : group->second + " ";
+    if (shown != nullptr) {
+      absl::StrAppendFormat(&text, "  %s%s: %d drawings (holds %s) for %s\n", name,
+                            OnName(timing.frames_per_drawing()), timing.drawing_start_size(),
+                            Histogram(*shown), absl::StrJoin(ids, ", "));
+    }
+    if (!drawn.empty()) {
+      absl::StrAppendFormat(&text,
+                            "  %sLipBlink (mouth flaps, anime blinks; %s between them): %s\n",
+                            name, OnName(timing.frames_per_drawing()), absl::StrJoin(drawn, ", "));
+    }
   }
   if (!args.timing.empty()) {
     absl::StrAppend(&text, "  drawing sheet: ", OutputName(args.timing), "\n");
@@ -106,7 +133,9 @@ std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
 }
 
 nlohmann::json CurvesSummaryJson(const CurvesArgs& args, const CurveSet& curves,
+                                 const v1::RetimeCurvesRequest& request,
                                  const v1::RetimeCurvesResponse& response) {
+  const std::map<std::string, v1::CurveTimingGroupMode> modes = convert::TimingGroupModes(request);
   nlohmann::json j;
   j["input"] = args.input;
   j["outputs"] = nlohmann::json::object();
@@ -131,6 +160,8 @@ nlohmann::json CurvesSummaryJson(const CurvesArgs& args, const CurveSet& curves,
     }
     j["timing_groups"].push_back(
         {{"name", g.name()},
+         {"mode", modes.count(g.name()) ? convert::TimingGroupModeName(modes.at(g.name()))
+                                        : "step"},
          {"curves", ids},
          {"frames_per_drawing", g.frames_per_drawing()},
          {"timing", g.timing()},

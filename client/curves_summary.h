@@ -12,10 +12,13 @@
 
 namespace koma::client {
 
+// `request` is what was asked (the timing groups' modes are read from it).
 std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
+                              const v1::RetimeCurvesRequest& request,
                               const v1::RetimeCurvesResponse& response);
 
 nlohmann::json CurvesSummaryJson(const CurvesArgs& args, const CurveSet& curves,
+                                 const v1::RetimeCurvesRequest& request,
                                  const v1::RetimeCurvesResponse& response);
 
 }  // namespace koma::client

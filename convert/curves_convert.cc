@@ -185,4 +185,43 @@ const char* MouthShapeName(int shape) {
   }
 }
 
+v1::CurveTimingGroupMode TimingGroupModeToProto(TimingGroupMode mode) {
+  switch (mode) {
+    case TimingGroupMode::kKeep:
+      return v1::GROUP_KEEP;
+    case TimingGroupMode::kLipBlink:
+      return v1::GROUP_LIP_BLINK;
+    case TimingGroupMode::kStep:
+      break;
+  }
+  return v1::GROUP_STEP;
+}
+
+std::map<std::string, v1::CurveTimingGroupMode> TimingGroupModes(
+    const v1::RetimeCurvesRequest& request) {
+  std::map<std::string, v1::CurveTimingGroupMode> modes;
+  for (const v1::CurveTimingGroup& g : request.timing_groups()) {
+    modes.emplace(g.name(), g.mode() == v1::CURVE_TIMING_GROUP_MODE_UNSPECIFIED ? v1::GROUP_STEP
+                                                                                 : g.mode());
+  }
+  if (request.timing_groups_size() == 0 &&
+      (!request.has_default_timing_groups() || request.default_timing_groups())) {
+    for (const CurveTimingGroup& g : DefaultLive2dTimingGroups()) {
+      modes.emplace(g.name, TimingGroupModeToProto(g.mode));
+    }
+  }
+  return modes;
+}
+
+const char* TimingGroupModeName(v1::CurveTimingGroupMode mode) {
+  switch (mode) {
+    case v1::GROUP_KEEP:
+      return "keep";
+    case v1::GROUP_LIP_BLINK:
+      return "lipblink";
+    default:
+      return "step";
+  }
+}
+
 }  // namespace koma::convert

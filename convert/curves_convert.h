@@ -4,6 +4,7 @@
 #ifndef KOMA_CONVERT_CURVES_CONVERT_H_
 #define KOMA_CONVERT_CURVES_CONVERT_H_
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,17 @@ DrawingTiming TimingFromProto(const v1::DrawingTiming& timing);
 // "closed", "mid" or "open" for a MouthShape (the CLI's summaries and the report's strip);
 // "unspecified" for any other value.
 const char* MouthShapeName(int shape);
+
+// A core timing group mode as the proto's.
+v1::CurveTimingGroupMode TimingGroupModeToProto(TimingGroupMode mode);
+
+// The mode of each timing group a request asks for, by name: its timing_groups', or with none
+// (and default_timing_groups not false) the default grouping's (core/timing_groups.h).
+std::map<std::string, v1::CurveTimingGroupMode> TimingGroupModes(
+    const v1::RetimeCurvesRequest& request);
+
+// A mode's name in flags, summaries and reports: "step", "keep", "lipblink".
+const char* TimingGroupModeName(v1::CurveTimingGroupMode mode);
 
 }  // namespace koma::convert
 

@@ -252,11 +252,20 @@ namespace {
 // result.curves). `options` are the group's own (GroupOptions, or the request's for the
 // default group).
 TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& members,
-                              const KomaUchiOptions& options, KomaUchiResult& result) {
+                              const KomaUchiOptions& options, bool keep, KomaUchiResult& result) {
   TimingGroupResult group;
   group.curves = members;
   group.frames_per_drawing = options.frames_per_drawing;
   group.timing = -1;
+  if (keep) {  // no key poses, no timing: each curve as it came in
+    group.frames_per_drawing = 0;
+    for (int c : members) {
+      RetimedCurve& out = result.curves[c];
+      out.timing = -1;
+      out.values = SampleEveryFrame(set.curves[c], set.frame_count, set.beziers_restricted);
+    }
+    return group;
+  }
   const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, options.timing_fps);
   GridKeyPoses key_poses = KeyPosesOnGrid(options, set, &members);
   group.key_frames = std::move(key_poses.source);
@@ -319,14 +328,15 @@ KomaUchiResult RetimeCurves(const CurveSet& set, const KomaUchiOptions& options)
   const std::vector<std::vector<int>> members = GroupMembers(options, set);
   result.curves.resize(set.curves.size());
   // The default group first: its key poses are the answer's, its first timing is timings[0].
-  TimingGroupResult body = RetimeGroup(set, members.back(), options, result);
+  TimingGroupResult body = RetimeGroup(set, members.back(), options, /*keep=*/false, result);
   body.name = std::string(kDefaultTimingGroupName);
   result.key_frames = body.key_frames;
   result.key_grid_frames = body.key_grid_frames;
   result.key_merged = body.key_merged;
   std::vector<TimingGroupResult> named;
   for (size_t g = 0; g < options.groups.size(); ++g) {
-    named.push_back(RetimeGroup(set, members[g], GroupOptions(options, options.groups[g]), result));
+    named.push_back(RetimeGroup(set, members[g], GroupOptions(options, options.groups[g]),
+                                options.groups[g].mode == TimingGroupMode::kKeep, result));
     named.back().name = options.groups[g].name;
   }
   // Listed only when some curve is in a named group: a request whose curves are all in the

@@ -119,12 +119,12 @@ struct DrawingTiming {
 };
 
 struct RetimedCurve {
-  int timing = 0;              // index into KomaUchiResult::timings
+  int timing = 0;              // index into KomaUchiResult::timings; -1: a kKeep group's curve
   std::vector<double> values;  // per output frame: curve(tau)
   // Stepped keyframes: one point per drawing at its first frame with its value (motion3:
   // start point, then a stepped segment to each next point). With a grid the points lie at
   // the drawings' exact grid times, and a last point at the clip's last frame holds the last
-  // drawing to the end.
+  // drawing to the end. Empty for a kKeep group's curve (values are then the input's).
   std::vector<CurvePoint> steps;
   // Hold length in frames (grid frames with a grid) -> number of drawings.
   std::map<int, int> hold_histogram;
@@ -134,8 +134,10 @@ struct RetimedCurve {
 struct TimingGroupResult {
   std::string name;
   std::vector<int> curves;  // indices into set.curves, ascending
-  int frames_per_drawing = 3;
-  int timing = 0;  // index into KomaUchiResult::timings of its n's timing; -1: no curves
+  int frames_per_drawing = 3;  // 0 for a kKeep group
+  // Index into KomaUchiResult::timings of its n's timing; -1: no curves, or a kKeep group
+  // (whose key poses are then empty too).
+  int timing = 0;
   std::vector<int> key_frames;       // its key poses, source frames
   std::vector<int> key_grid_frames;  // with a grid
   std::vector<int> key_merged;       // GridKeyPoses::merged

@@ -1,6 +1,7 @@
 #include "core/lip_blink_grid.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/curve_cursor.h"
 #include "core/lip_blink_internal.h"
@@ -43,20 +44,61 @@ std::vector<bool> BlinkMask(const std::vector<Blink>& blinks, int grid_frames) {
   return mask;
 }
 
+namespace {
+
+// The grid frame just before a repainted run shows its grid value too: the source frames
+// there lie between the last grid sample the conversion saw as untouched and the run, and
+// their own values (an eye already half shut, say) are the in-between drawing the
+// conversion removed.
+std::vector<bool> WithFrameBefore(const std::vector<bool>& repainted_runs) {
+  std::vector<bool> repainted = repainted_runs;
+  for (size_t g = 0; g + 1 < repainted_runs.size(); ++g) {
+    if (repainted_runs[g + 1]) repainted[g] = true;
+  }
+  return repainted;
+}
+
+}  // namespace
+
+std::vector<bool> RepaintedSourceFrames(const std::vector<bool>& repainted_runs,
+                                        const FilmGrid& grid, int frames) {
+  const std::vector<bool> repainted = WithFrameBefore(repainted_runs);
+  const int grid_frames = static_cast<int>(repainted.size());
+  std::vector<bool> out(static_cast<size_t>(frames));
+  for (int k = 0; k < frames; ++k) out[k] = repainted[std::min(grid.GridFrameOf(k), grid_frames - 1)];
+  return out;
+}
+
+std::vector<double> HeldBetweenRepaints(const std::vector<double>& source,
+                                        const std::vector<double>& tau,
+                                        const std::vector<bool>& repainted) {
+  const int frames = static_cast<int>(source.size());
+  std::vector<double> out(static_cast<size_t>(frames), 0.0);
+  for (int k = 0; k < frames;) {
+    if (repainted[k]) {
+      ++k;
+      continue;
+    }
+    int end = k;  // the run of frames no conversion repainted: [k, end)
+    while (end < frames && !repainted[end]) ++end;
+    for (int f = k; f < end; ++f) {
+      // The nearest source frame (ties to the later), kept inside the run.
+      const double nearest = std::floor(tau[f] + 0.5);
+      const int from = nearest <= k ? k : (nearest >= end - 1 ? end - 1 : static_cast<int>(nearest));
+      out[f] = source[from];
+    }
+    k = end;
+  }
+  return out;
+}
+
 SourceRateCurve ExpandConverted(const std::vector<double>& grid_values,
                                 const std::vector<bool>& repainted_runs,
                                 const std::vector<double>& source_values, const FilmGrid& grid) {
   SourceRateCurve out;
   const int frames = static_cast<int>(source_values.size());
   const int grid_frames = static_cast<int>(grid_values.size());
-  // The grid frame just before a repainted run shows its grid value too: the source frames
-  // there lie between the last grid sample the conversion saw as untouched and the run, and
-  // their own values (an eye already half shut, say) are the in-between drawing the
-  // conversion removed.
-  std::vector<bool> repainted = repainted_runs;
-  for (int g = 0; g + 1 < grid_frames; ++g) {
-    if (repainted_runs[g + 1]) repainted[g] = true;
-  }
+  const std::vector<bool> repainted = WithFrameBefore(repainted_runs);
   const auto grid_of = [&](int k) { return std::min(grid.GridFrameOf(k), grid_frames - 1); };
   out.values.resize(static_cast<size_t>(frames));
   for (int k = 0; k < frames; ++k) {

@@ -44,6 +44,21 @@ SourceRateCurve ExpandConverted(const std::vector<double>& grid_values,
                                 const std::vector<bool>& repainted,
                                 const std::vector<double>& source_values, const FilmGrid& grid);
 
+// Per source frame (of `frames`): whether it shows a repainted grid frame in ExpandConverted
+// (the runs, and the grid frame just before each).
+std::vector<bool> RepaintedSourceFrames(const std::vector<bool>& repainted_runs,
+                                        const FilmGrid& grid, int frames);
+
+// A LipBlink curve inside a stepped timing group (docs/semantics.md, "Group modes"): per
+// source frame k the input `source` at the source frame nearest its drawing's source time
+// tau[k] (the group's timing), kept inside the run of frames around k that no conversion
+// repainted, so a drawing that starts inside speech or a blink never shows the input's
+// in-between values from there, and a flat stretch stays exactly its input. Repainted frames
+// are 0 (the caller puts the conversion's values there).
+std::vector<double> HeldBetweenRepaints(const std::vector<double>& source,
+                                        const std::vector<double>& tau,
+                                        const std::vector<bool>& repainted);
+
 }  // namespace koma
 
 #endif  // KOMA_CORE_LIP_BLINK_GRID_H_

@@ -37,6 +37,7 @@ std::vector<CurveTimingGroup> DefaultLive2dTimingGroups() {
   CurveTimingGroup face;
   face.name = "face";
   face.ids = {"ParamEye*", "ParamBrow*", "ParamMouth*", "ParamCheek"};
+  face.mode = TimingGroupMode::kLipBlink;
   CurveTimingGroup hair;
   hair.name = "hair";
   hair.ids = {"ParamHair*", "ParamBust*", "ParamSkirt*", "ParamRibbon*"};

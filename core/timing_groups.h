@@ -6,6 +6,7 @@
 #ifndef KOMA_CORE_TIMING_GROUPS_H_
 #define KOMA_CORE_TIMING_GROUPS_H_
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,15 @@
 #include "absl/strings/string_view.h"
 
 namespace koma {
+
+// What RetimeCurves does with a group's curves (docs/semantics.md, "Group modes").
+enum class TimingGroupMode : uint8_t {
+  kStep,      // koma-uchi on the group's key poses, n and spacing
+  kKeep,      // the curves as they came in: the input at every frame, no steps, timing -1
+  // Stepped here as kStep; the caller (server/curves_lip_blink.h) then redraws the group's
+  // mouth and eye curves with LipBlink.
+  kLipBlink,
+};
 
 struct CurveTimingGroup {
   std::string name;  // unique, non-empty; names the group in the answer, reports and sheets
@@ -25,6 +35,7 @@ struct CurveTimingGroup {
   // The group's named key poses in frames; empty: its own curves' keyframes (merged into poses
   // unless the request turns merging off).
   std::vector<int> key_frames;
+  TimingGroupMode mode = TimingGroupMode::kStep;
 };
 
 // The name of the group of curves no group matches (the request's top-level options).
@@ -44,7 +55,8 @@ int GroupOf(const std::vector<CurveTimingGroup>& groups, absl::string_view id);
 //   "hair": ParamHair*, ParamBust*, ParamSkirt*, ParamRibbon* (what physics usually drives).
 // Everything else (ParamAngle*, ParamBody*, ParamArm*, ParamHand*, ParamShoulder*,
 // ParamBreath, ParamBase*, custom ids) is the default group, "body". Each group takes the
-// request's n and spacing and its own key poses.
+// request's n and spacing and its own key poses; "face" is kLipBlink (LipBlink draws its
+// ParamMouthOpenY, ParamEyeLOpen and ParamEyeROpen, the rest is stepped), "hair" kStep.
 std::vector<CurveTimingGroup> DefaultLive2dTimingGroups();
 
 }  // namespace koma

@@ -65,6 +65,8 @@ KomaUchiOptions ConvertOptions(const v1::RetimeCurvesRequest& request) {
     if (in.has_tame()) out.tame = in.tame();
     if (in.has_tsume()) out.tsume = in.tsume();
     out.key_frames.assign(in.key_frames().begin(), in.key_frames().end());
+    if (in.mode() == v1::GROUP_KEEP) out.mode = TimingGroupMode::kKeep;
+    if (in.mode() == v1::GROUP_LIP_BLINK) out.mode = TimingGroupMode::kLipBlink;
     options.groups.push_back(std::move(out));
   }
   if (request.timing_groups_size() == 0 &&
@@ -109,6 +111,19 @@ absl::Status CheckGridSize(const CurveSet& set, double timing_fps, const Request
                          static_cast<int64_t>(set.curves.size()), "curves", limits);
 }
 
+absl::Status CheckGroupModes(const v1::RetimeCurvesRequest& request) {
+  for (int g = 0; g < request.timing_groups_size(); ++g) {
+    const v1::CurveTimingGroupMode mode = request.timing_groups(g).mode();
+    if (mode < v1::CURVE_TIMING_GROUP_MODE_UNSPECIFIED || mode > v1::GROUP_LIP_BLINK) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("timing_groups[", g, "].mode: ", static_cast<int>(mode),
+                       " is not a CurveTimingGroupMode (1 GROUP_STEP, 2 GROUP_KEEP, 3 "
+                       "GROUP_LIP_BLINK)"));
+    }
+  }
+  return absl::OkStatus();
+}
+
 void FillTiming(const DrawingTiming& timing, v1::DrawingTiming* out) {
   out->set_frames_per_drawing(timing.frames_per_drawing);
   out->mutable_drawing_of_frame()->Add(timing.drawing_of_frame.begin(),
@@ -131,6 +146,7 @@ absl::Status CheckFinite(const KomaUchiResult& result) {
 absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& request,
                                                 const RequestLimits& limits) {
   if (!request.has_curves()) return absl::InvalidArgumentError("curves: required, not set");
+  KOMA_RETURN_IF_ERROR(CheckGroupModes(request));
   CurvesJob job;
   KOMA_ASSIGN_OR_RETURN(job.set, CurveSetFromProto(request.curves(), "curves", limits));
   job.options = ConvertOptions(request);
@@ -138,6 +154,8 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
   KOMA_RETURN_IF_ERROR(CheckGroupWork(job.set, job.options, limits));
   KOMA_RETURN_IF_ERROR(ValidateKomaUchiOptions(job.options, job.set));
   KOMA_RETURN_IF_ERROR(CheckGridSize(job.set, job.options.timing_fps, limits));
+  KOMA_ASSIGN_OR_RETURN(job.lip_blinks,
+                        PrepareGroupLipBlinks(request, job.set, job.options, limits));
   return job;
 }
 
@@ -154,18 +172,26 @@ absl::Status PrepareCurvesAnswer(const v1::RetimeCurvesRequest& request,
   KOMA_ASSIGN_OR_RETURN(CurvesJob job, ValidateCurvesRequest(request, limits));
   answer->set = std::move(job.set);
   answer->options = std::move(job.options);
+  answer->lip_blinks = std::move(job.lip_blinks);
   return absl::OkStatus();
 }
 
 absl::Status CompleteCurvesAnswer(CurvesAnswer* answer) {
   answer->result = RetimeCurves(answer->set, answer->options);
+  KOMA_RETURN_IF_ERROR(DrawGroupLipBlinks(answer->lip_blinks, answer->result));
+  answer->lip_blinks.clear();  // their copies of the groups' curves are not needed any more
   KOMA_RETURN_IF_ERROR(CheckFinite(answer->result));
   if (answer->file == nullptr) return absl::OkStatus();
-  // As `koma curves` writes its output: every curve's values and stepped keys replace its own.
-  std::vector<convert::CurveReplacement> retimed;
+  // As `koma curves` writes its output: every curve's values and stepped keys replace its own,
+  // but a GROUP_KEEP curve's (timing -1), which stays as it came in.
+  std::vector<std::optional<convert::CurveReplacement>> retimed;
   retimed.reserve(answer->result.curves.size());
   for (const RetimedCurve& curve : answer->result.curves) {
-    retimed.push_back({curve.values, curve.steps});
+    if (curve.timing < 0) {
+      retimed.emplace_back();
+    } else {
+      retimed.push_back(convert::CurveReplacement{curve.values, curve.steps});
+    }
   }
   KOMA_ASSIGN_OR_RETURN(answer->file_field, CurvesFileField(*answer->file, std::move(retimed)));
   answer->file.reset();  // the parsed document is not needed any more

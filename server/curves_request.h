@@ -4,12 +4,14 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "core/curves.h"
 #include "core/koma_uchi.h"
 #include "koma/v1/retime.pb.h"
+#include "server/curves_lip_blink.h"
 #include "server/file_requests.h"
 #include "server/request_limits.h"
 
@@ -18,6 +20,7 @@ namespace koma::server {
 struct CurvesJob {
   CurveSet set;
   KomaUchiOptions options;
+  std::vector<GroupLipBlink> lip_blinks;  // the GROUP_LIP_BLINK groups' LipBlink drawings
 };
 
 // Every field checked before any work; INVALID_ARGUMENT / RESOURCE_EXHAUSTED naming the
@@ -32,6 +35,7 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
 struct CurvesAnswer {
   CurveSet set;
   KomaUchiOptions options;
+  std::vector<GroupLipBlink> lip_blinks;
   KomaUchiResult result;
   std::unique_ptr<CurveFile> file;  // null for a decoded request
   std::string file_field;           // the response's serialised file field; empty: none

@@ -221,12 +221,9 @@ absl::Status DecodeCurvesFile(const v1::RetimeCurvesRequest& request, const Requ
   return ReserveDecoded(*decoded, CurveFileBytes(request), /*bvh=*/false, limits);
 }
 
-absl::StatusOr<std::string> CurvesFileField(const CurveFile& file,
-                                            std::vector<convert::CurveReplacement> retimed) {
-  std::vector<std::optional<convert::CurveReplacement>> replacements;
-  replacements.reserve(retimed.size());
-  for (convert::CurveReplacement& curve : retimed) replacements.emplace_back(std::move(curve));
-  absl::StatusOr<std::string> text = convert::CurveOutputText(file.input, replacements, file.csv);
+absl::StatusOr<std::string> CurvesFileField(
+    const CurveFile& file, std::vector<std::optional<convert::CurveReplacement>> retimed) {
+  absl::StatusOr<std::string> text = convert::CurveOutputText(file.input, retimed, file.csv);
   if (!text.ok()) return absl::InternalError(text.status().message());
   v1::RetimeCurvesResponse field;
   PutCurveText(file, *std::move(text), &field);

@@ -55,8 +55,8 @@ absl::Status DecodeCurvesFile(const v1::RetimeCurvesRequest& request, const Requ
 // The RetimeCurvesResponse field holding the retimed file (motion3_json or csv_text),
 // serialised: what follows the response's other fields on the wire. `retimed[c]` is curve c's
 // retimed per-frame values and stepped keyframes, every curve of the file retimed.
-absl::StatusOr<std::string> CurvesFileField(const CurveFile& file,
-                                            std::vector<convert::CurveReplacement> retimed);
+absl::StatusOr<std::string> CurvesFileField(
+    const CurveFile& file, std::vector<std::optional<convert::CurveReplacement>> retimed);
 
 // LipBlink with a file: the decoded request answered by HandleLipBlink, plus the file.
 absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const RequestLimits& limits,

@@ -34,20 +34,6 @@ void AddConvertedCurve(const std::string& id, const std::vector<double>& values,
   convert::SteppedKeyframesToProto(steps, out->mutable_stepped());
 }
 
-// A converted curve: per-frame `values` (source frames without a grid), or, with a grid,
-// `values` on grid frames brought back to the source rate where `repainted`.
-void AddConverted(const LipBlinkJob& job, int index, const std::vector<double>& values,
-                  const std::vector<bool>& repainted, const std::vector<double>& source_input,
-                  v1::LipBlinkResponse* response) {
-  const std::string& id = job.set.curves[index].id;
-  if (!job.grid) {
-    AddConvertedCurve(id, values, SteppedFromValues(values), response);
-    return;
-  }
-  const SourceRateCurve out = ExpandConverted(values, repainted, source_input, *job.grid);
-  AddConvertedCurve(id, out.values, out.steps, response);
-}
-
 void FillMouth(const std::string& id, const MouthResult& mouth, v1::MouthTrack* out) {
   out->set_id(id);
   for (const FrameInterval& interval : mouth.speech) {
@@ -115,50 +101,48 @@ void VoiceInputs(const LipBlinkJob& job, std::vector<double>* source, std::vecto
   }
 }
 
-absl::Status RunMouths(const LipBlinkJob& job, v1::LipBlinkResponse* response) {
+}  // namespace
+
+absl::StatusOr<LipBlinkDrawing> DrawLipBlink(const LipBlinkJob& job) {
+  LipBlinkDrawing drawing;
+  // Mask lengths: grid frames with a grid, else source frames.
+  const int frames = job.grid ? job.grid_frames : job.set.frame_count;
   for (size_t m = 0; m < job.mouth_curves.size(); ++m) {
-    const int index = job.mouth_curves[m];
-    std::vector<double> source, input;
+    LipBlinkDrawnCurve curve;
+    curve.index = job.mouth_curves[m];
+    std::vector<double> input;
     if (job.voice) {
-      VoiceInputs(job, &source, &input);
+      VoiceInputs(job, &curve.source, &input);
     } else {
-      KOMA_ASSIGN_OR_RETURN(source, Sample(job, index));
-      KOMA_ASSIGN_OR_RETURN(input, ConversionInput(job, index, source));
+      KOMA_ASSIGN_OR_RETURN(curve.source, Sample(job, curve.index));
+      KOMA_ASSIGN_OR_RETURN(input, ConversionInput(job, curve.index, curve.source));
     }
     // Mouth curve m draws from its own stream, seed + m, so adding a curve leaves the
     // others' shapes as they were.
-    const MouthResult mouth = ConvertMouth(input, job.mouth, job.seed + m);
-    FillMouth(job.set.curves[index].id, mouth, response->add_mouths());
-    AddConverted(job, index, mouth.values,
-                 job.grid ? SpeechMask(mouth.speech, job.grid_frames) : std::vector<bool>(), source,
-                 response);
+    drawing.mouths.push_back(ConvertMouth(input, job.mouth, job.seed + m));
+    curve.drawn = drawing.mouths.back().values;
+    curve.repainted = SpeechMask(drawing.mouths.back().speech, frames);
+    drawing.curves.push_back(std::move(curve));
   }
-  return absl::OkStatus();
-}
-
-absl::Status RunEyes(const LipBlinkJob& job, v1::LipBlinkResponse* response) {
-  if (job.eye_curves.empty()) return absl::OkStatus();
-  std::vector<std::vector<double>> sources;  // per source frame
-  std::vector<std::vector<double>> inputs;   // what the conversion runs on
+  if (job.eye_curves.empty()) return drawing;
+  std::vector<std::vector<double>> inputs;  // what the conversion runs on
   for (int index : job.eye_curves) {
-    KOMA_ASSIGN_OR_RETURN(std::vector<double> source, Sample(job, index));
-    KOMA_ASSIGN_OR_RETURN(std::vector<double> input, ConversionInput(job, index, source));
-    sources.push_back(std::move(source));
+    LipBlinkDrawnCurve curve;
+    curve.index = index;
+    KOMA_ASSIGN_OR_RETURN(curve.source, Sample(job, index));
+    KOMA_ASSIGN_OR_RETURN(std::vector<double> input, ConversionInput(job, index, curve.source));
     inputs.push_back(std::move(input));
+    drawing.curves.push_back(std::move(curve));
   }
   const std::vector<absl::Span<const double>> spans(inputs.begin(), inputs.end());
-  const EyeResult eyes = ConvertEyes(spans, job.eyes, job.seed);
+  drawing.eyes = ConvertEyes(spans, job.eyes, job.seed);
   for (size_t i = 0; i < job.eye_curves.size(); ++i) {
-    const int index = job.eye_curves[i];
-    FillEye(job.set.curves[index].id, eyes, i, response->add_eyes());
-    AddConverted(job, index, eyes.values[i],
-                 job.grid ? BlinkMask(eyes.blinks[i], job.grid_frames) : std::vector<bool>(),
-                 sources[i], response);
+    LipBlinkDrawnCurve& curve = drawing.curves[job.mouth_curves.size() + i];
+    curve.drawn = drawing.eyes.values[i];
+    curve.repainted = BlinkMask(drawing.eyes.blinks[i], frames);
   }
-  return absl::OkStatus();
+  return drawing;
 }
-
-}  // namespace
 
 absl::Status HandleLipBlink(const v1::LipBlinkRequest& request, const RequestLimits& limits,
                             v1::LipBlinkResponse* response) {
@@ -171,8 +155,23 @@ absl::Status HandleLipBlink(const v1::LipBlinkRequest& request, const RequestLim
 }
 
 absl::Status RunLipBlinkJob(const LipBlinkJob& job, v1::LipBlinkResponse* response) {
-  KOMA_RETURN_IF_ERROR(RunMouths(job, response));
-  KOMA_RETURN_IF_ERROR(RunEyes(job, response));
+  KOMA_ASSIGN_OR_RETURN(const LipBlinkDrawing drawing, DrawLipBlink(job));
+  for (size_t m = 0; m < drawing.mouths.size(); ++m) {
+    FillMouth(job.set.curves[job.mouth_curves[m]].id, drawing.mouths[m], response->add_mouths());
+  }
+  for (size_t i = 0; i < job.eye_curves.size(); ++i) {
+    FillEye(job.set.curves[job.eye_curves[i]].id, drawing.eyes, i, response->add_eyes());
+  }
+  // Every other frame keeps its input value (docs/semantics.md, "LipBlink").
+  for (const LipBlinkDrawnCurve& curve : drawing.curves) {
+    const std::string& id = job.set.curves[curve.index].id;
+    if (!job.grid) {
+      AddConvertedCurve(id, curve.drawn, SteppedFromValues(curve.drawn), response);
+      continue;
+    }
+    const SourceRateCurve out = ExpandConverted(curve.drawn, curve.repainted, curve.source, *job.grid);
+    AddConvertedCurve(id, out.values, out.steps, response);
+  }
   response->set_seed(job.seed);
   if (job.grid) response->set_timing_fps(job.grid->timing_fps());
   return absl::OkStatus();

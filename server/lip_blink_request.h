@@ -38,10 +38,43 @@ struct LipBlinkJob {
   std::optional<VoiceActivity> voice;
 };
 
+// A job on `set` with these settings (the fields of a LipBlinkRequest, or of a GROUP_LIP_BLINK
+// timing group; paths in errors as in LipBlinkRequest: "mouth.ids[0]", "timing_fps"). With
+// need_curves false a set without mouth or eye curves is a job that draws nothing. An id not
+// in the set is "not a curve of <set_name>".
+absl::StatusOr<LipBlinkJob> LipBlinkJobFor(CurveSet set, const v1::MouthSettings& mouth,
+                                           const v1::EyeSettings& eyes,
+                                           std::optional<uint64_t> seed,
+                                           std::optional<double> timing_fps,
+                                           const RequestLimits& limits, bool need_curves,
+                                           absl::string_view set_name);
+
 // Every field checked before any work; INVALID_ARGUMENT / RESOURCE_EXHAUSTED naming the
 // field path ("mouth.mid_ratio", "eyes.auto_blink.hold", "mouth.ids[1]") and value.
 absl::StatusOr<LipBlinkJob> ValidateLipBlinkRequest(const v1::LipBlinkRequest& request,
                                                     const RequestLimits& limits);
+
+// One curve LipBlink draws: the conversion's values (per grid frame with a grid, else per
+// source frame), the frames it repainted (same frames: speech or blinks), and the input at
+// every source frame.
+struct LipBlinkDrawnCurve {
+  int index = 0;  // into job.set.curves
+  std::vector<double> drawn;
+  std::vector<bool> repainted;
+  std::vector<double> source;
+};
+
+// A job's drawings before they become a response: per mouth curve its result, the eyes'
+// result, and the drawn curves (mouth curves, then eye curves, in the job's order).
+struct LipBlinkDrawing {
+  std::vector<MouthResult> mouths;
+  EyeResult eyes;
+  std::vector<LipBlinkDrawnCurve> curves;
+};
+
+// The one LipBlink drawing code, shared by the LipBlink RPC and RetimeCurves' GROUP_LIP_BLINK
+// groups (server/curves_lip_blink.h). OUT_OF_RANGE where a curve evaluates to inf or NaN.
+absl::StatusOr<LipBlinkDrawing> DrawLipBlink(const LipBlinkJob& job);
 
 // Runs a validated job into `response` (mouths, eyes, curves, seed, timing_fps).
 absl::Status RunLipBlinkJob(const LipBlinkJob& job, v1::LipBlinkResponse* response);

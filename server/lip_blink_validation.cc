@@ -1,7 +1,9 @@
 // Validation half of server/lip_blink_request.h.
 #include <algorithm>
 #include <set>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "absl/strings/str_cat.h"
 #include "convert/field_error.h"
@@ -29,7 +31,8 @@ int IndexOf(const CurveSet& set, const std::string& id) {
 template <size_t N>
 absl::StatusOr<std::vector<int>> ResolveIds(
     const google::protobuf::RepeatedPtrField<std::string>& ids, const char* const (&defaults)[N],
-    absl::string_view path, const CurveSet& set, std::set<int>& taken) {
+    absl::string_view path, const CurveSet& set, absl::string_view set_name,
+    std::set<int>& taken) {
   std::vector<int> indices;
   if (ids.empty()) {
     for (const char* id : defaults) {
@@ -42,7 +45,7 @@ absl::StatusOr<std::vector<int>> ResolveIds(
     const int index = IndexOf(set, ids[i]);
     if (index < 0) {
       return absl::InvalidArgumentError(
-          absl::StrCat(path, "[", i, "]: \"", ids[i], "\" is not a curve of the request"));
+          absl::StrCat(path, "[", i, "]: \"", ids[i], "\" is not a curve of ", set_name));
     }
     if (!taken.insert(index).second) {
       return absl::InvalidArgumentError(
@@ -108,9 +111,7 @@ absl::StatusOr<EyeOptions> ConvertEyes(const v1::EyeSettings& in, const CurveSet
 
 // The film grid of timing_fps (unset: 24): checked, and the mouth and eye options moved onto
 // it (they were checked on the source frames, where their intervals are given).
-absl::Status ConvertGrid(const v1::LipBlinkRequest& request, const RequestLimits& limits,
-                         LipBlinkJob* job) {
-  const double timing_fps = request.has_timing_fps() ? request.timing_fps() : kDefaultTimingFps;
+absl::Status ConvertGrid(double timing_fps, const RequestLimits& limits, LipBlinkJob* job) {
   KOMA_RETURN_IF_ERROR(ValidateTimingFps(timing_fps, "timing_fps"));
   if (timing_fps <= 0) return absl::OkStatus();
   KOMA_RETURN_IF_ERROR(ValidateSourceFps(job->set.fps, absl::StrCat("curves.fps: ", job->set.fps)));
@@ -137,26 +138,40 @@ absl::Status ConvertGrid(const v1::LipBlinkRequest& request, const RequestLimits
 
 }  // namespace
 
-absl::StatusOr<LipBlinkJob> ValidateLipBlinkRequest(const v1::LipBlinkRequest& request,
-                                                    const RequestLimits& limits) {
-  if (!request.has_curves()) return absl::InvalidArgumentError("curves: required, not set");
+absl::StatusOr<LipBlinkJob> LipBlinkJobFor(CurveSet set, const v1::MouthSettings& mouth,
+                                           const v1::EyeSettings& eyes,
+                                           std::optional<uint64_t> seed,
+                                           std::optional<double> timing_fps,
+                                           const RequestLimits& limits, bool need_curves,
+                                           absl::string_view set_name) {
   LipBlinkJob job;
-  KOMA_ASSIGN_OR_RETURN(job.set, CurveSetFromProto(request.curves(), "curves", limits));
+  job.set = std::move(set);
   std::set<int> taken;
-  KOMA_ASSIGN_OR_RETURN(job.mouth_curves, ResolveIds(request.mouth().ids(), kDefaultMouthIds,
-                                                     "mouth.ids", job.set, taken));
-  KOMA_ASSIGN_OR_RETURN(
-      job.eye_curves, ResolveIds(request.eyes().ids(), kDefaultEyeIds, "eyes.ids", job.set, taken));
-  if (job.mouth_curves.empty() && job.eye_curves.empty()) {
+  KOMA_ASSIGN_OR_RETURN(job.mouth_curves, ResolveIds(mouth.ids(), kDefaultMouthIds, "mouth.ids",
+                                                     job.set, set_name, taken));
+  KOMA_ASSIGN_OR_RETURN(job.eye_curves, ResolveIds(eyes.ids(), kDefaultEyeIds, "eyes.ids",
+                                                   job.set, set_name, taken));
+  if (need_curves && job.mouth_curves.empty() && job.eye_curves.empty()) {
     return absl::InvalidArgumentError(
         "mouth.ids, eyes.ids: no mouth or eye curve to convert (none named, and the set has "
         "none of ParamMouthOpenY, ParamEyeLOpen, ParamEyeROpen)");
   }
-  KOMA_ASSIGN_OR_RETURN(job.mouth, ConvertMouth(request.mouth(), job.set.frame_count));
-  KOMA_ASSIGN_OR_RETURN(job.eyes, ConvertEyes(request.eyes(), job.set));
-  KOMA_RETURN_IF_ERROR(ConvertGrid(request, limits, &job));
-  if (request.has_seed()) job.seed = request.seed();
+  KOMA_ASSIGN_OR_RETURN(job.mouth, ConvertMouth(mouth, job.set.frame_count));
+  KOMA_ASSIGN_OR_RETURN(job.eyes, ConvertEyes(eyes, job.set));
+  KOMA_RETURN_IF_ERROR(ConvertGrid(timing_fps.value_or(kDefaultTimingFps), limits, &job));
+  if (seed) job.seed = *seed;
   return job;
+}
+
+absl::StatusOr<LipBlinkJob> ValidateLipBlinkRequest(const v1::LipBlinkRequest& request,
+                                                    const RequestLimits& limits) {
+  if (!request.has_curves()) return absl::InvalidArgumentError("curves: required, not set");
+  KOMA_ASSIGN_OR_RETURN(CurveSet set, CurveSetFromProto(request.curves(), "curves", limits));
+  return LipBlinkJobFor(std::move(set), request.mouth(), request.eyes(),
+                        request.has_seed() ? std::optional<uint64_t>(request.seed()) : std::nullopt,
+                        request.has_timing_fps() ? std::optional<double>(request.timing_fps())
+                                                 : std::nullopt,
+                        limits, /*need_curves=*/true, "the request");
 }
 
 }  // namespace koma::server

@@ -1,5 +1,6 @@
 #include "client/report/curves_report.h"
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "client/report/input_curves.h"
 #include "client/report/report_data.h"
 #include "client/xdts_sheets.h"
+#include "convert/curves_convert.h"
 #include "core/film_grid.h"
 
 namespace koma::client::report {
@@ -18,7 +20,8 @@ namespace {
 // A retimed curve's stepped keys as a plot: each point's time in seconds and its value. A
 // curve with more keys than a plot shows gives its per-frame values, thinned, instead.
 nlohmann::json AfterPlot(const v1::RetimedCurve& curve, double fps) {
-  if (curve.stepped().segments_size() + 1 > kMaxPlotPoints) {
+  // A kept curve (timing -1) has no steps: its values are the input's.
+  if (curve.timing() < 0 || curve.stepped().segments_size() + 1 > kMaxPlotPoints) {
     nlohmann::json plot =
         ThinnedPlot(absl::MakeConstSpan(curve.values().data(), curve.values_size()), 1.0 / fps);
     plot["stepped"] = false;
@@ -106,9 +109,11 @@ nlohmann::json CurvesReportWriter::Data() const {
   // group of every curve when the answer lists none.
   nlohmann::json groups = nlohmann::json::array();
   std::vector<int> group_of_curve(static_cast<size_t>(r.curves_size()), 0);
+  const std::map<std::string, v1::CurveTimingGroupMode> modes = convert::TimingGroupModes(q);
   if (r.timing_groups_size() == 0) {
     groups.push_back(
         {{"name", "body"},
+         {"mode", "step"},
          {"key_frames", data["key_frames"]},
          {"key_grid_frames", data["key_grid_frames"]},
          {"key_merged",
@@ -119,8 +124,10 @@ nlohmann::json CurvesReportWriter::Data() const {
     for (int c : group.curves()) {
       if (c >= 0 && c < r.curves_size()) group_of_curve[static_cast<size_t>(c)] = g;
     }
+    const auto mode = modes.find(group.name());
     groups.push_back(
         {{"name", group.name()},
+         {"mode", convert::TimingGroupModeName(mode == modes.end() ? v1::GROUP_STEP : mode->second)},
          {"key_frames", std::vector<int>(group.key_frames().begin(), group.key_frames().end())},
          {"key_grid_frames",
           std::vector<int>(group.key_grid_frames().begin(), group.key_grid_frames().end())},

@@ -279,8 +279,11 @@ class Client:
                 "tsume"}), timing_fps (film grid, frames per second; unset 24, 0 none),
                 merge_key_poses (False: every keyframe time a key pose), timing_groups
                 (list of {"name", "ids" (ids or patterns such as "ParamHair*"),
-                "frames_per_drawing", "tame", "tsume", "key_frames"}; unset: Live2D's default
-                face / hair / body grouping), default_timing_groups (False: one group).
+                "frames_per_drawing", "tame", "tsume", "key_frames", "mode" ("GROUP_STEP",
+                "GROUP_KEEP": the curves as they came in, "GROUP_LIP_BLINK": LipBlink draws
+                the mouth and eyes, the rest stepped), and for GROUP_LIP_BLINK "mouth", "eyes",
+                "seed" as lip_blink's}; unset: Live2D's default grouping, face (GROUP_LIP_BLINK)
+                / hair / body), default_timing_groups (False: one group).
 
         Returns:
             CurvesResult whose .output is the retimed file in the input's format, byte for

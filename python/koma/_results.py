@@ -132,8 +132,9 @@ class CurvesResult(_Result):
             timings has every timing (one more per distinct curve override).
         timings: list of dicts: frames_per_drawing, drawing_of_frame, source_frame,
             drawing_start, drawing_start_grid (frames; grid frames for the last).
-        curves: {curve id: {"timing": index into timings, "values": per-frame values,
-            "holds": {length in frames: drawings}}}.
+        curves: {curve id: {"timing": index into timings (-1: a GROUP_KEEP curve, as it came
+            in), "values": per-frame values, "holds": {length in frames: drawings} (empty for
+            kept curves and the mouth and eyes LipBlink draws)}}.
         counts: dict with curves, frames, key_poses, drawings (of the default timing).
         timing_fps: the film grid used (frames per second); 0 when counting source frames.
         response: the koma.v1.RetimeCurvesResponse message itself.

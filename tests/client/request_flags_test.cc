@@ -129,9 +129,12 @@ const std::map<std::string, FieldCase>& Cases() {
       {"RetimeCurvesRequest.spine_animation", {{"walk"}, "\"walk\"", {"--send-file"}, "", kSpine}},
       {"RetimeCurvesRequest.merge_key_poses", {{"=false"}, "false"}},
       {"RetimeCurvesRequest.timing_groups",
-       {{"hair=ParamHair*,ParamBust?:on=2,tame=1.25,tsume=1.5,keys=0/10/20"},
-        "name: \"hair\" ids: \"ParamHair*\" ids: \"ParamBust?\" frames_per_drawing: 2 "
-        "tame: 1.25 tsume: 1.5 key_frames: 0 key_frames: 10 key_frames: 20"}},
+       {{"face=ParamMouth*,ParamEye?Open:on=2,tame=1.25,tsume=1.5,keys=0/10/20,mode=lipblink,"
+         "mouth=ParamMouthOpenY,mouth-mode=follow,eyes=ParamEyeLOpen/ParamEyeROpen,seed=7"},
+        "name: \"face\" ids: \"ParamMouth*\" ids: \"ParamEye?Open\" frames_per_drawing: 2 "
+        "tame: 1.25 tsume: 1.5 key_frames: 0 key_frames: 10 key_frames: 20 mode: GROUP_LIP_BLINK "
+        "mouth { ids: \"ParamMouthOpenY\" mode: MOUTH_FOLLOW } eyes { ids: \"ParamEyeLOpen\" "
+        "ids: \"ParamEyeROpen\" } seed: 7"}},
       {"RetimeCurvesRequest.default_timing_groups", {{"=false"}, "false"}},
       // LipBlink
       {"LipBlinkRequest.mouth.ids",
@@ -369,8 +372,13 @@ TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {
     const FieldDescriptor* field = path.fields.back();
     if (field->is_repeated() && field->type() == FieldDescriptor::TYPE_MESSAGE) {
       for (int i = 0; i < field->message_type()->field_count(); ++i) {
-        EXPECT_THAT(c.expected, ::testing::HasSubstr(field->message_type()->field(i)->name() + ":"))
-            << "the case leaves " << field->message_type()->field(i)->name() << " unset";
+        const FieldDescriptor* sub = field->message_type()->field(i);
+        // Text format: "name: value", and "name { ... }" for a message.
+        EXPECT_THAT(c.expected, ::testing::HasSubstr(
+                                    sub->name() + (sub->type() == FieldDescriptor::TYPE_MESSAGE
+                                                       ? " {"
+                                                       : ":")))
+            << "the case leaves " << sub->name() << " unset";
       }
     }
   }

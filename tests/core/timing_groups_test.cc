@@ -89,6 +89,10 @@ TEST(DefaultTimingGroupsTest, StandardIdsGoToFaceHairOrBody) {
   for (const auto& [name, ids] : want) {
     for (const std::string& id : ids) EXPECT_EQ(group_of(id), name) << id;
   }
+  // The face is LipBlink's (its mouth and eyes drawn as LipBlink draws them), the hair stepped.
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(groups[0].mode, TimingGroupMode::kLipBlink);
+  EXPECT_EQ(groups[1].mode, TimingGroupMode::kStep);
 }
 
 TEST(TimingGroupsTest, FirstMatchingGroupWins) {
@@ -252,6 +256,43 @@ TEST(TimingGroupsTest, InvalidGroupsNameTheFieldAndValue) {
   check([](auto& g) { g[0].key_frames = {4, 3}; },
         "timing_groups[0].key_frames[1]: 3 must be greater than timing_groups[0].key_frames[0]");
   check([](auto& g) { g[0].key_frames = {100000}; }, "timing_groups[0].key_frames[0]: 100000");
+}
+
+// A kKeep group: its curves are the input at every frame, without steps or a timing, and the
+// other groups answer exactly as when it is stepped.
+TEST(TimingGroupsTest, KeptGroupIsTheInputAndLeavesTheOthers) {
+  for (double fps : {30.0, 60.0}) {
+    const CurveSet set = testing::Live2dMotion({fps, 60, 4.0, 9});
+    KomaUchiOptions stepped;
+    stepped.timing_fps = 24.0;
+    stepped.groups = DefaultLive2dTimingGroups();
+    stepped.groups[0].mode = TimingGroupMode::kStep;
+    KomaUchiOptions kept = stepped;
+    kept.groups[0].mode = TimingGroupMode::kKeep;
+    const KomaUchiResult a = Retime(set, stepped);
+    const KomaUchiResult b = Retime(set, kept);
+    ASSERT_EQ(b.groups[1].name, "face");
+    EXPECT_EQ(b.groups[1].timing, -1);
+    EXPECT_EQ(b.groups[1].frames_per_drawing, 0);
+    EXPECT_TRUE(b.groups[1].key_frames.empty());
+    ASSERT_FALSE(b.groups[1].curves.empty());
+    EXPECT_EQ(b.timings.size() + 1, a.timings.size());  // the face's timing is gone
+    for (size_t c = 0; c < set.curves.size(); ++c) {
+      const bool face = GroupOf(kept.groups, set.curves[c].id) == 0;
+      if (face) {
+        EXPECT_EQ(b.curves[c].timing, -1);
+        EXPECT_TRUE(b.curves[c].steps.empty());
+        EXPECT_TRUE(b.curves[c].hold_histogram.empty());
+        EXPECT_EQ(b.curves[c].values,
+                  SampleEveryFrame(set.curves[c], set.frame_count, set.beziers_restricted))
+            << set.curves[c].id;
+      } else {
+        EXPECT_EQ(b.curves[c].values, a.curves[c].values) << set.curves[c].id;
+        EXPECT_EQ(b.curves[c].steps.size(), a.curves[c].steps.size());
+        EXPECT_EQ(b.curves[c].hold_histogram, a.curves[c].hold_histogram);
+      }
+    }
+  }
 }
 
 }  // namespace

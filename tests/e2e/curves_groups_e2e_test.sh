@@ -21,7 +21,10 @@ check_runs() {
 import json, sys
 args = sys.argv[1:]
 some_shorter = "--some-shorter" in args
-args = [a for a in args if a != "--some-shorter"]
+# --lipblink: the default face group's mouth and eyes are LipBlink's drawings (mouth holds and
+# blinks of 1-3 frames, paper Eq. 7), not koma-uchi: checked against `koma lipblink` below.
+skip = {"ParamMouthOpenY", "ParamEyeLOpen", "ParamEyeROpen"} if "--lipblink" in args else set()
+args = [a for a in args if a not in ("--some-shorter", "--lipblink")]
 before, after = (json.load(open(p)) for p in args[:2])
 n = int(args[2])
 prefixes = args[3].split(",") if len(args) > 3 else []
@@ -41,7 +44,7 @@ def values(s):  # the start, every segment's end and the Bezier handles' values
 shortest_seen, n2_seen, checked = 10**9, False, 0
 for b, a in zip(before["Curves"], after["Curves"]):
     assert b["Id"] == a["Id"]
-    if min(values(b["Segments"])) == max(values(b["Segments"])):
+    if min(values(b["Segments"])) == max(values(b["Segments"])) or a["Id"] in skip:
         continue
     s = a["Segments"]
     points = [(s[0], s[1])] + [(s[i + 1], s[i + 2]) for i in range(2, len(s), 3)]
@@ -75,17 +78,18 @@ for fps in 30 60; do
     # The default: merged key poses, Live2D's default groups (face, hair, body), on threes.
     "$client_bin" curves "$m" -o "$work/three.motion3.json" --timing "$work/sheet.csv" \
       --server "$target" >"$work/summary.txt" || fail "koma curves $m failed"
-    check_runs "$m" "$work/three.motion3.json" 3 || fail "$m on threes"
+    check_runs "$m" "$work/three.motion3.json" 3 --lipblink || fail "$m on threes"
     head -1 "$work/sheet.csv" | grep -qx \
       'output_frame,drawing,source_frame,time_s,face_drawing,face_source_frame,hair_drawing,hair_source_frame' \
       || fail "sheet: not one track per group: $(head -1 "$work/sheet.csv")"
     # On twos, and the hair on twos while the rest is on threes.
     "$client_bin" curves "$m" -o "$work/two.motion3.json" --on 2 --server "$target" >/dev/null \
       || fail "koma curves --on 2 failed"
-    check_runs "$m" "$work/two.motion3.json" 2 || fail "$m on twos"
+    check_runs "$m" "$work/two.motion3.json" 2 --lipblink || fail "$m on twos"
     "$client_bin" curves "$m" -o "$work/hair.motion3.json" --group-on hair=2 \
       --server "$target" >/dev/null || fail "koma curves --group-on hair=2 failed"
-    check_runs "$m" "$work/hair.motion3.json" 3 ParamHair,ParamBust 2 || fail "$m hair on twos"
+    check_runs "$m" "$work/hair.motion3.json" 3 ParamHair,ParamBust 2 --lipblink \
+      || fail "$m hair on twos"
     # Every keyframe time a key pose, one group: the problem the merging solves.
     "$client_bin" curves "$m" -o "$work/unmerged.motion3.json" --no-merge-keys \
       --no-default-groups --server "$target" >/dev/null || fail "koma curves --no-merge-keys"
@@ -122,5 +126,55 @@ expect_error 1 'INVALID_ARGUMENT: timing_groups\[1\].name: "a" is already' \
   --server "$target"
 [ ! -e "$work/x.motion3.json" ] || fail "a failed call wrote an output file"
 
+# Group modes (docs/semantics.md, "Group modes") on the samples. The default groups: one call
+# gives the whole anime motion, the mouth and eyes exactly as `koma lipblink` draws them (its
+# file's Segments), each eye curve with three values, the body stepped.
+samples="$(cd "$(dirname "$0")/../.." && pwd)/samples"
+talk="$samples/talk_blink.motion3.json"
+"$client_bin" curves "$talk" -o "$work/talk_anime.motion3.json" --on 3 --json \
+  --report "$work/talk.html" --server "$target" >"$work/talk.json" || fail "koma curves $talk"
+"$client_bin" lipblink "$talk" -o "$work/talk_lip.motion3.json" --server "$target" >/dev/null \
+  || fail "koma lipblink $talk"
+python3 - "$talk" "$work/talk_anime.motion3.json" "$work/talk_lip.motion3.json" "$work/talk.json" <<'PY' \
+  || fail "talk_blink: the default face group is not LipBlink's drawing"
+import json, sys
+src, anime, lip, summary = (json.load(open(p)) for p in sys.argv[1:5])
+by_id = lambda m: {c["Id"]: c["Segments"] for c in m["Curves"]}
+src, anime, lip = by_id(src), by_id(anime), by_id(lip)
+for i in ("ParamMouthOpenY", "ParamEyeLOpen", "ParamEyeROpen"):
+    assert anime[i] == lip[i], (i, anime[i][:20], lip[i][:20])
+    s = anime[i]
+    assert all(s[k] == 2 for k in range(2, len(s), 3)), i
+    shown = {s[1]} | {s[k + 2] for k in range(2, len(s), 3)}
+    assert len(shown) <= 3 or i == "ParamMouthOpenY", (i, sorted(shown))
+assert anime["ParamAngleX"] != src["ParamAngleX"] and anime["ParamAngleX"] != lip["ParamAngleX"]
+modes = {g["name"]: g["mode"] for g in summary["timing_groups"]}
+assert modes == {"body": "step", "face": "lipblink", "hair": "step"}, modes
+print("talk_blink: mouth and eyes as koma lipblink draws them; groups", modes)
+PY
+grep -q '"mode":"lipblink"' "$work/talk.html" || fail "report: no group mode"
+# --group-mode face=keep: the face's keyframes untouched; a group's mode from --group.
+"$client_bin" curves "$talk" -o "$work/talk_keep.motion3.json" --group-mode face=keep \
+  --timing "$work/talk_keep.csv" --server "$target" >"$work/keep.txt" || fail "--group-mode keep"
+grep -q "face (3 curves, kept as they are)" "$work/keep.txt" || fail "summary: $(cat "$work/keep.txt")"
+head -1 "$work/talk_keep.csv" | grep -qx 'output_frame,drawing,source_frame,time_s' \
+  || fail "a kept group has a sheet track: $(head -1 "$work/talk_keep.csv")"
+python3 - "$talk" "$work/talk_keep.motion3.json" <<'PY' || fail "kept face changed"
+import json, sys
+src, out = (json.load(open(p)) for p in sys.argv[1:3])
+for a, b in zip(src["Curves"], out["Curves"]):
+    assert (a["Segments"] == b["Segments"]) == (a["Id"] != "ParamAngleX"), a["Id"]
+PY
+"$client_bin" curves "$talk" -o "$work/talk_eyes.csv" --group 'eyes=ParamEye*:mode=lipblink,on=2' \
+  --group 'mouth=ParamMouth*:mode=keep' --server "$target" >"$work/eyes.txt" || fail "--group mode="
+grep -q "eyes (2 curves, lipblink, the rest on twos" "$work/eyes.txt" || fail "summary: $(cat "$work/eyes.txt")"
+# arm_head has no face curves: the default groups step everything, as before.
+"$client_bin" curves "$samples/arm_head.motion3.json" -o "$work/arm.motion3.json" \
+  --server "$target" >/dev/null || fail "koma curves arm_head"
+expect_exit 2 "$work/err.txt" "$client_bin" curves "$talk" -o "$work/x.motion3.json" \
+  --group-mode face=squash --server "$target"
+grep -q -- '--group-mode face: "squash" is not a group mode (step, keep or lipblink)' "$work/err.txt" \
+  || fail "--group-mode usage: $(cat "$work/err.txt")"
+
 stop_server
-echo "PASS: curves key poses and timing groups end to end"
+echo "PASS: curves key poses, timing groups and group modes end to end"

@@ -131,6 +131,36 @@ def test_curves_timing_groups_and_merged_key_poses(client):
     assert error.value.field == "timing_groups[0].name"
 
 
+def test_curves_group_modes(client, server, tmp_path):
+    """Group modes: the default face group is LipBlink's (its mouth and eyes exactly `koma
+    lipblink`'s), a GROUP_KEEP group comes back as it came in, and the file is byte for byte
+    what `koma curves` writes with the same groups."""
+    sample = source_path("samples", "talk_blink.motion3.json")
+    anime = client.retime_curves(sample)
+    lip = client.lip_blink(sample)
+    for curve_id in ("ParamMouthOpenY", "ParamEyeLOpen", "ParamEyeROpen"):
+        assert anime.curves[curve_id]["values"] == lip.curves[curve_id], curve_id
+        assert anime.curves[curve_id]["holds"] == {}
+    assert len(set(anime.curves["ParamEyeLOpen"]["values"])) == 3
+    kept = client.retime_curves(sample, timing_groups=[
+        {"name": "eyes", "ids": ["ParamEye*"], "mode": "GROUP_KEEP"},
+        {"name": "mouth", "ids": ["ParamMouth*"], "mode": "GROUP_LIP_BLINK",
+         "mouth": {"mode": "MOUTH_FOLLOW"}, "seed": 5}])
+    assert kept.groups["eyes"]["timing"] == -1 and kept.groups["eyes"]["key_frames"] == []
+    assert kept.curves["ParamEyeLOpen"]["timing"] == -1
+    follow = client.lip_blink(sample, mouth={"mode": "MOUTH_FOLLOW", "ids": ["ParamMouthOpenY"]},
+                              eyes={"ids": []}, seed=5)
+    assert kept.curves["ParamMouthOpenY"]["values"] == follow.curves["ParamMouthOpenY"]
+    out = tmp_path / "kept.motion3.json"
+    run_cli("curves", sample, "-o", str(out), "--server", server.address, "--group",
+            "eyes=ParamEye*:mode=keep", "--group",
+            "mouth=ParamMouth*:mode=lipblink,mouth-mode=follow,seed=5")
+    assert kept.output_bytes == out.read_bytes()
+    with pytest.raises(koma.KomaError, match=r"timing_groups\[0\]: mouth, eyes and seed are for"):
+        client.retime_curves(sample, timing_groups=[
+            {"name": "eyes", "ids": ["ParamEye*"], "mode": "GROUP_KEEP", "seed": 3}])
+
+
 @pytest.mark.parametrize("call,options,error,words", [
     ("retime_skeletal", {"omisions": 3}, TypeError, "unknown option 'omisions'"),
     ("retime_skeletal", {"motion": {}}, TypeError, "unknown option 'motion'"),

@@ -16,10 +16,10 @@
                                  (mergedCount ? `; solid: ${mergedCount} merged from several keyframe times)` : ')')]]));
   if (D.groups.length > 1) {
     curvesSection.append(el('p', {class: 'legend'}, 'Timing groups, each on its own key poses: ' +
-      D.groups.map((g) => `${g.name} (${g.curves} curves, ${g.key_frames.length} key poses)`).join(', ') + '.'));
+      D.groups.map((g) => `${g.name} (${g.mode === 'step' ? '' : g.mode + ', '}${g.curves} curves, ${g.key_frames.length} key poses)`).join(', ') + '.'));
   }
   for (const c of D.curves) {
-    const timing = D.timings[c.timing];
+    const timing = c.timing >= 0 ? D.timings[c.timing] : null;  // null: a kept curve
     const [lo1, hi1] = range(c.before.y), [lo2, hi2] = range(c.after.y);
     const plot = plotFrame({xMax: duration, yMin: Math.min(lo1, lo2), yMax: Math.max(hi1, hi2), height: 170});
     plot.svg.classList.add('curve-plot');
@@ -33,9 +33,9 @@
       plot.svg.append(svgEl('line', attrs));
     });
     plot.svg.append(svgEl('path', {class: 'before', d: pathOf(plot, c.before.x, c.before.y, false)}));
-    plot.svg.append(svgEl('path', {class: 'after', d: pathOf(plot, c.after.x, c.after.y, true, duration)}));
+    plot.svg.append(svgEl('path', {class: 'after', d: pathOf(plot, c.after.x, c.after.y, c.timing >= 0, duration)}));
     // A dot where each drawing starts (its first grid frame, else its first output frame).
-    const starts = grid ? timing.drawing_start_grid.map((g) => g / D.timing_fps) : timing.drawing_start.map((f) => f / D.fps);
+    const starts = !timing ? [] : grid ? timing.drawing_start_grid.map((g) => g / D.timing_fps) : timing.drawing_start.map((f) => f / D.fps);
     const dots = svgEl('g', {class: 'drawings'});
     if (starts.length <= 4000) {
       for (let j = 0; j < starts.length; ++j) {
@@ -50,16 +50,20 @@
     const cursor = svgEl('line', {class: 'cursor', y1: plot.top, y2: plot.bottom});
     plot.svg.append(cursor);
     cursors.push({plot, line: cursor});
-    const group = D.groups.length > 1 ? `${D.groups[c.group].name}, ` : '';
-    curvesSection.append(el('h3', {}, `${c.id} — ${group}on ${timing.n}s, ${starts.length} drawings`), plot.svg);
+    const g = D.groups[c.group];
+    const group = D.groups.length > 1 ? `${g.name}${g.mode === 'step' ? '' : ' (' + g.mode + ')'}, ` : '';
+    const how = timing ? `on ${timing.n}s, ${starts.length} drawings` : 'kept as it is';
+    curvesSection.append(el('h3', {'data-mode': g.mode}, `${c.id} — ${group}${how}`), plot.svg);
   }
 
   // ---- hold histograms ------------------------------------------------------------------------
   const histSection = section('Hold histogram (' + (grid ? 'holds in grid frames' : 'holds in frames') + ')');
   const seen = new Set();
-  for (const c of D.curves) {
-    if (seen.has(c.timing)) continue;
-    seen.add(c.timing);
+  for (const first of D.curves) {
+    if (first.timing < 0 || seen.has(first.timing)) continue;
+    seen.add(first.timing);
+    // Holds of a stepped curve of the timing (LipBlink's mouth and eyes have none of their own).
+    const c = D.curves.find((o) => o.timing === first.timing && o.histogram.length) || first;
     const ids = D.curves.filter((o) => o.timing === c.timing).map((o) => o.id);
     const maxCount = Math.max(1, ...c.histogram.map((h) => h[1]));
     const width = 60 + 56 * c.histogram.length, height = 150, bottom = 120;
