@@ -13,10 +13,12 @@
 #include "client/files.h"
 #include "client/report/curves_report.h"
 #include "client/retime_call.h"
+#include "client/xdts_sheets.h"
 #include "convert/curves_convert.h"
 #include "formats/drawing_sheet.h"
 #include "formats/error_text.h"
 #include "formats/spine.h"
+#include "formats/xdts.h"
 #include "koma/v1/retime.grpc.pb.h"
 
 namespace koma::client {
@@ -75,12 +77,17 @@ int RunSpineCurves(const CurvesArgs& args, const CurveInput& input, const Comman
         "--report: the report is per animation; name one with --animation (this run retimes ",
         indices->size(), ")")));
   }
+  if (!args.xdts.empty() && !one) {
+    return out.UsageFailure(absl::InvalidArgumentError(absl::StrCat(
+        "--xdts: the exposure sheet is per animation; name one with --animation (this run "
+        "retimes ", indices->size(), ")")));
+  }
   if (!args.timing_only && (IsCsvPath(args.output) || args.format == "csv" ||
                             args.format == "motion3")) {
     return out.UsageFailure(absl::InvalidArgumentError(absl::StrCat(
         "-o ", args.output, ": a Spine skeleton is written back as Spine JSON (-o OUT.json)")));
   }
-  if (absl::Status s = CheckWritable({args.output, args.timing, args.report}); !s.ok()) {
+  if (absl::Status s = CheckWritable({args.output, args.timing, args.report, args.xdts}); !s.ok()) {
     return out.Failure(s);
   }
 
@@ -151,8 +158,8 @@ int RunSpineCurves(const CurvesArgs& args, const CurveInput& input, const Comman
     }
     retimed.push_back(std::move(one_retimed));
     text += absl::StrCat("animation ", formats::QuoteForError(name), ":\n",
-                         CurvesSummaryText(args, selected.curves, response));
-    nlohmann::json animation_summary = CurvesSummaryJson(args, selected.curves, response);
+                         CurvesSummaryText(args, selected.curves, *request, response));
+    nlohmann::json animation_summary = CurvesSummaryJson(args, selected.curves, *request, response);
     animation_summary["animation"] = name;
     if (summary.is_null()) summary = animation_summary;
     animations.push_back(std::move(animation_summary));
@@ -160,6 +167,15 @@ int RunSpineCurves(const CurvesArgs& args, const CurveInput& input, const Comman
       const std::string sheet = formats::WriteDrawingSheetCsv(
           TimingFromProto(response.timings(0)), selected.curves.fps);
       if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return out.Failure(s);
+    }
+    if (!args.xdts.empty()) {
+      // The cut is named after the file and the animation ("hero/walk").
+      absl::StatusOr<formats::XdtsSheet> sheet = CurvesXdtsSheet(
+          response, absl::StrCat(XdtsClipName(args.input, args.xdts), "/", name));
+      if (!sheet.ok()) return out.Failure(sheet.status());
+      if (absl::Status s = WriteFile(args.xdts, formats::WriteXdts(*sheet)); !s.ok()) {
+        return out.Failure(s);
+      }
     }
     if (!args.report.empty()) {
       if (absl::Status s = report::WriteCurvesReport(args.report, *request, response,
@@ -175,8 +191,9 @@ int RunSpineCurves(const CurvesArgs& args, const CurveInput& input, const Comman
     if (absl::Status s = WriteFile(args.output, *written); !s.ok()) return out.Failure(s);
   }
   summary["animations"] = std::move(animations);
-  out.Success(text + ReportLine(args.report), summary,
-              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report));
+  out.Success(text + XdtsLine(args.xdts) + ReportLine(args.report), summary,
+              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report) ||
+                  IsStdio(args.xdts));
   return kExitOk;
 }
 

@@ -36,7 +36,25 @@ done
 # 30 fps on threes: 8 drawings a second (idle's keys are 1 s apart); only the named animation
 # changes; everything koma does not retime is unchanged.
 "$client_bin" curves "$data/hero-3.8.json" -o "$work/walk.json" --animation walk --server "$target" \
-  --report "$work/walk.html" --timing "$work/walk.csv" >/dev/null || fail "--animation walk failed"
+  --report "$work/walk.html" --timing "$work/walk.csv" --xdts "$work/walk.xdts" >/dev/null ||
+  fail "--animation walk failed"
+# The exposure sheet: one row per 24 fps grid frame (37 for the 1.5 s walk), the drawings
+# numbered 1..N in order, N the drawing sheet's drawings, then the end mark.
+"$python" - "$work/walk.xdts" "$work/walk.csv" <<'PY' || fail "walk: the XDTS sheet does not match the drawing sheet"
+import csv, json, sys
+text = open(sys.argv[1], encoding="utf-8").read()
+first, _, rest = text.partition("\n")
+assert first == "exchangeDigitalTimeSheet Save Data", first
+table = json.loads(rest)["timeTables"][0]
+assert table["duration"] == 37, table["duration"]
+cells = [(e["frame"], e["data"][0]["values"][0]) for e in table["fields"][0]["tracks"][0]["frames"]]
+drawings = {row["drawing"] for row in csv.DictReader(open(sys.argv[2], encoding="utf-8"))}
+assert [v for _, v in cells] == [str(k + 1) for k in range(len(drawings))] + ["SYMBOL_NULL_CELL"], cells
+frames = [f for f, _ in cells]
+assert frames[0] == 0 and frames == sorted(set(frames)) and frames[-1] == 37, frames
+PY
+expect_error 2 '--xdts: the exposure sheet is per animation; name one with --animation (this run retimes 2)' \
+  "$client_bin" curves "$data/hero-3.8.json" -o "$work/never.json" --xdts "$work/never.xdts" --server "$target"
 # The report draws each bone value before and after; the sheet has one row per frame.
 for id in torso/rotate torso/translate.y head/shear.x arm/scale.y 'hero-3.8.json (walk)'; do
   grep -qF "$id" "$work/walk.html" || fail "the report lacks $id"
