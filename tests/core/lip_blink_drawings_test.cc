@@ -71,6 +71,8 @@ TEST(LipBlinkDrawingsTest, BlinkDrawingsAreConvertEyesLevels) {
     options.fps = 24.0;
     options.auto_blink.enabled = trial % 2 == 0;
     options.auto_blink.mean_interval_s = 1.0 + static_cast<double>(random.Next() % 3);
+    options.auto_blink.spread_s = 0.5;  // must stay below the mean (ValidateEyeOptions)
+    ASSERT_TRUE(ValidateEyeOptions(options, frames).ok());
     options.auto_blink.hold = 1 + static_cast<int>(random.Next() % 3);
     const EyeResult result = ConvertEyes({eye}, options, 500 + trial);
     const std::vector<MouthShape> drawings = BlinkDrawings(result.blinks[0], frames);
