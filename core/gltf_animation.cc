@@ -202,6 +202,10 @@ double GltfAutoSourceFps(const GltfClip& clip) {
 int64_t GltfFrameCount(const GltfClip& clip, double fps) {
   const double span = (GltfClipEnd(clip) - GltfClipStart(clip)) * fps;  // in frames
   if (!(span > 1e-4)) return 1;
+  // Beyond any frame limit (a fuzzed key time of 1e22 s): saturate instead of an undefined
+  // double-to-integer conversion; the caller's limit check refuses it.
+  constexpr double kSaturated = 4.0e18;
+  if (!(span < kSaturated)) return static_cast<int64_t>(kSaturated);
   const double whole = std::floor(span + 1e-4);
   int64_t frames = static_cast<int64_t>(whole) + 1;
   if (span - whole > 1e-4) ++frames;  // the end falls between frames: one more, clamped

@@ -1,5 +1,6 @@
 #include "server/gltf_request.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
@@ -148,11 +149,11 @@ absl::Status HandleRetimeSkeletalGltf(const v1::RetimeSkeletalRequest& request,
     const double fps = fps_option > 0 ? fps_option : GltfAutoSourceFps(clip);
     const int64_t frames = GltfFrameCount(clip, fps);
     if (frames < 2) continue;  // a single pose: nothing to retime, left as it is
-    if (frames * joints * 3 > limits.max_values) {
+    // Divided, not multiplied: frames may be saturated near 2^62 (GltfFrameCount).
+    if (frames > limits.max_values / std::max<int64_t>(1, joints * 3)) {
       return absl::ResourceExhaustedError(absl::StrCat(
           field, ": ", frames, " frames at ", fps, " fps x ", joints,
-          " joints x 3 = ", frames * joints * 3, " exceeds the server limit --max_values=",
-          limits.max_values));
+          " joints x 3 exceeds the server limit --max_values=", limits.max_values));
     }
     const double start = GltfClipStart(clip);
     v1::RetimeSkeletalRequest decoded;
