@@ -5,6 +5,7 @@
 #include <cstring>
 #include <map>
 #include <set>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -145,19 +146,35 @@ Json& ArrayMember(Json& json, const char* key) {
 
 // Drops the byte ranges of removed views from buffer `b`, moving the kept views down. A
 // kept range keeps its offset modulo 8, so every accessor stays aligned.
+// A view's byteOffset or byteLength in bytes (0 when absent); nullopt when it is not a whole,
+// non-negative number (a fuzzed 1.7e87 would not convert to size_t).
+std::optional<size_t> ViewBytes(const Json& view, const char* key) {
+  const auto it = view.find(key);
+  if (it == view.end()) return size_t{0};
+  if (!it->is_number_unsigned()) return std::nullopt;
+  return it->get<size_t>();
+}
+
+// The buffer index of a view; -1 when it has none or it is not a whole number.
+int64_t ViewBuffer(const Json& view) {
+  const auto it = view.find("buffer");
+  return it != view.end() && it->is_number_integer() ? it->get<int64_t>() : -1;
+}
+
 void CompactBuffer(int b, const std::vector<bool>& removed_view, Json& views,
                    std::string& buffer) {
   struct Range {
     size_t begin, end;
   };
-  std::vector<std::pair<size_t, size_t>> kept;  // (view index, ...) by offset
   std::vector<Range> ranges;
   for (size_t v = 0; v < views.size(); ++v) {
     const Json& view = views[v];
-    if (removed_view[v] || !view.is_object() || view.value("buffer", -1) != b) continue;
-    const size_t offset = view.value("byteOffset", static_cast<size_t>(0));
-    const size_t length = view.value("byteLength", static_cast<size_t>(0));
-    ranges.push_back({offset, std::min(offset + length, buffer.size())});
+    if (removed_view[v] || !view.is_object() || ViewBuffer(view) != b) continue;
+    const std::optional<size_t> offset = ViewBytes(view, "byteOffset");
+    const std::optional<size_t> length = ViewBytes(view, "byteLength");
+    // A view this writer cannot place: leave the buffer as it was (unused bytes stay).
+    if (!offset || !length || *offset > buffer.size()) return;
+    ranges.push_back({*offset, *length > buffer.size() - *offset ? buffer.size() : *offset + *length});
   }
   if (ranges.empty()) return;  // nothing left to keep: the buffer stays as it was
   std::sort(ranges.begin(), ranges.end(),
@@ -179,8 +196,8 @@ void CompactBuffer(int b, const std::vector<bool>& removed_view, Json& views,
   }
   for (size_t v = 0; v < views.size(); ++v) {
     Json& view = views[v];
-    if (removed_view[v] || !view.is_object() || view.value("buffer", -1) != b) continue;
-    const size_t offset = view.value("byteOffset", static_cast<size_t>(0));
+    if (removed_view[v] || !view.is_object() || ViewBuffer(view) != b) continue;
+    const size_t offset = *ViewBytes(view, "byteOffset");  // checked above
     size_t m = 0;
     while (m + 1 < merged.size() && merged[m + 1].begin <= offset) ++m;
     const size_t moved = new_begin[m] + (offset - merged[m].begin);
@@ -260,8 +277,10 @@ absl::StatusOr<std::string> WriteGltf(const GltfDocument& document,
   std::vector<bool> buffer_loses_view(buffers.size(), false);
   for (size_t v = 0; v < views.size(); ++v) {
     if (!removed_view[v]) continue;
-    const int b = views[v].value("buffer", -1);
-    if (b >= 0 && static_cast<size_t>(b) < buffers.size()) buffer_loses_view[b] = true;
+    const int64_t b = views[v].is_object() ? ViewBuffer(views[v]) : -1;
+    if (b >= 0 && static_cast<uint64_t>(b) < buffers.size()) {
+      buffer_loses_view[static_cast<size_t>(b)] = true;
+    }
   }
   for (size_t b = 0; b < buffers.size(); ++b) {
     if (!buffer_loses_view[b]) continue;
