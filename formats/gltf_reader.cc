@@ -14,6 +14,7 @@
 #include "formats/error_text.h"
 #include "formats/gltf.h"
 #include "formats/gltf_internal.h"
+#include "formats/json_text.h"
 
 namespace koma::formats {
 namespace {
@@ -27,33 +28,8 @@ absl::Status Invalid(absl::string_view path, absl::string_view message) {
   return absl::InvalidArgumentError(absl::StrCat(path, ": ", message));
 }
 
-absl::Status CheckDepth(std::string_view text) {
-  int depth = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\') {
-        ++i;
-      } else if (c == '"') {
-        in_string = false;
-      }
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxJsonDepth) {
-        return absl::InvalidArgumentError(
-            absl::StrCat("JSON nested deeper than ", kMaxJsonDepth, " levels at byte ", i));
-      }
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return absl::OkStatus();
-}
-
 absl::StatusOr<Json> ParseJson(std::string_view text) {
-  KOMA_RETURN_IF_ERROR(CheckDepth(text));
+  KOMA_RETURN_IF_ERROR(CheckJsonDepth(text, kMaxJsonDepth));
   try {
     Json json = Json::parse(text.begin(), text.end());
     if (!json.is_object()) return absl::InvalidArgumentError("the JSON is not an object");
