@@ -77,6 +77,8 @@ v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSe
   if (args.stay_above_floor_db) voice->set_stay_above_floor_db(*args.stay_above_floor_db);
   if (args.min_speech_dbfs) voice->set_min_speech_dbfs(*args.min_speech_dbfs);
   if (args.bridge_gap_frames) voice->set_bridge_gap_frames(*args.bridge_gap_frames);
+  if (args.faint_gap_frames) voice->set_faint_gap_frames(*args.faint_gap_frames);
+  if (args.pause_above_floor_db) voice->set_pause_above_floor_db(*args.pause_above_floor_db);
   if (args.min_speech_frames) voice->set_min_speech_frames(*args.min_speech_frames);
   if (args.open_below_peak_db) voice->set_open_below_peak_db(*args.open_below_peak_db);
   if (args.closed_below_peak_db) voice->set_closed_below_peak_db(*args.closed_below_peak_db);
@@ -94,7 +96,7 @@ v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSe
 bool HasVoiceFlags(const LipBlinkArgs& args) {
   return args.noise_floor_dbfs || args.noise_percentile || args.start_above_floor_db ||
          args.stay_above_floor_db || args.min_speech_dbfs || args.bridge_gap_frames ||
-         args.min_speech_frames || args.open_below_peak_db || args.closed_below_peak_db ||
+         args.faint_gap_frames || args.pause_above_floor_db || args.min_speech_frames || args.open_below_peak_db || args.closed_below_peak_db ||
          args.hysteresis_db || args.voice_motion_fps || !args.voice_output.empty() ||
          !args.motion.empty() || !args.cues.empty();
 }

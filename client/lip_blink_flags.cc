@@ -89,7 +89,12 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   db("--voice-settings-min-speech-dbfs", &args.min_speech_dbfs, {},
      "neither threshold below this, dBFS (default -55)");
   AddWholeNumber(cmd, "--voice-settings-bridge-gap-frames", &args.bridge_gap_frames, 0, INT32_MAX,
-                 "gaps of at most this many frames inside speech are bridged (default 4)");
+                 "gaps of at most this many frames inside speech are bridged (default 3)");
+  AddWholeNumber(cmd, "--voice-settings-faint-gap-frames", &args.faint_gap_frames, 0, INT32_MAX,
+                 "longer gaps up to this many frames are bridged when no frame of theirs falls "
+                 "to the pause level (default 4)");
+  db("--voice-settings-pause-above-floor-db", &args.pause_above_floor_db, AtLeast(0),
+     "a frame at most this many dB above the floor is a pause, never bridged (default 1)");
   AddWholeNumber(cmd, "--voice-settings-min-speech-frames", &args.min_speech_frames, 1, INT32_MAX,
                  "shorter speech is dropped (default 2)");
   db("--voice-settings-open-below-peak-db", &args.open_below_peak_db, Above(0),

@@ -147,6 +147,13 @@ absl::Status ValidateVoiceOptions(const VoiceOptions& o) {
   if (o.bridge_gap_frames < 0) {
     return invalid("bridge_gap_frames: ", o.bridge_gap_frames, " must be >= 0");
   }
+  if (o.faint_gap_frames < 0) {
+    return invalid("faint_gap_frames: ", o.faint_gap_frames, " must be >= 0");
+  }
+  if (!(std::isfinite(o.pause_above_floor_db) && o.pause_above_floor_db >= 0.0 &&
+        o.pause_above_floor_db <= 200.0)) {
+    return invalid("pause_above_floor_db: ", o.pause_above_floor_db, " must be in [0, 200] dB");
+  }
   if (o.min_speech_frames < 1) {
     return invalid("min_speech_frames: ", o.min_speech_frames, " must be >= 1");
   }
@@ -190,12 +197,27 @@ std::vector<FrameInterval> Runs(absl::Span<const double> dbfs, double start, dou
   return runs;
 }
 
-// Gaps of at most `bridge` frames closed, then runs shorter than `min_length` dropped.
-std::vector<FrameInterval> BridgeAndDrop(const std::vector<FrameInterval>& runs, int bridge,
-                                         int min_length) {
+// Whether the gap [begin, end) between two runs is bridged: a short one always, a longer one
+// up to `faint_gap_frames` when all its frames stay above `pause_dbfs` (no pause in it).
+bool Bridged(absl::Span<const double> dbfs, int begin, int end, const VoiceOptions& o,
+             double pause_dbfs) {
+  const int gap = end - begin;
+  if (gap <= o.bridge_gap_frames) return true;
+  if (gap > o.faint_gap_frames) return false;
+  for (int f = begin; f < end; ++f) {
+    if (!(dbfs[f] > pause_dbfs)) return false;
+  }
+  return true;
+}
+
+// Bridged gaps closed, then runs shorter than `min_speech_frames` dropped.
+std::vector<FrameInterval> BridgeAndDrop(absl::Span<const double> dbfs,
+                                         const std::vector<FrameInterval>& runs,
+                                         const VoiceOptions& o, double pause_dbfs) {
+  const int min_length = o.min_speech_frames;
   std::vector<FrameInterval> merged;
   for (const FrameInterval& r : runs) {
-    if (!merged.empty() && r.begin - merged.back().end <= bridge) {
+    if (!merged.empty() && Bridged(dbfs, merged.back().end, r.begin, o, pause_dbfs)) {
       merged.back().end = r.end;
     } else {
       merged.push_back(r);
@@ -261,8 +283,8 @@ VoiceActivity DetectVoice(absl::Span<const double> dbfs, const VoiceOptions& opt
   v.start_dbfs = std::max(v.noise_floor_dbfs + start_db, options.min_speech_dbfs);
   v.stay_dbfs =
       std::max(v.noise_floor_dbfs + stay_db, options.min_speech_dbfs - (start_db - stay_db));
-  v.speech = BridgeAndDrop(Runs(dbfs, v.start_dbfs, v.stay_dbfs), options.bridge_gap_frames,
-                           options.min_speech_frames);
+  v.speech = BridgeAndDrop(dbfs, Runs(dbfs, v.start_dbfs, v.stay_dbfs), options,
+                           v.noise_floor_dbfs + options.pause_above_floor_db);
   std::vector<double> speaking;
   for (const FrameInterval& i : v.speech) {
     speaking.insert(speaking.end(), dbfs.begin() + i.begin, dbfs.begin() + i.end);

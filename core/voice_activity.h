@@ -77,11 +77,16 @@ struct VoiceOptions {
   double start_above_floor_db = 9.0;
   std::optional<double> stay_above_floor_db;
   double min_speech_dbfs = -55.0;
-  // Gaps of at most this many frames between intervals are bridged (a stop consonant's
-  // closure, a fricative lost in a narrow band, a breath between words: up to 167 ms on the
-  // 24 fps grid), then intervals shorter than `min_speech_frames` dropped (a click, a door).
-  // >= 0 and >= 1.
-  int bridge_gap_frames = 4;
+  // Gaps of at most `bridge_gap_frames` frames between intervals are bridged (a stop
+  // consonant's closure, a breath between words: up to 125 ms on the 24 fps grid). Longer
+  // gaps of at most `faint_gap_frames` are bridged too when none of their frames falls to
+  // within `pause_above_floor_db` of the noise floor: a fricative lost in an 8 kHz recording's
+  // narrow band leaves a faint gap above the room noise, a pause between phrases (200 ms is
+  // 4.8 frames) falls to the room noise and closes the mouth. Then intervals shorter than
+  // `min_speech_frames` are dropped (a click, a door). >= 0, >= 0, >= 0 dB, >= 1.
+  int bridge_gap_frames = 3;
+  int faint_gap_frames = 4;
+  double pause_above_floor_db = 1.0;
   int min_speech_frames = 2;
   // MOUTH_FOLLOW: a frame asks for open when it is within `open_below_peak_db` of the speech's
   // loud level (the 90th percentile of its frames' loudness), closed when more than

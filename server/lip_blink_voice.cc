@@ -41,6 +41,8 @@ VoiceOptions VoiceOptionsFromProto(const v1::LipBlinkVoiceSettings& in) {
   if (in.has_stay_above_floor_db()) o.stay_above_floor_db = in.stay_above_floor_db();
   if (in.has_min_speech_dbfs()) o.min_speech_dbfs = in.min_speech_dbfs();
   if (in.has_bridge_gap_frames()) o.bridge_gap_frames = in.bridge_gap_frames();
+  if (in.has_faint_gap_frames()) o.faint_gap_frames = in.faint_gap_frames();
+  if (in.has_pause_above_floor_db()) o.pause_above_floor_db = in.pause_above_floor_db();
   if (in.has_min_speech_frames()) o.min_speech_frames = in.min_speech_frames();
   if (in.has_open_below_peak_db()) o.open_below_peak_db = in.open_below_peak_db();
   if (in.has_closed_below_peak_db()) o.closed_below_peak_db = in.closed_below_peak_db();

@@ -121,7 +121,14 @@ nlohmann::json LipBlinkVoiceReportWriter::Data() const {
                                s.has_min_speech_dbfs() ? s.min_speech_dbfs() : -55, "dBFS")});
     options.push_back({"gaps bridged up to",
                        Setting(s.has_bridge_gap_frames(),
-                               s.has_bridge_gap_frames() ? s.bridge_gap_frames() : 4, "frames")});
+                               s.has_bridge_gap_frames() ? s.bridge_gap_frames() : 3, "frames")});
+    options.push_back({"faint gaps bridged up to",
+                       Setting(s.has_faint_gap_frames(),
+                               s.has_faint_gap_frames() ? s.faint_gap_frames() : 4, "frames")});
+    options.push_back({"a pause is within",
+                       Setting(s.has_pause_above_floor_db(),
+                               s.has_pause_above_floor_db() ? s.pause_above_floor_db() : 1,
+                               "dB of the floor")});
     options.push_back({"shortest speech",
                        Setting(s.has_min_speech_frames(),
                                s.has_min_speech_frames() ? s.min_speech_frames() : 2, "frames")});

@@ -82,9 +82,11 @@ TEST(FrameLoudnessTest, FullScaleSquareIsZeroDbfsAndHalfIsMinusSix) {
 }
 
 // The rules written out directly: per frame speech if in a run >= stay holding a frame >= start;
-// then gaps <= bridge merged; then short runs dropped.
+// then gaps <= bridge merged, and gaps <= faint whose every frame is above `pause`; then short
+// runs dropped.
 std::vector<FrameInterval> NaiveSpeech(const std::vector<double>& db, double start, double stay,
-                                       int bridge, int min_len) {
+                                       int bridge, int min_len, int faint = 0,
+                                       double pause = 0.0) {
   const int n = static_cast<int>(db.size());
   std::vector<bool> on(n, false);
   for (int f = 0; f < n; ++f) {
@@ -102,7 +104,12 @@ std::vector<FrameInterval> NaiveSpeech(const std::vector<double>& db, double sta
   }
   std::vector<FrameInterval> merged;
   for (const FrameInterval& r : runs) {
-    if (!merged.empty() && r.begin - merged.back().end <= bridge) {
+    bool faint_gap = false;
+    if (!merged.empty() && r.begin - merged.back().end <= faint) {
+      faint_gap = true;
+      for (int f = merged.back().end; f < r.begin; ++f) faint_gap = faint_gap && db[f] > pause;
+    }
+    if (!merged.empty() && (r.begin - merged.back().end <= bridge || faint_gap)) {
       merged.back().end = r.end;
     } else {
       merged.push_back(r);
@@ -127,6 +134,8 @@ TEST(DetectVoiceTest, MatchesTheNaiveRulesOnRandomLoudness) {
     }
     VoiceOptions o;
     o.bridge_gap_frames = rng.Int(0, 4);
+    o.faint_gap_frames = rng.Int(0, 6);
+    o.pause_above_floor_db = rng.Int(0, 6);
     o.min_speech_frames = rng.Int(1, 4);
     const VoiceActivity v = DetectVoice(db, o);
     const double floor = Percentile(db, 10);
@@ -136,7 +145,8 @@ TEST(DetectVoiceTest, MatchesTheNaiveRulesOnRandomLoudness) {
         std::min(9.0, std::max(2.0, 0.2 * (Percentile(db, 90) - floor)));
     EXPECT_EQ(v.stay_dbfs, std::max(floor + stay_db, -55.0 - (9 - stay_db)));
     const std::vector<FrameInterval> want =
-        NaiveSpeech(db, v.start_dbfs, v.stay_dbfs, o.bridge_gap_frames, o.min_speech_frames);
+        NaiveSpeech(db, v.start_dbfs, v.stay_dbfs, o.bridge_gap_frames, o.min_speech_frames,
+                    o.faint_gap_frames, floor + o.pause_above_floor_db);
     ASSERT_EQ(v.speech.size(), want.size()) << trial;
     for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(v.speech[i], want[i]) << trial;
     ASSERT_EQ(v.follow.size(), db.size());
@@ -167,6 +177,32 @@ TEST(DetectVoiceTest, HandWorkedSpeechAndFollow) {
   EXPECT_EQ(v.follow[15], MouthShape::kClosed);  // -59.5 < -35 - 1.5
   EXPECT_EQ(v.follow[16], MouthShape::kMid);
   EXPECT_EQ(v.follow[30], MouthShape::kClosed);
+}
+
+TEST(DetectVoiceTest, AFaintGapIsBridgedAPauseIsNot) {
+  // Floor -60; a word, a 4-frame gap, a word, a 4-frame gap, a word. The first gap stays
+  // 3-5 dB above the floor (a fricative lost in a narrow band): bridged. The second touches
+  // the floor once (a pause): kept. 3-frame gaps are bridged whatever their level.
+  std::vector<double> db(60, -60.0);
+  for (int f = 5; f < 15; ++f) db[f] = -20;
+  for (int f = 15; f < 19; ++f) db[f] = f == 16 ? -55 : -57;  // faint
+  for (int f = 19; f < 29; ++f) db[f] = -20;
+  for (int f = 29; f < 33; ++f) db[f] = f == 31 ? -59.5 : -56;  // reaches floor + 1
+  for (int f = 33; f < 43; ++f) db[f] = -20;
+  VoiceActivity v = DetectVoice(db, VoiceOptions{});
+  EXPECT_EQ(v.noise_floor_dbfs, -60);
+  ASSERT_EQ(v.speech.size(), 2u);
+  EXPECT_EQ(v.speech[0], (FrameInterval{5, 29}));
+  EXPECT_EQ(v.speech[1], (FrameInterval{33, 43}));
+  VoiceOptions no_faint;
+  no_faint.faint_gap_frames = 3;
+  EXPECT_EQ(DetectVoice(db, no_faint).speech.size(), 3u);
+  VoiceOptions looser;
+  looser.pause_above_floor_db = 0.25;  // -59.5 is now above the pause level
+  EXPECT_EQ(DetectVoice(db, looser).speech.size(), 1u);
+  VoiceOptions old_default;
+  old_default.bridge_gap_frames = 4;  // before the faint-gap rule: both bridged
+  EXPECT_EQ(DetectVoice(db, old_default).speech.size(), 1u);
 }
 
 TEST(DetectVoiceTest, HysteresisHoldsTheDrawingNearABoundary) {
@@ -208,6 +244,13 @@ TEST(ValidateVoiceOptionsTest, NamesTheOption) {
   o.closed_below_peak_db = 5;
   EXPECT_EQ(ValidateVoiceOptions(o).message(),
             "closed_below_peak_db: 5 must be in (open_below_peak_db = 6, 200] dB");
+  o = {};
+  o.faint_gap_frames = -1;
+  EXPECT_EQ(ValidateVoiceOptions(o).message(), "faint_gap_frames: -1 must be >= 0");
+  o = {};
+  o.pause_above_floor_db = -0.5;
+  EXPECT_EQ(ValidateVoiceOptions(o).message(),
+            "pause_above_floor_db: -0.5 must be in [0, 200] dB");
   o = {};
   o.min_speech_frames = 0;
   EXPECT_EQ(ValidateVoiceOptions(o).message(), "min_speech_frames: 0 must be >= 1");

@@ -17,9 +17,9 @@ SENTENCES = [
     ("ja+f3", "きょうはいいてんきですね"),
     ("en-us+f3", "koma draws the mouth on threes"),
 ]
-# Seconds of silence before, between and after the sentences: 0.25 to 1.5 s (a pause must
-# be 5 grid frames, 208 ms, to close the mouth: docs/semantics.md).
-SILENCES = [0.6, 1.5, 0.25, 0.8]
+# Seconds of silence before, between and after the sentences: 0.2 to 1.5 s (a pause of 0.2 s,
+# 4.8 grid frames, closes the mouth when it falls to the room noise: docs/semantics.md).
+SILENCES = [0.6, 1.5, 0.2, 0.8]
 TRIM_LEVEL = 0.03  # of full scale: fainter tails are below the 20 dB SNR noise anyway
 
 
