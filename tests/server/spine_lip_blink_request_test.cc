@@ -2,18 +2,20 @@
 // answer is the decoded request's answer (the slots as curves at skeleton.fps) plus the
 // skeleton with the slots' attachment timelines written; every refusal names its field.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "convert/spine_lip_blink.h"
 #include "formats/spine.h"
 #include "formats/spine_attachments.h"
-#include <nlohmann/json.hpp>
 #include "tests/server/in_process_server.h"
 #include "tests/testing/status_matchers.h"
 
@@ -227,7 +229,9 @@ TEST(SpineLipBlinkRequestTest, AVoiceWritesANewAnimationAsLongAsTheCues) {
       if (g >= hold.begin() && g < hold.begin() + hold.length()) drawn = kNames[hold.shape()];
     }
     EXPECT_EQ(shown, drawn) << "grid frame " << g;
-    if (g < 12 || g >= 36) EXPECT_EQ(shown, "mouth_closed") << "grid frame " << g;
+    if (g < 12 || g >= 36) {
+      EXPECT_EQ(shown, "mouth_closed") << "grid frame " << g;
+    }
   }
   EXPECT_GT(keys.size(), 3u);  // the mouth flaps inside the speech
   // The same request, the same bytes.
@@ -333,6 +337,33 @@ TEST(SpineLipBlinkRequestTest, EveryRefusalNamesItsField) {
     EXPECT_NE(status.error_message().find(refusal.message), std::string::npos)
         << status.error_message();
   }
+}
+
+// The memory budget sizes a skeleton's call by what it decodes to: a new animation whose
+// speech runs to frame 1,000,000 (two slot curves of a million frames) is refused naming the
+// budget although the request is a few KB; a short one fits, and the reservation is released.
+TEST(SpineLipBlinkRequestTest, TheMemoryBudgetSizesTheDecodedCall) {
+  server::ServerConfig config = InProcessServer::Config(2, 20'000'000);
+  config.max_memory_mb = 24;  // 12 MiB of it for calls
+  InProcessServer server(config);
+  ASSERT_NE(server.server().memory_budget(), nullptr);
+  v1::LipBlinkRequest request = RequestFor({"hero.json", "long", "mouth", {}, true, 1'000'000, false});
+  v1::LipBlinkResponse response;
+  grpc::Status status = Call(server, request, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+  EXPECT_NE(status.error_message().find("memory budget (--max_memory_mb=24"), std::string::npos)
+      << status.error_message();
+  EXPECT_NE(status.error_message().find("this file request (the parsed file"), std::string::npos)
+      << status.error_message();
+  request = RequestFor({"hero.json", "long", "mouth", {}, true, 40, false});
+  status = Call(server, request, &response);
+  EXPECT_TRUE(status.ok()) << status.error_message();
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (server.server().memory_budget()->in_use() != 0 &&
+         std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_EQ(server.server().memory_budget()->in_use(), 0);
 }
 
 }  // namespace
