@@ -229,17 +229,23 @@ absl::StatusOr<v1::LipBlinkRequest> DecodedSpineLipBlinkRequest(const v1::LipBli
                                                                 const SpineLipBlinkSlots& slots) {
   const double fps = file.fps;
   const bool has_voice = request.voice_case() != v1::LipBlinkRequest::VOICE_NOT_SET;
-  int frames = 0;
+  // Frames as a double, saturated at INT32_MAX: a huge duration or interval end is then
+  // refused by the decoded request's frame_count limit (--max_values), never overflows.
+  double frames = 0;
   if (slots.existing) {
     absl::StatusOr<int> index = formats::FindSpineAnimation(file, slots.animation);
     if (!index.ok()) return index.status();
-    frames = static_cast<int>(std::lround(file.animations[*index].duration * fps)) + 1;
+    frames = std::round(file.animations[*index].duration * fps) + 1;
   } else if (!has_voice) {
-    for (const v1::FrameInterval& i : request.mouth().speech()) frames = std::max(frames, i.end() + 1);
+    for (const v1::FrameInterval& i : request.mouth().speech()) {
+      frames = std::max(frames, static_cast<double>(i.end()) + 1);
+    }
   }
+  constexpr double kMaxFrames = 2147483647.0;
   CurveSet set;
   set.fps = fps;
-  set.frame_count = std::max(frames, 2);
+  set.frame_count = !(frames < kMaxFrames) ? static_cast<int>(kMaxFrames)
+                                           : std::max(static_cast<int>(frames), 2);
   const bool voice_only = !slots.existing && has_voice;
   if (!voice_only) {
     if (!slots.mouth.empty()) {

@@ -4,6 +4,7 @@
 #include <utility>
 #include <vector>
 
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "convert/spine_lip_blink.h"
 #include "core/status_macros.h"
@@ -80,7 +81,14 @@ absl::Status HandleLipBlinkSpine(const v1::LipBlinkRequest& request, const Reque
                         absl::StrCat("spine_json: ", decoded.status().message()));
   }
   KOMA_RETURN_IF_ERROR(ReserveDecodedLipBlink(*decoded, request.spine_json().size(), limits));
-  KOMA_RETURN_IF_ERROR(HandleLipBlink(*decoded, limits, response));
+  if (absl::Status s = HandleLipBlink(*decoded, limits, response); !s.ok()) {
+    // The decoded request's curves are the slots: say so ("spine_json: the slots as curves:
+    // 2 curves x ... frames exceeds the server limit --max_values=...").
+    if (absl::StartsWith(s.message(), "curves")) {
+      return absl::Status(s.code(), absl::StrCat("spine_json: the slots as ", s.message()));
+    }
+    return s;
+  }
   KOMA_ASSIGN_OR_RETURN(const std::vector<formats::SpineAttachmentTimeline> timelines,
                         convert::SpineTimelinesOf(*file, slots, *response));
   absl::StatusOr<std::string> text =

@@ -300,6 +300,12 @@ TEST(SpineLipBlinkRequestTest, EveryRefusalNamesItsField) {
        }),
        {"new animation without length", grpc::INVALID_ARGUMENT,
         "spine.animation \"run\": not an animation of the skeleton"}},
+      {with([](R& r) {
+         r.mutable_spine()->set_animation("run");
+         r.mutable_mouth()->mutable_speech(0)->set_end(2147483647);
+       }),
+       {"a new animation as long as INT32_MAX frames", grpc::RESOURCE_EXHAUSTED,
+        "spine_json: the slots as curves: 2 curves x 2147483647 frames"}},
       {with([](R& r) { r.mutable_mouth()->add_ids("ParamMouthOpenY"); }),
        {"mouth.ids", grpc::INVALID_ARGUMENT,
         "mouth.ids: ParamMouthOpenY is not for spine_json"}},
