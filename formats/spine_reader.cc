@@ -133,15 +133,31 @@ absl::StatusOr<double> NumberAtLazy(const Json& value, const PathFn& path) {
   return NumberAt(value, path());
 }
 
+// The first of "c2", "c3", "c4" (in that order) that the object `key` has, or null: one pass
+// over its members rather than a lookup each.
+const char* FirstBezierNumberField(const Json& key) {
+  static const char* const kFields[] = {"c2", "c3", "c4"};
+  bool has[3] = {false, false, false};
+  for (const auto& member : key.get_ref<const Json::object_t&>()) {
+    const std::string& name = member.first;
+    if (name.size() == 2 && name[0] == 'c' && name[1] >= '2' && name[1] <= '4') {
+      has[name[1] - '2'] = true;
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    if (has[i]) return kFields[i];
+  }
+  return nullptr;
+}
+
 template <typename PathFn>
 absl::StatusOr<KeyCurve> ReadKeyCurve(const Reader& reader, const Json& key, const PathFn& path,
                                       int values) {
   KeyCurve out;
-  for (const char* field : {"c2", "c3", "c4"}) {
-    if (reader.major == 4 && FindMember(key, field) != nullptr) {
-      return reader.ForeignField(MemberPath(path(), field),
-                                 "4.x keys hold a Bezier in one \"curve\" array");
-    }
+  const char* number_field = FirstBezierNumberField(key);
+  if (reader.major == 4 && number_field != nullptr) {
+    return reader.ForeignField(MemberPath(path(), number_field),
+                               "4.x keys hold a Bezier in one \"curve\" array");
   }
   const Json* curve = FindMember(key, "curve");
   const auto curve_path = [&path] { return MemberPath(path(), "curve"); };
@@ -184,11 +200,9 @@ absl::StatusOr<KeyCurve> ReadKeyCurve(const Reader& reader, const Json& key, con
                               return absl::StrCat(curve_path(), "[", i, "]");
                             }));
     }
-    for (const char* field : {"c2", "c3", "c4"}) {
-      if (FindMember(key, field) != nullptr) {
-        return PathError(MemberPath(path(), field),
-                         "only with a number \"curve\" (3.8), not with a curve array");
-      }
+    if (number_field != nullptr) {
+      return PathError(MemberPath(path(), number_field),
+                       "only with a number \"curve\" (3.8), not with a curve array");
     }
   } else {
     return PathError(curve_path(), absl::StrCat("expected \"stepped\" or a Bezier's numbers, got ",

@@ -247,6 +247,19 @@ class ReplacingWriter {
     out_ += "\": ";
   }
 
+  // JsonNumber(frame / fps) as nlohmann writes it. The retimed timelines of an animation
+  // mostly share their drawings' times: each time is formatted once per call.
+  void Time(double frame) {
+    std::string& text = times_[frame];
+    if (text.empty()) {
+      const size_t at = out_.size();
+      Dump(JsonNumber(frame / fps_), 0);
+      text.assign(out_, at, std::string::npos);
+    } else {
+      out_ += text;
+    }
+  }
+
   // What KeysJson(keys) dumps at `indent`, without building it.
   void WriteKeys(const TimelineKeys& keys, unsigned indent) {
     out_ += "[\n";
@@ -254,7 +267,7 @@ class ReplacingWriter {
       Indent(indent + 1);
       out_ += "{\n";
       Field("time", indent + 2);
-      Dump(JsonNumber(keys.frames[k] / fps_), 0);
+      Time(keys.frames[k]);
       for (size_t v = 0; v < keys.fields.size(); ++v) {
         out_ += ",\n";
         Field(keys.fields[v], indent + 2);
@@ -275,6 +288,7 @@ class ReplacingWriter {
 
   std::string& out_;
   double fps_;
+  absl::flat_hash_map<double, std::string> times_;  // frame -> its time's text
   nlohmann::detail::serializer<Json> serializer_;
 };
 
