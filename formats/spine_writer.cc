@@ -240,13 +240,6 @@ class ReplacingWriter {
   void Dump(const Json& value, unsigned indent) {
     serializer_.dump(value, /*pretty_print=*/true, /*ensure_ascii=*/false, 1, indent);
   }
-  void Field(const char* name, unsigned indent) {
-    Indent(indent);
-    out_ += '"';
-    out_ += name;  // "time", "angle", "value", "x", "y", "curve": nothing to escape
-    out_ += "\": ";
-  }
-
   // JsonNumber(frame / fps) as nlohmann writes it. The retimed timelines of an animation
   // mostly share their drawings' times: each time is formatted once per call.
   void Time(double frame) {
@@ -260,31 +253,36 @@ class ReplacingWriter {
     }
   }
 
-  // What KeysJson(keys) dumps at `indent`, without building it.
+  // What KeysJson(keys) dumps at `indent`, without building it. The text between the numbers
+  // is the same for every key of a timeline: made once, appended whole (a few appends a key
+  // rather than a dozen).
   void WriteKeys(const TimelineKeys& keys, unsigned indent) {
+    const std::string key_indent(indent + 1, '\t');
+    const std::string field_indent(indent + 2, '\t');
+    // "<indent+1>{\n<indent+2>\"time\": "
+    const std::string open = absl::StrCat(key_indent, "{\n", field_indent, "\"time\": ");
+    std::string before_value[2];  // ",\n<indent+2>\"x\": "
+    for (size_t v = 0; v < keys.fields.size(); ++v) {
+      before_value[v] = absl::StrCat(",\n", field_indent, "\"", keys.fields[v], "\": ");
+    }
+    // ",\n<indent+2>\"curve\": \"stepped\"\n<indent+1>},\n" and the last key's "\n<indent+1>}\n"
+    const std::string close =
+        absl::StrCat(",\n", field_indent, "\"curve\": \"stepped\"\n", key_indent, "},\n");
+    const std::string close_last = absl::StrCat("\n", key_indent, "}\n");
     out_ += "[\n";
     for (size_t k = 0; k < keys.frames.size(); ++k) {
-      Indent(indent + 1);
-      out_ += "{\n";
-      Field("time", indent + 2);
+      out_ += open;
       Time(keys.frames[k]);
       for (size_t v = 0; v < keys.fields.size(); ++v) {
-        out_ += ",\n";
-        Field(keys.fields[v], indent + 2);
+        out_ += before_value[v];
         Dump(JsonNumber(keys.values[v][k]), 0);
       }
-      if (k + 1 < keys.frames.size()) {
-        out_ += ",\n";
-        Field("curve", indent + 2);
-        out_ += "\"stepped\"";
-      }
-      out_ += '\n';
-      Indent(indent + 1);
-      out_ += k + 1 < keys.frames.size() ? "},\n" : "}\n";
+      out_ += k + 1 < keys.frames.size() ? close : close_last;
     }
     Indent(indent);
     out_ += ']';
   }
+
 
   std::string& out_;
   double fps_;
