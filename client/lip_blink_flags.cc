@@ -111,19 +111,20 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
                  "with --audio and --report: a recording up to this size is embedded in the "
                  "page, a larger one linked by its path (default 16777216)")
       ->type_name("BYTES");
-  // Spine skeleton IN (client/spine_lip_blink.h)
-  cmd->add_option("--animation", args.spine_animation,
+  // Spine skeleton IN (client/spine_lip_blink.h; LipBlinkRequest.spine, whose field paths
+  // the --spine-* aliases spell)
+  cmd->add_option("--animation,--spine-animation", args.spine_animation,
                   "Spine IN: the animation to write the mouth and eyes into (added if missing)")
       ->type_name("NAME");
-  cmd->add_option("--mouth-slot", args.mouth_slot,
+  cmd->add_option("--mouth-slot,--spine-mouth-slot", args.mouth_slot,
                   "Spine IN: the mouth slot, keyed with its three attachments")
       ->type_name("SLOT");
-  AddStringList(cmd, "--mouth-attachments", &args.mouth_attachments,
+  AddStringList(cmd, "--mouth-attachments,--spine-mouth-attachments", &args.mouth_attachments,
                 "Spine IN: the mouth slot's CLOSED,MID,OPEN attachments (default "
                 "<slot>_closed,<slot>_mid,<slot>_open)");
-  AddStringList(cmd, "--eye-slot,--eye-slots", &args.eye_slots,
+  AddStringList(cmd, "--eye-slot,--eye-slots,--spine-eye-slots", &args.eye_slots,
                 "Spine IN: eye slots, keyed with their three attachments");
-  AddStringList(cmd, "--eye-attachments", &args.eye_attachments,
+  AddStringList(cmd, "--eye-attachments,--spine-eye-attachments", &args.eye_attachments,
                 "Spine IN: the eye slots' OPEN,HALF,CLOSED attachments (default "
                 "<slot>_open,<slot>_half,<slot>_closed)");
   AddSeed(cmd, "--seed", &args.seed,

@@ -26,11 +26,23 @@ class CurveCursor {
 
   double Evaluate(double frame);
 
+  // Evaluate(frame) for a curve whose times equal those of a curve already evaluated at the
+  // same frames (SameCurveTimes): an unrestricted Bezier's parameter at `frame` depends only
+  // on the segment's times, so `parameter` carries it from one curve to the next. `known`:
+  // `parameter` holds it (the solve is skipped); else it receives it (NaN when `frame` does
+  // not fall in an unrestricted Bezier segment). Same answers as Evaluate, bit for bit.
+  double EvaluateSharing(double frame, double& parameter, bool known);
+
  private:
   const Curve& curve_;
   bool beziers_restricted_;
   size_t segment_ = 0;  // index of the segment the last time fell in (or segments.size())
 };
+
+// True when `a` and `b` are keyframe curves with the same times: start frame, segment count,
+// and per segment its type, end frame and (for a Bezier) handle frames, all equal. Such curves
+// share every Bezier parameter at every time (CurveCursor::EvaluateSharing).
+bool SameCurveTimes(const Curve& a, const Curve& b);
 
 }  // namespace koma
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string>
 
 #include "absl/container/flat_hash_map.h"
@@ -248,6 +249,46 @@ std::vector<CurvePoint> SteppedFromValues(const std::vector<double>& values) {
     }
   }
   return steps;
+}
+
+double CurveCursor::EvaluateSharing(double frame, double& parameter, bool known) {
+  if (curve_.dense()) return Evaluate(frame);
+  const std::vector<CurveSegment>& segments = curve_.segments;
+  if (segment_ > 0 && !(segments[segment_ - 1].end.frame <= frame)) {
+    segment_ = FindSegment(curve_, frame);  // went back before the remembered segment
+  }
+  while (segment_ < segments.size() && segments[segment_].end.frame <= frame) ++segment_;
+  // EvaluateKeyframesAt, with the Bezier parameter shared.
+  if (beziers_restricted_ || segments.empty() || frame < curve_.start.frame ||
+      segment_ >= segments.size() || segments[segment_].type != SegmentType::kBezier) {
+    if (!known) parameter = std::numeric_limits<double>::quiet_NaN();
+    return EvaluateKeyframesAt(curve_, segment_, frame, beziers_restricted_);
+  }
+  const CurvePoint& from = segment_ == 0 ? curve_.start : segments[segment_ - 1].end;
+  const CurveSegment& segment = segments[segment_];
+  if (!known) {
+    parameter = SolveBezierParameter(from.frame, segment.handles[0].frame,
+                                     segment.handles[1].frame, segment.end.frame, frame);
+  }
+  return Cubic(from.value, segment.handles[0].value, segment.handles[1].value, segment.end.value,
+               parameter);
+}
+
+bool SameCurveTimes(const Curve& a, const Curve& b) {
+  if (a.dense() || b.dense() || a.start.frame != b.start.frame ||
+      a.segments.size() != b.segments.size()) {
+    return false;
+  }
+  for (size_t s = 0; s < a.segments.size(); ++s) {
+    const CurveSegment& x = a.segments[s];
+    const CurveSegment& y = b.segments[s];
+    if (x.type != y.type || x.end.frame != y.end.frame) return false;
+    if (x.type == SegmentType::kBezier && (x.handles[0].frame != y.handles[0].frame ||
+                                           x.handles[1].frame != y.handles[1].frame)) {
+      return false;
+    }
+  }
+  return true;
 }
 
 std::vector<double> SampleEveryFrame(const Curve& curve, int frame_count, bool beziers_restricted) {

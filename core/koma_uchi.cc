@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <set>
 
 #include "core/curve_cursor.h"
@@ -97,6 +99,28 @@ DrawingTiming ExpandToSource(const DrawingTiming& on_grid, const FilmGrid& grid,
   return out;
 }
 
+// A hash of what SameCurveTimes compares (equal times, equal hashes).
+uint64_t CurveTimesHash(const Curve& curve) {
+  uint64_t hash = curve.segments.size();
+  const auto mix = [&hash](double x) {
+    uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    if (x == 0.0) bits = 0;  // -0 == 0
+    hash = (hash ^ bits) * 0x100000001b3ULL;
+    hash ^= hash >> 29;
+  };
+  mix(curve.start.frame);
+  for (const CurveSegment& segment : curve.segments) {
+    mix(static_cast<double>(segment.type));
+    mix(segment.end.frame);
+    if (segment.type == SegmentType::kBezier) {
+      mix(segment.handles[0].frame);
+      mix(segment.handles[1].frame);
+    }
+  }
+  return hash;
+}
+
 std::map<int, int> HoldHistogram(const DrawingTiming& timing) {
   std::map<int, int> histogram;
   const std::vector<int>& starts = timing.drawing_start;
@@ -109,9 +133,12 @@ std::map<int, int> HoldHistogram(const DrawingTiming& timing) {
 }
 
 // The curve sampled once per drawing (at its tau, non-decreasing, so the cursor only walks
-// forward) and held over the drawing's frames.
+// forward) and held over the drawing's frames. `parameters`: per drawing, the Bezier parameter
+// at its tau (CurveCursor::EvaluateSharing), read when `known` (a curve with the same times
+// was retimed on this timing before), else written.
 RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const DrawingTiming& timing,
-                       int timing_index, const std::map<int, int>& histogram) {
+                       int timing_index, const std::map<int, int>& histogram,
+                       std::vector<double>& parameters, bool known) {
   RetimedCurve out;
   out.timing = timing_index;
   out.hold_histogram = histogram;
@@ -121,12 +148,13 @@ RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const Drawin
   out.steps.reserve(starts.size());
   CurveCursor cursor(curve, beziers_restricted);
   const bool on_grid = !timing.drawing_time.empty();
+  if (!known) parameters.resize(starts.size());
   for (size_t d = 0; d < starts.size(); ++d) {
     const size_t begin = static_cast<size_t>(starts[d]);
     size_t end = d + 1 < starts.size() ? static_cast<size_t>(starts[d + 1]) : frame_count;
     if (end < begin) end = begin;  // a grid drawing no source frame shows
-    const double value =
-        cursor.Evaluate(on_grid ? timing.drawing_tau[d] : timing.source_frame[begin]);
+    const double value = cursor.EvaluateSharing(
+        on_grid ? timing.drawing_tau[d] : timing.source_frame[begin], parameters[d], known);
     std::fill(out.values.begin() + begin, out.values.begin() + end, value);
     out.steps.push_back({on_grid ? timing.drawing_time[d] : static_cast<double>(begin), value});
   }
@@ -309,12 +337,37 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
     histograms[static_cast<int>(t)] = HoldHistogram(result.timings[t]);
     if (grid) result.timings[t] = ExpandToSource(result.timings[t], *grid, set.frame_count);
   }
+  // Curves with the same times on the same timing share their Bezier parameters at the
+  // drawings' taus: solved once (bisection, ~55 cubic evaluations each) for all of them, since
+  // the solve depends only on the times. A Spine skeleton's bones are mostly keyed at the same
+  // times (the 50-bone benchmark: 150 curves, one set of times). Per timing and hash of the
+  // times: the first curve with those times and its parameters.
+  std::map<std::pair<int, uint64_t>, std::vector<std::pair<int, std::vector<double>>>> solved;
+  std::vector<double> own_parameters;
   for (int c : members) {
     const Curve& curve = set.curves[c];
     const auto own = options.curve_frames_per_drawing.find(curve.id);
     const int t =
         own == options.curve_frames_per_drawing.end() ? first_timing : timing_of_n[own->second];
-    result.curves[c] = RetimeOne(curve, set.beziers_restricted, result.timings[t], t, histograms[t]);
+    std::vector<double>* parameters = &own_parameters;
+    bool known = false;
+    if (!curve.dense() && !set.beziers_restricted) {
+      std::vector<std::pair<int, std::vector<double>>>& same_hash =
+          solved[{t, CurveTimesHash(curve)}];
+      for (auto& [first, shared] : same_hash) {
+        if (SameCurveTimes(set.curves[first], curve)) {
+          parameters = &shared;
+          known = true;
+          break;
+        }
+      }
+      if (!known) {
+        same_hash.emplace_back(c, std::vector<double>());
+        parameters = &same_hash.back().second;
+      }
+    }
+    result.curves[c] = RetimeOne(curve, set.beziers_restricted, result.timings[t], t,
+                                 histograms[t], *parameters, known);
   }
   return group;
 }

@@ -119,6 +119,12 @@ struct SpineRetimed {
 absl::StatusOr<std::string> WriteSpine(const SpineFile& file,
                                        const std::vector<SpineRetimed>& retimed);
 
+// The same text the plain way: a copy of file.document with the timelines replaced, dumped by
+// nlohmann. WriteSpine walks the document instead of copying it; this is the reference the
+// tests compare it with.
+absl::StatusOr<std::string> WriteSpineByDump(const SpineFile& file,
+                                             const std::vector<SpineRetimed>& retimed);
+
 }  // namespace koma::formats
 
 #endif  // KOMA_FORMATS_SPINE_H_

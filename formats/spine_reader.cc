@@ -108,24 +108,59 @@ struct KeyCurve {
   double bezier[2][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}};
 };
 
-absl::StatusOr<double> OptionalNumber(const Json& key, const std::string& path, const char* name,
+// The paths below are callables that make the key's path: a string is only built for an
+// error (a skeleton has thousands of keys; one path string per number cost more than reading
+// it).
+template <typename PathFn>
+absl::StatusOr<double> OptionalNumber(const Json& key, const PathFn& path, const char* name,
                                       double fallback) {
   const Json* member = FindMember(key, name);
   if (member == nullptr) return fallback;
-  return NumberAt(*member, MemberPath(path, name));
+  if (member->is_number()) {
+    const double number = member->get<double>();
+    if (std::isfinite(number)) return number;
+  }
+  return NumberAt(*member, MemberPath(path(), name));  // the error
 }
 
-absl::StatusOr<KeyCurve> ReadKeyCurve(const Reader& reader, const Json& key,
-                                      const std::string& path, int values) {
-  KeyCurve out;
-  for (const char* field : {"c2", "c3", "c4"}) {
-    if (reader.major == 4 && FindMember(key, field) != nullptr) {
-      return reader.ForeignField(MemberPath(path, field),
-                                 "4.x keys hold a Bezier in one \"curve\" array");
+// NumberAt without a path unless it fails.
+template <typename PathFn>
+absl::StatusOr<double> NumberAtLazy(const Json& value, const PathFn& path) {
+  if (value.is_number()) {
+    const double number = value.get<double>();
+    if (std::isfinite(number)) return number;
+  }
+  return NumberAt(value, path());
+}
+
+// The first of "c2", "c3", "c4" (in that order) that the object `key` has, or null: one pass
+// over its members rather than a lookup each.
+const char* FirstBezierNumberField(const Json& key) {
+  static const char* const kFields[] = {"c2", "c3", "c4"};
+  bool has[3] = {false, false, false};
+  for (const auto& member : key.get_ref<const Json::object_t&>()) {
+    const std::string& name = member.first;
+    if (name.size() == 2 && name[0] == 'c' && name[1] >= '2' && name[1] <= '4') {
+      has[name[1] - '2'] = true;
     }
   }
+  for (int i = 0; i < 3; ++i) {
+    if (has[i]) return kFields[i];
+  }
+  return nullptr;
+}
+
+template <typename PathFn>
+absl::StatusOr<KeyCurve> ReadKeyCurve(const Reader& reader, const Json& key, const PathFn& path,
+                                      int values) {
+  KeyCurve out;
+  const char* number_field = FirstBezierNumberField(key);
+  if (reader.major == 4 && number_field != nullptr) {
+    return reader.ForeignField(MemberPath(path(), number_field),
+                               "4.x keys hold a Bezier in one \"curve\" array");
+  }
   const Json* curve = FindMember(key, "curve");
-  const std::string curve_path = MemberPath(path, "curve");
+  const auto curve_path = [&path] { return MemberPath(path(), "curve"); };
   if (curve == nullptr) return out;
   if (curve->is_string()) {
     const std::string& kind = curve->get_ref<const std::string&>();
@@ -134,26 +169,26 @@ absl::StatusOr<KeyCurve> ReadKeyCurve(const Reader& reader, const Json& key,
       return out;
     }
     if (kind == "linear") return out;
-    return PathError(curve_path,
+    return PathError(curve_path(),
                      absl::StrCat("unknown curve kind ", QuoteForError(kind),
                                   " (expected \"stepped\", \"linear\" or a Bezier's numbers)"));
   }
   out.type = SegmentType::kBezier;
   if (curve->is_number()) {
     if (reader.major == 4) {
-      return reader.ForeignField(curve_path,
+      return reader.ForeignField(curve_path(),
                                  absl::StrCat("4.x keys hold a Bezier as an array of ",
                                               4 * values, " numbers"));
     }
     // 3.8: curve = cx1, c2 = cy1, c3 = cx2, c4 = cy2.
-    KOMA_ASSIGN_OR_RETURN(out.bezier[0][0], NumberAt(*curve, curve_path));
+    KOMA_ASSIGN_OR_RETURN(out.bezier[0][0], NumberAtLazy(*curve, curve_path));
     KOMA_ASSIGN_OR_RETURN(out.bezier[0][1], OptionalNumber(key, path, "c2", 0.0));
     KOMA_ASSIGN_OR_RETURN(out.bezier[0][2], OptionalNumber(key, path, "c3", 1.0));
     KOMA_ASSIGN_OR_RETURN(out.bezier[0][3], OptionalNumber(key, path, "c4", 1.0));
   } else if (curve->is_array()) {
     const size_t expected = reader.major == 3 ? 4 : static_cast<size_t>(4 * values);
     if (curve->size() != expected) {
-      return PathError(curve_path,
+      return PathError(curve_path(),
                        absl::StrCat("a Bezier needs ", expected, " numbers",
                                     reader.major == 3 ? " (cx1, cy1, cx2, cy2)"
                                                       : " (cx1, cy1, cx2, cy2 per value)",
@@ -161,23 +196,23 @@ absl::StatusOr<KeyCurve> ReadKeyCurve(const Reader& reader, const Json& key,
     }
     for (size_t i = 0; i < expected; ++i) {
       KOMA_ASSIGN_OR_RETURN(out.bezier[i / 4][i % 4],
-                            NumberAt((*curve)[i], absl::StrCat(curve_path, "[", i, "]")));
+                            NumberAtLazy((*curve)[i], [&curve_path, i] {
+                              return absl::StrCat(curve_path(), "[", i, "]");
+                            }));
     }
-    for (const char* field : {"c2", "c3", "c4"}) {
-      if (FindMember(key, field) != nullptr) {
-        return PathError(MemberPath(path, field),
-                         "only with a number \"curve\" (3.8), not with a curve array");
-      }
+    if (number_field != nullptr) {
+      return PathError(MemberPath(path(), number_field),
+                       "only with a number \"curve\" (3.8), not with a curve array");
     }
   } else {
-    return PathError(curve_path, absl::StrCat("expected \"stepped\" or a Bezier's numbers, got ",
+    return PathError(curve_path(), absl::StrCat("expected \"stepped\" or a Bezier's numbers, got ",
                                               DescribeJson(*curve)));
   }
   if (reader.major == 3) {
     for (int h : {0, 2}) {
       const double cx = out.bezier[0][h];
       if (cx < 0.0 || cx > 1.0) {
-        return PathError(curve_path,
+        return PathError(curve_path(),
                          absl::StrCat("handle time ", FormatDouble(cx),
                                       " is outside its segment (0 to 1 of the way to the next key)"));
       }
@@ -207,23 +242,23 @@ absl::Status ReadTimeline(const Reader& reader, const TimelineKind& kind, const 
   std::vector<double> key_values[2];
   std::vector<KeyCurve> curves;
   for (size_t i = 0; i < keys.size(); ++i) {
-    const std::string key_path = absl::StrCat(path, "[", i, "]");
+    const auto key_path = [&path, i] { return absl::StrCat(path, "[", i, "]"); };
     const Json& key = keys[i];
-    KOMA_RETURN_IF_ERROR(RequireObject(key, key_path));
+    if (!key.is_object()) return RequireObject(key, key_path());
     KOMA_ASSIGN_OR_RETURN(const double time, OptionalNumber(key, key_path, "time", 0.0));
     if (time < 0.0) {
-      return PathError(MemberPath(key_path, "time"),
+      return PathError(MemberPath(key_path(), "time"),
                        absl::StrCat("expected seconds >= 0, got ", FormatDouble(time)));
     }
     if (!times.empty() && !(time > times.back())) {
-      return PathError(MemberPath(key_path, "time"),
+      return PathError(MemberPath(key_path(), "time"),
                        absl::StrCat(FormatDouble(time), " is not after the previous key's ",
                                     FormatDouble(times.back()), " (keys must be in time order)"));
     }
     // The other version's value fields.
     const char* foreign = reader.major == 4 ? "angle" : (values == 1 ? "value" : nullptr);
     if (foreign != nullptr && FindMember(key, foreign) != nullptr) {
-      return reader.ForeignField(MemberPath(key_path, foreign),
+      return reader.ForeignField(MemberPath(key_path(), foreign),
                                  absl::StrCat("this key's value is \"", kind.fields[0], "\""));
     }
     for (int v = 0; v < values; ++v) {

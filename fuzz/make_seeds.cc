@@ -27,6 +27,7 @@
 #include "formats/curve_csv.h"
 #include "formats/motion3.h"
 #include "formats/spine.h"
+#include "formats/spine_attachments.h"
 #include "tests/testing/gltf_builder.h"
 #include "koma/v1/retime.pb.h"
 
@@ -182,6 +183,34 @@ int main(int argc, char** argv) {
       curves.set_spine_json(text);
       curves.set_spine_animation(animation.name);
       WriteRequest(out / "retime_curves", stem + "_" + animation.name + "_spine", curves);
+    }
+    // LipBlink into the skeleton's mouth and eye slots (the hero files: "mouth" with
+    // mouth_closed/_mid/_open, "eyes" with eyes_open/_half/_closed), an existing animation
+    // with speech and auto-blink, and a new one from Rhubarb cues.
+    const absl::StatusOr<std::vector<std::string>> mouths =
+        koma::formats::SpineSlotAttachments(*file, "mouth");
+    const absl::StatusOr<std::vector<std::string>> eyes =
+        koma::formats::SpineSlotAttachments(*file, "eyes");
+    const auto has = [](const absl::StatusOr<std::vector<std::string>>& names,
+                        const std::string& name) {
+      return names.ok() && std::find(names->begin(), names->end(), name) != names->end();
+    };
+    if (has(mouths, "mouth_mid") && has(eyes, "eyes_half") && !file->animations.empty()) {
+      koma::v1::LipBlinkRequest lip;
+      lip.set_spine_json(text);
+      lip.mutable_spine()->set_animation(file->animations[0].name);
+      lip.mutable_spine()->set_mouth_slot("mouth");
+      lip.mutable_spine()->add_eye_slots("eyes");
+      koma::v1::FrameInterval* speech = lip.mutable_mouth()->add_speech();
+      speech->set_begin(2);
+      speech->set_end(12);
+      lip.mutable_eyes()->mutable_auto_blink()->set_enabled(true);
+      lip.set_seed(5);
+      WriteRequest(out / "lip_blink", stem + "_spine", lip);
+      lip.mutable_spine()->set_animation("talk");
+      lip.mutable_mouth()->clear_speech();
+      lip.set_rhubarb_cues("0.00\tX\n0.10\tD\n0.30\tC\n0.50\tX\n");
+      WriteRequest(out / "lip_blink", stem + "_spine_cues", lip);
     }
   }
 

@@ -250,6 +250,11 @@ absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const Reques
   return PutLipBlinkFile(file, response);
 }
 
+absl::Status ReserveDecodedLipBlink(const v1::LipBlinkRequest& decoded, size_t file_bytes,
+                                    const RequestLimits& limits) {
+  return ReserveDecoded(decoded, file_bytes, /*bvh=*/false, limits);
+}
+
 absl::Status PutLipBlinkFile(const CurveFile& file, v1::LipBlinkResponse* response) {
   // As `koma lipblink` writes its output: the converted curves replace theirs by id.
   const std::vector<Curve>& curves = file.input.curves.curves;

@@ -72,6 +72,12 @@ absl::Status CheckLipBlinkFileSize(const std::string& bytes, absl::string_view f
                                    const RequestLimits& limits);
 absl::Status PutLipBlinkFile(const CurveFile& file, v1::LipBlinkResponse* response);
 
+// The memory budget's reservation for a parsed file's decoded LipBlink request (a Spine
+// skeleton's, server/lip_blink_spine.h): as for the other files, RESOURCE_EXHAUSTED naming the
+// budget when it does not fit.
+absl::Status ReserveDecodedLipBlink(const v1::LipBlinkRequest& decoded, size_t file_bytes,
+                                    const RequestLimits& limits);
+
 }  // namespace koma::server
 
 #endif  // KOMA_SERVER_FILE_REQUESTS_H_

@@ -8,6 +8,7 @@
 #include "server/curve_convert.h"
 #include "server/file_requests.h"
 #include "server/lip_blink_request.h"
+#include "server/lip_blink_spine.h"
 #include "server/lip_blink_voice.h"
 
 namespace koma::server {
@@ -146,6 +147,13 @@ absl::StatusOr<LipBlinkDrawing> DrawLipBlink(const LipBlinkJob& job) {
 
 absl::Status HandleLipBlink(const v1::LipBlinkRequest& request, const RequestLimits& limits,
                             v1::LipBlinkResponse* response) {
+  if (request.input_case() == v1::LipBlinkRequest::kSpineJson) {
+    return HandleLipBlinkSpine(request, limits, response);
+  }
+  if (request.has_spine()) {
+    return absl::InvalidArgumentError(
+        "spine: only with spine_json (the Spine skeleton whose slots it names)");
+  }
   if (request.voice_case() != v1::LipBlinkRequest::VOICE_NOT_SET) {
     return HandleLipBlinkVoice(request, limits, response);
   }

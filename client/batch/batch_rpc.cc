@@ -8,6 +8,9 @@
 #include "client/batch/batch_inputs.h"
 #include "client/curve_files.h"
 #include "client/spine_curves.h"
+#include "client/spine_lip_blink.h"
+#include "client/xdts_sheets.h"
+#include "formats/xdts.h"
 #include "client/files.h"
 #include "client/report/curves_report.h"
 #include "client/report/lip_blink_report.h"
@@ -204,6 +207,50 @@ class LipBlinkClipCall final : public Clip {
   v1::LipBlinkResponse response_;
 };
 
+// A Spine skeleton with --animation and the slots: the server writes the skeleton
+// (LipBlinkRequest.spine_json, client/spine_lip_blink.h); --speech and auto-blink as given.
+class LipBlinkSpineCall final : public Clip {
+ public:
+  LipBlinkSpineCall(const LipBlinkArgs& args, CurveInput input,
+                    convert::SpineLipBlinkSlots slots)
+      : args_(args),
+        input_(std::move(input)),
+        slots_(std::move(slots)),
+        request_(BuildSpineLipBlinkRequest(args_, input_.text, "")) {}
+
+  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
+             std::function<void(grpc::Status)> done) override {
+    response_.Clear();
+    stub.async()->LipBlink(context, &request_, &response_, std::move(done));
+  }
+
+  absl::Status Write(const BatchItem& item) override {
+    if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
+    if (!response_.has_spine_json()) {
+      return absl::InternalError(absl::StrCat(item.input, ": the server answered no spine_json"));
+    }
+    if (absl::Status s = WriteFile(item.output, response_.spine_json()); !s.ok()) return s;
+    if (!item.xdts.empty()) {
+      absl::StatusOr<formats::XdtsSheet> sheet = LipBlinkXdtsSheet(
+          response_, input_.spine->fps, XdtsClipName(item.input, item.xdts));
+      if (!sheet.ok()) return sheet.status();
+      if (absl::Status s = WriteFile(item.xdts, formats::WriteXdts(*sheet)); !s.ok()) return s;
+    }
+    if (item.report.empty()) return absl::OkStatus();
+    absl::StatusOr<v1::LipBlinkRequest> decoded =
+        convert::DecodedSpineLipBlinkRequest(request_, *input_.spine, slots_);
+    if (!decoded.ok()) return WithPath(item, decoded.status());
+    return report::WriteLipBlinkReport(item.report, *decoded, response_, item.input);
+  }
+
+ private:
+  const LipBlinkArgs& args_;
+  CurveInput input_;
+  convert::SpineLipBlinkSlots slots_;
+  v1::LipBlinkRequest request_;
+  v1::LipBlinkResponse response_;
+};
+
 LipBlinkArgs WithAudio(const LipBlinkArgs& args, const std::string& path) {
   LipBlinkArgs with = args;
   with.audio = path;
@@ -257,13 +304,29 @@ class LipBlinkRpc final : public Rpc {
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
     if (IsAudioPath(item.input)) {
+      if (HasSpineFlags(args_)) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            "--animation, --mouth-slot, --eye-slot: for Spine skeletons, not a recording (",
+            item.input, ")"));
+      }
       absl::StatusOr<std::string> audio = ReadFile(item.input);
       if (!audio.ok()) return audio.status();
       return std::make_unique<LipBlinkVoiceCall>(args_, item.input, *std::move(audio));
     }
-    absl::StatusOr<CurveInput> input =
-        ReadCurveInput(item.input, args_.csv_fps, CurveFormat::kAuto, "lipblink");
+    // With the Spine flags a skeleton is read (and anything else refused); without, refused.
+    const bool spine = HasSpineFlags(args_);
+    absl::StatusOr<CurveInput> input = ReadCurveInput(
+        item.input, args_.csv_fps, CurveFormat::kAuto, spine ? kLipBlinkSpineCommand : "lipblink");
     if (!input.ok()) return input.status();
+    if (spine) {
+      if (!input->spine) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            "--animation, --mouth-slot, --eye-slot: ", item.input, " is not a Spine skeleton"));
+      }
+      absl::StatusOr<convert::SpineLipBlinkSlots> slots = CheckSpineSlots(args_, *input->spine);
+      if (!slots.ok()) return WithPath(item, slots.status());
+      return std::make_unique<LipBlinkSpineCall>(args_, *std::move(input), *std::move(slots));
+    }
     return std::make_unique<LipBlinkClipCall>(args_, *std::move(input));
   }
 

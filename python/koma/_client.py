@@ -237,16 +237,14 @@ class Client:
         """Fills the request's file; returns (its path or None, a function giving its fps)."""
         data, path = _read_source(source, ("{", "frame,"))
         if _is_spine(data, file_format):
-            if "spine_json" not in request.DESCRIPTOR.fields_by_name:
-                raise ValueError("a Spine skeleton: lip_blink reads Live2D motion3.json or CSV; "
-                                 "key a skeleton's mouth and eye slots with the CLI (`koma "
-                                 "lipblink hero.json --animation NAME --mouth-slot SLOT ...`), "
-                                 "retime its animations with retime_curves")
             if csv_fps is not None:
                 raise ValueError("csv_fps: only for a CSV input")
             request.spine_json = data
             if animation is not None:
-                request.spine_animation = animation
+                if "spine_animation" in request.DESCRIPTOR.fields_by_name:
+                    request.spine_animation = animation
+                else:  # LipBlink: the animation the slots are keyed in
+                    request.spine.animation = animation
             return path, lambda: float(json.loads(data)["skeleton"].get("fps", 30))
         if animation is not None:
             raise ValueError("animation: only for a Spine skeleton")
@@ -300,7 +298,8 @@ class Client:
         return result
 
     def lip_blink(self, source=None, format=None, csv_fps=None, audio=None, rhubarb_cues=None,
-                  **options):
+                  animation=None, mouth_slot=None, mouth_attachments=None, eye_slots=None,
+                  eye_attachments=None, **options):
         """Three-drawing mouth flaps and anime blinks (LipBlink).
 
         Args:
@@ -313,6 +312,12 @@ class Client:
                 default ParamMouthOpenY) is added when the motion lacks it.
             rhubarb_cues: Rhubarb Lip Sync's mouth cues (its JSON or TSV) in place of audio: a
                 path, the text or its bytes.
+            animation, mouth_slot, mouth_attachments, eye_slots, eye_attachments: with a Spine
+                skeleton as source (LipBlinkRequest.spine): the animation the slots are keyed
+                in (required; added when missing), the mouth slot and its closed, mid, open
+                attachments (default SLOT_closed, SLOT_mid, SLOT_open), the eye slots (list)
+                and their open, half, closed attachments (default SLOT_open, SLOT_half,
+                SLOT_closed). mouth.speech then counts the skeleton's frames (skeleton.fps).
             **options: LipBlinkRequest fields: mouth (dict: ids, mode "MOUTH_RANDOM" or
                 "MOUTH_FOLLOW", frames_per_shape (frames), mid_ratio, min, max, speech as
                 [(begin, end)] frames), eyes (dict: ids, mid_ratio, threshold, min, max,
@@ -324,12 +329,13 @@ class Client:
 
         Returns:
             LipBlinkResult whose .output is the converted file in the input's format (a new
-            motion3.json or CSV for a voice alone), byte for byte what `koma lipblink` writes;
+            motion3.json or CSV for a voice alone; for a Spine skeleton the skeleton with the
+            slots' attachment timelines written), byte for byte what `koma lipblink` writes;
             with a voice also .voice (the analysis) and .rhubarb_json / .rhubarb_tsv.
         """
         request = retime_pb2.LipBlinkRequest()
         _options.fill(request, options, skip=("curves", "motion3_json", "csv_text", "csv_fps",
-                                              "audio", "rhubarb_cues"))
+                                              "audio", "rhubarb_cues", "spine_json", "spine"))
         if audio is not None and rhubarb_cues is not None:
             raise ValueError("audio, rhubarb_cues: give one voice, not both")
         # The sheet's name (xdts()): the motion's file, else the voice's, as `koma lipblink`.
@@ -345,8 +351,25 @@ class Client:
                 raise TypeError(f"audio: expected a path or bytes, got {type(audio).__name__}")
         if rhubarb_cues is not None:
             request.rhubarb_cues, voice_path = _read_source(rhubarb_cues, ("{", "0"))
+        slots = {"mouth_slot": mouth_slot, "mouth_attachments": mouth_attachments,
+                 "eye_slots": eye_slots, "eye_attachments": eye_attachments}
         if source is not None:
-            path, fps = self._curve_request(request, source, format, csv_fps)
+            path, fps = self._curve_request(request, source, format, csv_fps, animation)
+            if request.HasField("spine_json"):
+                for name, value in slots.items():
+                    if value is None:
+                        continue
+                    if name == "mouth_slot":
+                        request.spine.mouth_slot = value
+                    else:
+                        getattr(request.spine, name).extend(
+                            [value] if isinstance(value, str) else list(value))
+            elif any(v is not None for v in slots.values()):
+                raise ValueError("mouth_slot, mouth_attachments, eye_slots, eye_attachments: "
+                                 "only for a Spine skeleton")
+        elif animation is not None or any(v is not None for v in slots.values()):
+            raise ValueError("animation, mouth_slot, eye_slots: only with a Spine skeleton "
+                             "as source")
         elif audio is None and rhubarb_cues is None:
             raise TypeError("lip_blink: a source motion, audio or rhubarb_cues is required")
         else:

@@ -182,8 +182,8 @@ class LipBlinkResult(_Result):
     """A LipBlink answer.
 
     Attributes:
-        output / output_bytes: the converted motion3.json or CSV (file requests), as
-            `koma lipblink IN -o OUT` writes it.
+        output / output_bytes: the converted motion3.json or CSV (file requests), or the
+            Spine skeleton with its slots keyed, as `koma lipblink IN -o OUT` writes it.
         mouths: list of {"id", "speech": [(begin, end)], "holds": [(begin, length, shape)],
             "closed_level", "mid_level", "open_level"}; frames (grid frames with a grid).
         eyes: list of {"id", "blinks": [dict of closing_begin, closed_begin, closed_end,

@@ -23,6 +23,7 @@
 #include "client/curve_files.h"
 #include "client/file_format.h"
 #include "client/skeletal_gltf.h"
+#include "client/spine_lip_blink.h"
 #include "koma/v1/retime.pb.h"
 #include "tests/testing/status_matchers.h"
 
@@ -45,6 +46,8 @@ const std::map<std::string, std::string> kExcluded = {
     {"RetimeCurvesRequest.curves", "the whole curve set: the input file"},
     {"LipBlinkRequest.curves", "the whole curve set: the input file"},
     {"LipBlinkRequest.audio", "the recording's bytes: --audio FILE (tests/python/test_voice.py)"},
+    {"LipBlinkRequest.spine_json",
+     "a Spine skeleton IN itself, always sent whole (tests/e2e/spine_lipblink_wire_e2e_test.sh)"},
     {"LipBlinkRequest.rhubarb_cues",
      "the cue file's bytes: --rhubarb FILE (tests/python/test_voice.py)"},
 };
@@ -59,13 +62,16 @@ const std::set<std::string> kSendFileFields = {
 const std::string kCsv = std::string(KOMA_TESTDATA_DIR) + "/curves_crlf.csv";
 // A Spine skeleton with one animation with bone keys ("walk"), so none needs naming.
 const std::string kSpine = std::string(KOMA_TESTDATA_DIR) + "/spine/hero-4.2.json";
+// A Spine skeleton with mouth and eye slots (LipBlinkRequest.spine).
+const std::string kHero = std::string(KOMA_SAMPLES_DIR) + "/hero.json";
 const std::string kWave = std::string(KOMA_SAMPLES_DIR) + "/wave.glb";
 constexpr char kInputFile[] = "<the input file>";
 
 // Singular message fields whose fields are settings, each with its own flag.
 const std::set<std::string> kSettingsMessages = {"LipBlinkRequest.mouth", "LipBlinkRequest.eyes",
                                                  "EyeSettings.auto_blink",
-                                                 "LipBlinkRequest.voice_settings"};
+                                                 "LipBlinkRequest.voice_settings",
+                                                 "LipBlinkRequest.spine"};
 
 struct FieldCase {
   FieldCase(std::vector<std::string> v, std::string e, std::vector<std::string> x = {},
@@ -158,6 +164,14 @@ const std::map<std::string, FieldCase>& Cases() {
       {"LipBlinkRequest.eyes.auto_blink.keep", {{"5-10"}, "begin: 5 end: 10"}},
       {"LipBlinkRequest.seed", {{"18446744073709551615"}, "18446744073709551615"}},
       {"LipBlinkRequest.timing_fps", {{"0"}, "0"}},
+      // A Spine skeleton IN's animation and slots (aliases --animation, --mouth-slot, ...).
+      {"LipBlinkRequest.spine.animation", {{"talk"}, "\"talk\"", {}, "", kHero}},
+      {"LipBlinkRequest.spine.mouth_slot", {{"mouth"}, "\"mouth\"", {}, "", kHero}},
+      {"LipBlinkRequest.spine.mouth_attachments",
+       {{"a,b,c"}, "\"a\", \"b\", \"c\"", {}, "", kHero}},
+      {"LipBlinkRequest.spine.eye_slots", {{"eyes,head"}, "\"eyes\", \"head\"", {}, "", kHero}},
+      {"LipBlinkRequest.spine.eye_attachments",
+       {{"o,h,c"}, "\"o\", \"h\", \"c\"", {}, "", kHero}},
       {"LipBlinkRequest.voice_settings.noise_floor_dbfs", {{"=-60"}, "-60"}},
       {"LipBlinkRequest.voice_settings.noise_percentile", {{"5"}, "5"}},
       {"LipBlinkRequest.voice_settings.start_above_floor_db", {{"12"}, "12"}},
@@ -304,8 +318,12 @@ absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(const std::string&
     return std::unique_ptr<Message>(new v1::RetimeCurvesRequest(*r));
   }
   absl::StatusOr<CurveInput> file = ReadCurveInput(line.lip_blink.input, line.lip_blink.csv_fps,
-                                                   CurveFormat::kAuto, "lipblink");
+                                                   CurveFormat::kAuto, kLipBlinkSpineCommand);
   if (!file.ok()) return file.status();
+  if (file->spine) {  // the skeleton goes whole, the slots in LipBlinkRequest.spine
+    return std::unique_ptr<Message>(
+        new v1::LipBlinkRequest(BuildSpineLipBlinkRequest(line.lip_blink, file->text, "")));
+  }
   return std::unique_ptr<Message>(
       new v1::LipBlinkRequest(BuildLipBlinkFileRequest(line.lip_blink, *file)));
 }
@@ -328,8 +346,8 @@ TEST(RequestFlagsTest, WalksEveryField) {
   for (const auto& [key, unused] : Cases()) {
     EXPECT_TRUE(walked.count(key)) << key << ": a case for a field the proto does not have";
   }
-  // 21 + 15 + 37 fields today; the count catches a settings message walked wrongly.
-  EXPECT_EQ(paths.size(), 73u);
+  // 21 + 15 + 42 fields today; the count catches a settings message walked wrongly.
+  EXPECT_EQ(paths.size(), 78u);
 }
 
 TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {

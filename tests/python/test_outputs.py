@@ -1,6 +1,7 @@
 """The same request through the Python package (a file-carrying request: the server parses and
 writes the file) and through the C++ `koma` CLI (it parses and writes locally, and sends the
 decoded motion) gives byte-identical files, for every sample and real mocap file."""
+import json
 import pathlib
 
 import pytest
@@ -160,7 +161,49 @@ def test_spine_errors_name_the_field(client):
     with pytest.raises(koma.KomaError) as error:
         client.retime_curves(path)  # two animations with bone keys: name one
     assert "spine_animation: name the animation to retime" in str(error.value)
-    # LipBlink into Spine is the CLI's (`koma lipblink hero.json --animation ...`): the
-    # message says so.
-    with pytest.raises(ValueError, match="mouth and eye slots with the CLI"):
-        client.lip_blink(path)
+    # LipBlink into Spine: the server names the field (LipBlinkRequest.spine).
+    with pytest.raises(koma.KomaError) as error:
+        client.lip_blink(path, eye_slots=["eyes"])
+    assert "spine.animation: the Spine animation to write the mouth and eyes into" in str(error.value)
+    with pytest.raises(koma.KomaError) as error:
+        client.lip_blink(path, animation="walk", mouth_slot="nose", mouth={"speech": [(3, 9)]})
+    assert 'spine.mouth_slot no slot named "nose" (the skeleton has' in str(error.value)
+    with pytest.raises(ValueError, match="only with a Spine skeleton"):
+        client.lip_blink(audio=source_path("samples", "voice.flac"), mouth_slot="mouth")
+
+
+# LipBlink into a Spine skeleton: the written skeleton is the CLI's, byte for byte.
+SPINE_LIP_BLINK = [
+    ("samples/hero.json",
+     ["--animation", "talk", "--audio", "samples/voice.flac", "--mouth-slot", "mouth",
+      "--eye-slot", "eyes", "--auto-blink", "1.5"],
+     dict(animation="talk", audio="samples/voice.flac", mouth_slot="mouth", eye_slots=["eyes"],
+          eyes={"auto_blink": {"enabled": True, "mean_interval_s": 1.5}})),
+    ("tests/testdata/spine/hero-4.1.json",
+     ["--animation", "walk", "--speech", "3-20", "--mouth-slot", "mouth", "--eye-slot", "eyes",
+      "--eye-attachments", "eyes_open,eyes_half,eyes_closed"],
+     dict(animation="walk", mouth={"speech": [(3, 20)]}, mouth_slot="mouth", eye_slots="eyes",
+          eye_attachments=["eyes_open", "eyes_half", "eyes_closed"])),
+    ("tests/testdata/spine/matt-3.7.json",
+     ["--animation", "shake_head", "--speech", "2-30", "--mouth-slot", "mouth",
+      "--mouth-attachments", "mouth_a,mouth_c,mouth_d", "--timing-fps", "0"],
+     dict(animation="shake_head", mouth={"speech": [(2, 30)]}, mouth_slot="mouth",
+          mouth_attachments=["mouth_a", "mouth_c", "mouth_d"], timing_fps=0)),
+]
+
+
+@pytest.mark.parametrize("name,flags,options", SPINE_LIP_BLINK,
+                         ids=["hero-voice", "hero-4.1-speech", "matt-3.7"])
+def test_spine_lip_blink_equals_the_cli(server, client, tmp_path, name, flags, options):
+    path = source_path(*name.split("/"))
+    flags = [source_path(*f.split("/")) if f.startswith("samples/") else f for f in flags]
+    if "audio" in options:
+        options = dict(options, audio=source_path(*options["audio"].split("/")))
+    expected = tmp_path / "cli.json"
+    run_cli("lipblink", path, "-o", str(expected), "--server", server.address, *flags)
+    result = client.lip_blink(path, **options)
+    assert result.response.WhichOneof("output") == "spine_json"
+    assert result.output_bytes == expected.read_bytes()
+    written = json.loads(result.output)
+    animation = options["animation"]
+    assert written["animations"][animation]["slots"]["mouth"]["attachment"]
