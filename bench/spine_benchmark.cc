@@ -130,10 +130,90 @@ void BM_SpineDecodedRpc(benchmark::State& state) {
   }
 }
 
+// The stages of one call, each alone (to see where BM_SpineFileRpc's time goes):
+//   BM_SpineStageParse:    formats::ParseSpine of the file (the server's first step).
+//   BM_SpineStageCurvesRpc: the RPC with the decoded curves and no file (retime, the
+//                          per-curve answer, both protos' encoding and decoding, gRPC).
+//   BM_SpineStageWrite:    writing the skeleton back from the retimed curves.
+//   BM_SpineStageDecodeAnswer: the client decoding the file call's answer (proto bytes).
+void BM_SpineStageParse(benchmark::State& state) {
+  Fixture& f = Shared();
+  for (auto _ : state) {
+    absl::StatusOr<convert::CurveInput> input = convert::ParseSpineText(f.text, "walk");
+    if (!input.ok()) std::abort();
+    benchmark::DoNotOptimize(input->curves.curves.data());
+  }
+}
+
+void BM_SpineStageCurvesRpc(benchmark::State& state) {
+  Fixture& f = Shared();
+  absl::StatusOr<convert::CurveInput> input = convert::ParseSpineText(f.text, "walk");
+  if (!input.ok()) std::abort();
+  v1::RetimeCurvesRequest request;
+  Options(request);
+  *request.mutable_curves() = convert::CurveSetToProto(input->curves);
+  for (auto _ : state) {
+    grpc::ClientContext context;
+    v1::RetimeCurvesResponse response;
+    if (!f.stub->RetimeCurves(&context, request, &response).ok()) state.SkipWithError("call");
+    benchmark::DoNotOptimize(response.curves().data());
+  }
+}
+
+void BM_SpineStageWrite(benchmark::State& state) {
+  Fixture& f = Shared();
+  absl::StatusOr<convert::CurveInput> input = convert::ParseSpineText(f.text, "walk");
+  if (!input.ok()) std::abort();
+  v1::RetimeCurvesRequest request;
+  Options(request);
+  *request.mutable_curves() = convert::CurveSetToProto(input->curves);
+  grpc::ClientContext context;
+  v1::RetimeCurvesResponse response;
+  if (!f.stub->RetimeCurves(&context, request, &response).ok()) std::abort();
+  std::vector<std::optional<convert::CurveReplacement>> replacements;
+  for (const v1::RetimedCurve& curve : response.curves()) {
+    replacements.push_back(convert::ReplacementFromProto(curve));
+  }
+  for (auto _ : state) {
+    absl::StatusOr<std::string> written = convert::CurveOutputText(*input, replacements, false);
+    if (!written.ok()) state.SkipWithError("write");
+    benchmark::DoNotOptimize(written->data());
+  }
+}
+
+void BM_SpineStageDecodeAnswer(benchmark::State& state) {
+  Fixture& f = Shared();
+  v1::RetimeCurvesRequest request;
+  Options(request);
+  request.set_spine_json(f.text);
+  request.set_spine_animation("walk");
+  grpc::ClientContext context;
+  v1::RetimeCurvesResponse response;
+  if (!f.stub->RetimeCurves(&context, request, &response).ok()) std::abort();
+  const std::string bytes = response.SerializeAsString();
+  for (auto _ : state) {
+    v1::RetimeCurvesResponse decoded;
+    if (!decoded.ParseFromString(bytes)) state.SkipWithError("decode");
+    benchmark::DoNotOptimize(decoded.curves().data());
+  }
+  state.counters["answer_bytes"] = static_cast<double>(bytes.size());
+  state.counters["spine_json_bytes"] = static_cast<double>(response.spine_json().size());
+}
+
 // Process CPU time (client and server threads together) beside the wall-clock time: on a shared
 // machine the wall clock measures the other processes' load, the CPU time what one call costs.
 BENCHMARK(BM_SpineFileRpc)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 BENCHMARK(BM_SpineDecodedRpc)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+BENCHMARK(BM_SpineStageParse)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_SpineStageCurvesRpc)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+BENCHMARK(BM_SpineStageWrite)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_SpineStageDecodeAnswer)
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
