@@ -204,3 +204,21 @@ Json JsonNumber(double value) {
 }
 
 }  // namespace koma::formats
+
+namespace koma::formats {
+
+void AppendJsonNumber(double value, std::string& out) {
+  if (value == std::floor(value) && std::fabs(value) <= kMaxExactInteger) {
+    absl::StrAppend(&out, static_cast<int64_t>(value));  // nlohmann's dump_integer: same digits
+    return;
+  }
+  if (!std::isfinite(value)) {
+    out += "null";  // nlohmann's dump_float
+    return;
+  }
+  char buffer[64];  // the size of nlohmann's serializer's number buffer
+  const char* end = nlohmann::detail::to_chars(buffer, buffer + sizeof(buffer), value);
+  out.append(buffer, static_cast<size_t>(end - buffer));
+}
+
+}  // namespace koma::formats

@@ -5,6 +5,7 @@
 #define KOMA_FORMATS_JSON_TEXT_H_
 
 #include <nlohmann/json.hpp>
+#include <string>
 #include <string_view>
 
 #include "absl/status/status.h"
@@ -28,6 +29,11 @@ absl::StatusOr<nlohmann::ordered_json> ParseJsonTextByDom(std::string_view text)
 // 2.0 -> JSON 2, -0.0 -> 0, 0.5 -> 0.5 (nlohmann dumps doubles with the shortest round-trip
 // text, so 10.0 / 30.0 -> 0.3333333333333333).
 nlohmann::ordered_json JsonNumber(double value);
+
+// Appends to `out` the text nlohmann's dump writes for JsonNumber(value), byte for byte (its
+// integer printing, or its own shortest-double routine, nlohmann::detail::to_chars; "null" for
+// NaN and infinities), without making the JSON value or going through a serializer.
+void AppendJsonNumber(double value, std::string& out);
 
 }  // namespace koma::formats
 
