@@ -15,6 +15,7 @@
 #ifndef KOMA_FORMATS_JSON_FAST_READ_H_
 #define KOMA_FORMATS_JSON_FAST_READ_H_
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
@@ -31,8 +32,8 @@ inline constexpr int kMaxFastJsonDepth = 256;
 template <class Sax>
 class Reader {
  public:
-  Reader(std::string_view text, Sax& sax)
-      : p_(text.data()), end_(text.data() + text.size()), sax_(sax) {}
+  Reader(std::string_view text, Sax& sax, int max_depth)
+      : p_(text.data()), end_(text.data() + text.size()), sax_(sax), max_depth_(max_depth) {}
 
   // True when the whole text was one JSON value (whitespace around it) read in the plain case.
   bool ReadDocument() {
@@ -72,7 +73,7 @@ class Reader {
   }
 
   bool Object(int depth) {
-    if (depth > kMaxFastJsonDepth) return false;
+    if (depth > max_depth_) return false;
     ++p_;  // '{'
     sax_.start_object(static_cast<std::size_t>(-1));
     SkipWhitespace();
@@ -104,7 +105,7 @@ class Reader {
   }
 
   bool Array(int depth) {
-    if (depth > kMaxFastJsonDepth) return false;
+    if (depth > max_depth_) return false;
     ++p_;  // '['
     sax_.start_array(static_cast<std::size_t>(-1));
     SkipWhitespace();
@@ -254,13 +255,16 @@ class Reader {
   const char* p_;
   const char* const end_;
   Sax& sax_;
+  const int max_depth_;  // brackets nested deeper: not the plain case
 };
 
 // Reads `text` into `sax`; false when the text is outside the plain case (the caller then
-// starts again with a fresh Sax and nlohmann's parser).
+// starts again with a fresh Sax and nlohmann's parser), including brackets nested deeper than
+// max_depth (at most kMaxFastJsonDepth; the outermost bracket is depth 1, as CheckJsonDepth
+// counts).
 template <class Sax>
-bool Read(std::string_view text, Sax& sax) {
-  return Reader<Sax>(text, sax).ReadDocument();
+bool Read(std::string_view text, Sax& sax, int max_depth = kMaxFastJsonDepth) {
+  return Reader<Sax>(text, sax, std::min(max_depth, kMaxFastJsonDepth)).ReadDocument();
 }
 
 }  // namespace koma::formats::json_fast_read

@@ -159,15 +159,10 @@ absl::Status CheckJsonDepth(std::string_view text, int max_depth) {
   return absl::OkStatus();
 }
 
-absl::StatusOr<Json> ParseJsonText(std::string_view text) {
-  // Json::parse's document (ParseJsonTextByDom, the tests' reference), built faster.
-  {
-    // The plain case without nlohmann's lexer; anything else (every error included) is read
-    // again below by nlohmann, so its errors and edge cases stay its own.
-    Json document;
-    OrderedDomBuilder builder(document);
-    if (json_fast_read::Read(text, builder)) return document;
-  }
+namespace {
+
+// nlohmann's SAX parser into the builder: the document, or its error as INVALID_ARGUMENT.
+absl::StatusOr<Json> ParseWithNlohmann(std::string_view text) {
   try {
     Json document;
     OrderedDomBuilder builder(document);
@@ -182,6 +177,31 @@ absl::StatusOr<Json> ParseJsonText(std::string_view text) {
     return absl::InvalidArgumentError(
         absl::StrCat("invalid JSON: ", WithoutExceptionId(error.what())));
   }
+}
+
+}  // namespace
+
+absl::StatusOr<Json> ParseJsonText(std::string_view text) {
+  // Json::parse's document (ParseJsonTextByDom, the tests' reference), built faster: the plain
+  // case without nlohmann's lexer; anything else (every error included) is read again by
+  // nlohmann, so its errors and edge cases stay its own.
+  {
+    Json document;
+    OrderedDomBuilder builder(document);
+    if (json_fast_read::Read(text, builder)) return document;
+  }
+  return ParseWithNlohmann(text);
+}
+
+absl::StatusOr<Json> ParseJsonTextWithin(std::string_view text, int max_depth) {
+  {
+    // Deeper than max_depth, or anything else outside the plain case: the two steps below.
+    Json document;
+    OrderedDomBuilder builder(document);
+    if (json_fast_read::Read(text, builder, max_depth)) return document;
+  }
+  if (absl::Status depth = CheckJsonDepth(text, max_depth); !depth.ok()) return depth;
+  return ParseWithNlohmann(text);
 }
 
 absl::StatusOr<Json> ParseJsonTextByDom(std::string_view text) {

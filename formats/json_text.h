@@ -22,6 +22,11 @@ absl::Status CheckJsonDepth(std::string_view text, int max_depth);
 // at byte B: parse error at line L, column C: ..." for malformed text.
 absl::StatusOr<nlohmann::ordered_json> ParseJsonText(std::string_view text);
 
+// CheckJsonDepth(text, max_depth), then ParseJsonText(text): the same status and document, in
+// one pass over the text when it is plain JSON no deeper than max_depth (the depth check then
+// needs no pass of its own).
+absl::StatusOr<nlohmann::ordered_json> ParseJsonTextWithin(std::string_view text, int max_depth);
+
 // The same with nlohmann's own parser (Json::parse): the reference ParseJsonText is tested
 // against (it builds the same document at about half the cost).
 absl::StatusOr<nlohmann::ordered_json> ParseJsonTextByDom(std::string_view text);

@@ -134,9 +134,8 @@ absl::StatusOr<Motion3File> ParseMotion3(std::string_view text) {
   // UTF-16 is refused by name. A UTF-8 byte order mark needs no skipping: nlohmann's lexer
   // skips it itself, and its error offsets then count bytes from the file's start.
   KOMA_RETURN_IF_ERROR(SkipUtf8Bom(text).status());
-  KOMA_RETURN_IF_ERROR(CheckJsonDepth(text, kMaxMotion3Depth));
   Motion3File file;
-  KOMA_ASSIGN_OR_RETURN(file.document, ParseJsonText(text));
+  KOMA_ASSIGN_OR_RETURN(file.document, ParseJsonTextWithin(text, kMaxMotion3Depth));
   KOMA_RETURN_IF_ERROR(CheckTopLevel(file.document));
   KOMA_RETURN_IF_ERROR(ReadMeta(file.document, file.curves));
   KOMA_ASSIGN_OR_RETURN(const Json* curves, RequireCurves(file.document));

@@ -470,9 +470,8 @@ absl::StatusOr<SpineFile> ParseSpine(std::string_view text) {
         "not JSON text: binary Spine .skel files are not read; export the skeleton as JSON "
         "(Spine's Export > JSON)");
   }
-  KOMA_RETURN_IF_ERROR(CheckJsonDepth(text, kMaxSpineDepth));
   SpineFile file;
-  KOMA_ASSIGN_OR_RETURN(file.document, ParseJsonText(text));
+  KOMA_ASSIGN_OR_RETURN(file.document, ParseJsonTextWithin(text, kMaxSpineDepth));
   if (!file.document.is_object()) {
     return absl::InvalidArgumentError(absl::StrCat(
         "expected a JSON object at the top level, got ", DescribeJson(file.document)));

@@ -34,13 +34,21 @@ std::string RandomJson(SplitMix64& rng, int depth) {
     case 1:
       return absl::StrCat(200 * rng.Unit() - 100);
     case 2: {
-      static const char* const kNumbers[] = {"18446744073709551615", "-9223372036854775808",
-                                             "9223372036854775808", "1e5", "-0", "0.0",
-                                             "1.5E-3", "123456789012345678901234567890"};
-      return kNumbers[rng.Int(0, 7)];
+      static const char* const kNumbers[] = {
+          "18446744073709551615", "-9223372036854775808", "9223372036854775808", "1e5", "-0",
+          "0.0", "1.5E-3", "123456789012345678901234567890", "18446744073709551616",
+          "-9223372036854775809", "-0.0", "1E+2", "1e-400", "4.9e-324", "2.2250738585072011e-308",
+          "0.1", "-1.25e10", "1.7976931348623157e308", "0.30000000000000004", "1e-7"};
+      return kNumbers[rng.Int(0, 19)];
     }
-    case 3:
-      return rng.OneIn(2) ? "\"\\ud83d\\ude00 \\n \\/\"" : "\"plain\"";
+    case 3: {
+      // Escapes (\u left to nlohmann by the plain reader), raw UTF-8 of every length, DEL.
+      static const char* const kStrings[] = {
+          "\"\\ud83d\\ude00 \\n \\/\"", "\"plain\"", "\"a\\\"b\\\\c\\b\\f\\n\\r\\t\\/\"",
+          "\"\xC3\xA9\xE3\x81\x82\xED\x9F\xBF\xEE\x80\x80\xF0\x9F\x98\x80\xF4\x8F\xBF\xBF\"",
+          "\"\x7F~ \"", "\"\""};
+      return kStrings[rng.Int(0, 5)];
+    }
     case 4:
       return rng.OneIn(2) ? "true" : (rng.OneIn(2) ? "false" : "null");
     case 5:
@@ -95,7 +103,7 @@ TEST(JsonTextParseTest, SameDocumentAsNlohmannsParserOnRandomText) {
   int ok = 0, errors = 0;
   for (int round = 0; round < 3000; ++round) {
     std::string text = RandomJson(rng, 4);
-    switch (rng.Int(0, 5)) {
+    switch (rng.Int(0, 6)) {
       case 0:  // cut short
         text.resize(static_cast<size_t>(rng.Int(0, static_cast<int>(text.size()))));
         break;
@@ -103,6 +111,14 @@ TEST(JsonTextParseTest, SameDocumentAsNlohmannsParserOnRandomText) {
         text.insert(static_cast<size_t>(rng.Int(0, static_cast<int>(text.size()))), 1,
                     "}]:,x\"\x01"[rng.Int(0, 6)]);
         break;
+      case 4: {  // a stray or broken sequence (bad UTF-8, a BOM, a number's pieces)
+        static const char* const kBroken[] = {
+            "\x80", "\xC3", "\xC0\xAF", "\xE0\x80\xAF", "\xED\xA0\x80", "\xF4\x90\x80\x80",
+            "\xF5", "\xEF\xBB\xBF", "0", "-", ".", "e", "+", "\\u12", "\\x", "\t", "\r\n", "\x1F"};
+        const int at = rng.Int(0, static_cast<int>(text.size()));
+        text.insert(static_cast<size_t>(rng.OneIn(4) ? 0 : at), kBroken[rng.Int(0, 17)]);
+        break;
+      }
       case 2:
         text += rng.OneIn(2) ? " 1" : " 1e999";
         break;
@@ -146,6 +162,75 @@ TEST(JsonTextParseTest, AKeyGivenTwiceKeepsItsFirstPlaceAndLastValue) {
   EXPECT_EQ(large["k3"].dump(), "{\"z\":1}");
   EXPECT_EQ(large["k29"].dump(), "[2]");
   EXPECT_EQ((--large.end()).key(), "new");
+}
+
+}  // namespace
+}  // namespace koma::formats
+
+namespace koma::formats {
+namespace {
+
+// ParseJsonTextWithin(text, d) is CheckJsonDepth(text, d) then ParseJsonText(text): same
+// status, same document, on random texts (some broken) at limits around their depth.
+TEST(JsonTextParseTest, WithinIsTheDepthCheckThenTheParse) {
+  SplitMix64 rng(0x32);
+  int too_deep = 0;
+  for (int round = 0; round < 1000; ++round) {
+    std::string text = RandomJson(rng, 5);
+    if (rng.OneIn(4)) text.resize(static_cast<size_t>(rng.Int(0, static_cast<int>(text.size()))));
+    if (rng.OneIn(6)) text.insert(0, "\xEF\xBB\xBF");
+    const int max_depth = rng.Int(1, 6);
+    const absl::StatusOr<Json> within = ParseJsonTextWithin(text, max_depth);
+    absl::Status expected = CheckJsonDepth(text, max_depth);
+    if (!expected.ok()) ++too_deep;
+    absl::StatusOr<Json> two_steps =
+        expected.ok() ? ParseJsonText(text) : absl::StatusOr<Json>(expected);
+    ASSERT_EQ(within.status(), two_steps.status()) << text;
+    if (!within.ok()) continue;
+    EXPECT_EQ(within->dump(), two_steps->dump()) << text;
+    ExpectSameTree(*within, *two_steps, "");
+  }
+  EXPECT_GT(too_deep, 100);
+}
+
+}  // namespace
+}  // namespace koma::formats
+
+namespace koma::formats {
+namespace {
+
+// Every byte, and every pair of bytes, inside a string and as a stray token, and every
+// three-byte sequence a UTF-8 lead byte from 0xE0 can start (with the boundary continuation
+// bytes): the plain reader takes exactly the strings nlohmann takes (control characters,
+// well-formed UTF-8 only), and leaves the rest to it.
+TEST(JsonTextParseTest, EveryShortByteSequenceAsNlohmannReadsIt) {
+  const auto expect_same = [](const std::string& text) {
+    const absl::StatusOr<Json> fast = ParseJsonText(text);
+    const absl::StatusOr<Json> dom = ParseJsonTextByDom(text);
+    ASSERT_EQ(fast.status(), dom.status()) << text;
+    if (dom.ok()) ASSERT_EQ(fast->dump(), dom->dump()) << text;
+  };
+  for (int a = 0; a < 256; ++a) {
+    const std::string one(1, static_cast<char>(a));
+    ASSERT_NO_FATAL_FAILURE(expect_same("[\"" + one + "\"]"));
+    ASSERT_NO_FATAL_FAILURE(expect_same("[1" + one + "]"));
+    ASSERT_NO_FATAL_FAILURE(expect_same("[\"\\" + one + "\"]"));
+    for (int b = 0; b < 256; ++b) {
+      ASSERT_NO_FATAL_FAILURE(expect_same("{\"k\":\"" + one + static_cast<char>(b) + "\"}"));
+    }
+  }
+  const int kEdges[] = {0x00, 0x7F, 0x80, 0x8F, 0x90, 0x9F, 0xA0, 0xBF, 0xC0, 0xFF};
+  for (int a = 0xE0; a < 256; ++a) {
+    for (int b : kEdges) {
+      for (int c : kEdges) {
+        for (int d : {0x80, 0xBF, 0x22}) {
+          std::string text = "[\"";
+          for (int byte : {a, b, c, d}) text += static_cast<char>(byte);
+          ASSERT_NO_FATAL_FAILURE(expect_same(text + "\"]"));
+        }
+      }
+    }
+  }
 }
 
 }  // namespace
