@@ -158,13 +158,13 @@ absl::Status CheckJsonDepth(std::string_view text, int max_depth) {
   return absl::OkStatus();
 }
 
-absl::StatusOr<Json> ParseJsonText(std::string_view text) {
-  // Json::parse's document (ParseJsonTextByDom, the tests' reference), built faster.
+namespace {
+
+// `parse()`'s document, or nlohmann's error as INVALID_ARGUMENT.
+template <typename Parse>
+absl::StatusOr<Json> WithParseStatus(Parse parse) {
   try {
-    Json document;
-    OrderedDomBuilder builder(document);
-    Json::sax_parse(text.begin(), text.end(), &builder);
-    return document;
+    return parse();
   } catch (const Json::parse_error& error) {
     // "parse error at line 3, column 5: syntax error while parsing ..."
     return absl::InvalidArgumentError(
@@ -176,16 +176,20 @@ absl::StatusOr<Json> ParseJsonText(std::string_view text) {
   }
 }
 
+}  // namespace
+
+absl::StatusOr<Json> ParseJsonText(std::string_view text) {
+  // Json::parse's document (ParseJsonTextByDom, the tests' reference), built faster.
+  return WithParseStatus([text] {
+    Json document;
+    OrderedDomBuilder builder(document);
+    Json::sax_parse(text.begin(), text.end(), &builder);
+    return document;
+  });
+}
+
 absl::StatusOr<Json> ParseJsonTextByDom(std::string_view text) {
-  try {
-    return Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& error) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("invalid JSON at byte ", error.byte, ": ", WithoutExceptionId(error.what())));
-  } catch (const Json::exception& error) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("invalid JSON: ", WithoutExceptionId(error.what())));
-  }
+  return WithParseStatus([text] { return Json::parse(text.begin(), text.end()); });
 }
 
 Json JsonNumber(double value) {
