@@ -161,13 +161,11 @@ absl::Status CheckJsonDepth(std::string_view text, int max_depth) {
 
 namespace {
 
-// nlohmann's SAX parser into the builder: the document, or its error as INVALID_ARGUMENT.
-absl::StatusOr<Json> ParseWithNlohmann(std::string_view text) {
+// `parse()`'s document, or nlohmann's error as INVALID_ARGUMENT.
+template <typename Parse>
+absl::StatusOr<Json> WithParseStatus(Parse parse) {
   try {
-    Json document;
-    OrderedDomBuilder builder(document);
-    Json::sax_parse(text.begin(), text.end(), &builder);
-    return document;
+    return parse();
   } catch (const Json::parse_error& error) {
     // "parse error at line 3, column 5: syntax error while parsing ..."
     return absl::InvalidArgumentError(
@@ -177,6 +175,16 @@ absl::StatusOr<Json> ParseWithNlohmann(std::string_view text) {
     return absl::InvalidArgumentError(
         absl::StrCat("invalid JSON: ", WithoutExceptionId(error.what())));
   }
+}
+
+// nlohmann's SAX parser into the builder: the document, or its error as INVALID_ARGUMENT.
+absl::StatusOr<Json> ParseWithNlohmann(std::string_view text) {
+  return WithParseStatus([text] {
+    Json document;
+    OrderedDomBuilder builder(document);
+    Json::sax_parse(text.begin(), text.end(), &builder);
+    return document;
+  });
 }
 
 }  // namespace
@@ -205,15 +213,7 @@ absl::StatusOr<Json> ParseJsonTextWithin(std::string_view text, int max_depth) {
 }
 
 absl::StatusOr<Json> ParseJsonTextByDom(std::string_view text) {
-  try {
-    return Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& error) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("invalid JSON at byte ", error.byte, ": ", WithoutExceptionId(error.what())));
-  } catch (const Json::exception& error) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("invalid JSON: ", WithoutExceptionId(error.what())));
-  }
+  return WithParseStatus([text] { return Json::parse(text.begin(), text.end()); });
 }
 
 Json JsonNumber(double value) {

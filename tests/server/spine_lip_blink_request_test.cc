@@ -6,9 +6,7 @@
 
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -16,22 +14,16 @@
 #include "convert/spine_lip_blink.h"
 #include "formats/spine.h"
 #include "formats/spine_attachments.h"
+#include "tests/formats/test_files.h"
 #include "tests/server/in_process_server.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma::testing {
 namespace {
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  EXPECT_TRUE(in.good()) << path;
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 std::string SpineText(const std::string& name) {
-  return name == "hero.json" ? ReadText(KOMA_SAMPLES_DIR "/hero.json")
-                             : ReadText(KOMA_TESTDATA_DIR "/spine/" + name);
+  return name == "hero.json" ? formats::ReadTestFile(KOMA_SAMPLES_DIR "/hero.json")
+                             : formats::ReadTestFile(KOMA_TESTDATA_DIR "/spine/" + name);
 }
 
 grpc::Status Call(InProcessServer& server, const v1::LipBlinkRequest& request,
