@@ -241,12 +241,12 @@ absl::Status CheckLipBlinkFileSize(const std::string& bytes, absl::string_view f
 }
 
 absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const RequestLimits& limits,
-                                v1::LipBlinkResponse* response) {
+                                v1::LipBlinkResponse* response, LipBlinkMotionShape* shape) {
   KOMA_ASSIGN_OR_RETURN(const CurveFile file, ParseCurveFile(request, limits));
   v1::LipBlinkRequest decoded;
   Decode(request, file, &decoded);
   KOMA_RETURN_IF_ERROR(ReserveDecoded(decoded, CurveFileBytes(request), /*bvh=*/false, limits));
-  KOMA_RETURN_IF_ERROR(HandleLipBlink(decoded, limits, response));
+  KOMA_RETURN_IF_ERROR(HandleLipBlink(decoded, limits, response, shape));
   return PutLipBlinkFile(file, response);
 }
 

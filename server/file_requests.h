@@ -59,8 +59,9 @@ absl::StatusOr<std::string> CurvesFileField(
     const CurveFile& file, std::vector<std::optional<convert::CurveReplacement>> retimed);
 
 // LipBlink with a file: the decoded request answered by HandleLipBlink, plus the file.
+struct LipBlinkMotionShape;  // server/lip_blink_request.h
 absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const RequestLimits& limits,
-                                v1::LipBlinkResponse* response);
+                                v1::LipBlinkResponse* response, LipBlinkMotionShape* shape);
 
 // The parts a voice request (server/lip_blink_voice.h) shares: the request's motion file
 // parsed (with the size limit), the size limit for another field, and the converted file

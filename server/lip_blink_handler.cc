@@ -145,20 +145,27 @@ absl::StatusOr<LipBlinkDrawing> DrawLipBlink(const LipBlinkJob& job) {
   return drawing;
 }
 
+void DescribeMotion(const LipBlinkJob& job, LipBlinkMotionShape* shape) {
+  if (shape == nullptr) return;
+  shape->frames = job.set.frame_count;
+  shape->curves = static_cast<int>(job.set.curves.size());
+}
+
 absl::Status HandleLipBlink(const v1::LipBlinkRequest& request, const RequestLimits& limits,
-                            v1::LipBlinkResponse* response) {
+                            v1::LipBlinkResponse* response, LipBlinkMotionShape* shape) {
   if (request.input_case() == v1::LipBlinkRequest::kSpineJson) {
-    return HandleLipBlinkSpine(request, limits, response);
+    return HandleLipBlinkSpine(request, limits, response, shape);
   }
   if (request.has_spine()) {
     return absl::InvalidArgumentError(
         "spine: only with spine_json (the Spine skeleton whose slots it names)");
   }
   if (request.voice_case() != v1::LipBlinkRequest::VOICE_NOT_SET) {
-    return HandleLipBlinkVoice(request, limits, response);
+    return HandleLipBlinkVoice(request, limits, response, shape);
   }
-  if (CarriesFile(request)) return HandleLipBlinkFile(request, limits, response);
+  if (CarriesFile(request)) return HandleLipBlinkFile(request, limits, response, shape);
   KOMA_ASSIGN_OR_RETURN(const LipBlinkJob job, ValidateLipBlinkRequest(request, limits));
+  DescribeMotion(job, shape);
   return RunLipBlinkJob(job, response);
 }
 

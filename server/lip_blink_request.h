@@ -79,8 +79,19 @@ absl::StatusOr<LipBlinkDrawing> DrawLipBlink(const LipBlinkJob& job);
 // Runs a validated job into `response` (mouths, eyes, curves, seed, timing_fps).
 absl::Status RunLipBlinkJob(const LipBlinkJob& job, v1::LipBlinkResponse* response);
 
+// The motion a LipBlink call converted, for its log line and metrics: a file's or a Spine
+// skeleton's decoded curves (the slots), or a voice's new motion, as well as decoded curves.
+struct LipBlinkMotionShape {
+  int frames = 0;  // the motion's frames (its own rate)
+  int curves = 0;
+};
+
+// Puts the job's motion into `shape` when it is given.
+void DescribeMotion(const LipBlinkJob& job, LipBlinkMotionShape* shape);
+
+// The LipBlink RPC, whatever the request carries; `shape` (when given) gets the motion's.
 absl::Status HandleLipBlink(const v1::LipBlinkRequest& request, const RequestLimits& limits,
-                            v1::LipBlinkResponse* response);
+                            v1::LipBlinkResponse* response, LipBlinkMotionShape* shape = nullptr);
 
 }  // namespace koma::server
 

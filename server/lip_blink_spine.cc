@@ -60,7 +60,7 @@ absl::Status CheckSpineFields(const v1::LipBlinkRequest& request) {
 }  // namespace
 
 absl::Status HandleLipBlinkSpine(const v1::LipBlinkRequest& request, const RequestLimits& limits,
-                                 v1::LipBlinkResponse* response) {
+                                 v1::LipBlinkResponse* response, LipBlinkMotionShape* shape) {
   KOMA_RETURN_IF_ERROR(CheckSpineFields(request));
   KOMA_RETURN_IF_ERROR(CheckLipBlinkFileSize(request.spine_json(), "spine_json", limits));
   absl::StatusOr<formats::SpineFile> file = formats::ParseSpine(request.spine_json());
@@ -81,7 +81,7 @@ absl::Status HandleLipBlinkSpine(const v1::LipBlinkRequest& request, const Reque
                         absl::StrCat("spine_json: ", decoded.status().message()));
   }
   KOMA_RETURN_IF_ERROR(ReserveDecodedLipBlink(*decoded, request.spine_json().size(), limits));
-  if (absl::Status s = HandleLipBlink(*decoded, limits, response); !s.ok()) {
+  if (absl::Status s = HandleLipBlink(*decoded, limits, response, shape); !s.ok()) {
     // The decoded request's curves are the slots: say so ("spine_json: the slots as curves:
     // 2 curves x ... frames exceeds the server limit --max_values=...").
     if (absl::StartsWith(s.message(), "curves")) {

@@ -15,8 +15,10 @@
 
 namespace koma::server {
 
+struct LipBlinkMotionShape;  // server/lip_blink_request.h
+
 absl::Status HandleLipBlinkSpine(const v1::LipBlinkRequest& request, const RequestLimits& limits,
-                                 v1::LipBlinkResponse* response);
+                                 v1::LipBlinkResponse* response, LipBlinkMotionShape* shape);
 
 }  // namespace koma::server
 

@@ -249,7 +249,7 @@ absl::Status CheckVoiceRequest(const v1::LipBlinkRequest& request) {
 }  // namespace
 
 absl::Status HandleLipBlinkVoice(const v1::LipBlinkRequest& request, const RequestLimits& limits,
-                                 v1::LipBlinkResponse* response) {
+                                 v1::LipBlinkResponse* response, LipBlinkMotionShape* shape) {
   KOMA_RETURN_IF_ERROR(CheckVoiceRequest(request));
   const VoiceOptions options = VoiceOptionsFromProto(request.voice_settings());
   KOMA_RETURN_IF_ERROR(convert::Prefixed(ValidateVoiceOptions(options), "voice_settings."));
@@ -308,6 +308,7 @@ absl::Status HandleLipBlinkVoice(const v1::LipBlinkRequest& request, const Reque
   if (request.has_timing_fps()) decoded.set_timing_fps(request.timing_fps());
   KOMA_ASSIGN_OR_RETURN(LipBlinkJob job, ValidateLipBlinkRequest(decoded, limits));
   decoded.Clear();
+  DescribeMotion(job, shape);
   const int frames = job.grid ? job.grid_frames : job.set.frame_count;
   if (request.voice_case() == v1::LipBlinkRequest::kRhubarbCues) {
     voice.activity = CuesOnFrames(voice.cues, fps, frames);

@@ -16,8 +16,10 @@ namespace koma::server {
 // The motion rate of a voice-only request whose voice_motion_fps is unset.
 inline constexpr double kDefaultVoiceMotionFps = 30.0;
 
+struct LipBlinkMotionShape;  // server/lip_blink_request.h
+
 absl::Status HandleLipBlinkVoice(const v1::LipBlinkRequest& request, const RequestLimits& limits,
-                                 v1::LipBlinkResponse* response);
+                                 v1::LipBlinkResponse* response, LipBlinkMotionShape* shape);
 
 }  // namespace koma::server
 

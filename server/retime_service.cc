@@ -146,11 +146,8 @@ void DescribeAnswer(const CurvesAnswer& answer, RpcRecord& record) {
   record.frames = answer.set.frame_count;
   record.curves = static_cast<int>(answer.set.curves.size());
 }
-void DescribeAnswer(const v1::LipBlinkResponse& answer, RpcRecord& record) {
-  // The converted curves (mouth and eyes) have one value per frame of the file.
-  if (answer.curves_size() > 0) record.frames = answer.curves(0).values_size();
-  record.curves = answer.curves_size();
-}
+// LipBlink's handler describes the motion it converted itself (HandleLipBlink's shape).
+void DescribeAnswer(const v1::LipBlinkResponse&, RpcRecord&) {}
 
 // Parses the received bytes into `request` and frees them (they are not read again; the
 // buffer belongs to the call, and Clear() leaves it empty, which gRPC's cleanup accepts).
@@ -261,7 +258,7 @@ class ArenaBytesCall {
     {
       // A file request grows its reservation once its file is parsed (server/file_requests.h).
       const CallReservationScope scope(&reservation_);
-      handled = handler_(*request_, response_.get());
+      handled = handler_(*request_, response_.get(), record);
     }
     if (handled.ok() && CarriesFile(*request_)) DescribeAnswer(*response_.get(), record);
     FreeRequest();
@@ -390,7 +387,7 @@ grpc::ServerUnaryReactor* RetimeService::RetimeSkeletal(grpc::CallbackServerCont
   record.method = "RetimeSkeletal";  // frames and joints are filled in once it is parsed
   return DispatchRaw<v1::RetimeSkeletalRequest, SkeletalAnswer>(
       context, request, response, RpcMethod::kRetimeSkeletal, std::move(record),
-      [this](const v1::RetimeSkeletalRequest& in, SkeletalAnswer* out) {
+      [this](const v1::RetimeSkeletalRequest& in, SkeletalAnswer* out, RpcRecord&) {
         return RetimeSkeletalAnswer(in, limits_, out);
       });
 }
@@ -402,7 +399,7 @@ grpc::ServerUnaryReactor* RetimeService::RetimeCurves(grpc::CallbackServerContex
   record.method = "RetimeCurves";  // frames and curves are filled in once it is parsed
   return DispatchRaw<v1::RetimeCurvesRequest, CurvesAnswer>(
       context, request, response, RpcMethod::kRetimeCurves, std::move(record),
-      [this](const v1::RetimeCurvesRequest& in, CurvesAnswer* out) {
+      [this](const v1::RetimeCurvesRequest& in, CurvesAnswer* out, RpcRecord&) {
         return PrepareCurvesAnswer(in, limits_, out);
       });
 }
@@ -414,8 +411,14 @@ grpc::ServerUnaryReactor* RetimeService::LipBlink(grpc::CallbackServerContext* c
   record.method = "LipBlink";  // frames and curves are filled in once it is parsed
   return DispatchRaw<v1::LipBlinkRequest, v1::LipBlinkResponse>(
       context, request, response, RpcMethod::kLipBlink, std::move(record),
-      [this](const v1::LipBlinkRequest& in, v1::LipBlinkResponse* out) {
-        return HandleLipBlink(in, limits_, out);
+      [this](const v1::LipBlinkRequest& in, v1::LipBlinkResponse* out, RpcRecord& record) {
+        LipBlinkMotionShape shape;
+        const absl::Status handled = HandleLipBlink(in, limits_, out, &shape);
+        if (handled.ok()) {  // else the request's own curves (DescribeRequest) stay
+          record.frames = shape.frames;
+          record.curves = shape.curves;
+        }
+        return handled;
       });
 }
 
