@@ -267,7 +267,9 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
   if (!args.summary.empty()) summary_paths.push_back(ShardedPath(args.summary, shard));
   if (json) summary_paths.push_back("-");
 
-  const std::vector<std::string> extensions = ExtensionsOf(rpc_name);
+  // lipblink with the Spine flags: every input must be a skeleton, so folders collect *.json.
+  const std::vector<std::string> extensions =
+      ExtensionsOf(rpc_name, rpc_name == "lipblink" && HasSpineFlags(args.lip_blink));
   absl::StatusOr<std::vector<BatchItem>> all_items =
       DiscoverInputs(args.inputs, extensions, args.out_dir, args.timing, args.report,
                      args.xdts, rpc_name == "lipblink" && args.audio_beside);

@@ -142,8 +142,9 @@ bool IsAudioPath(const std::string& path) {
   return false;
 }
 
-std::vector<std::string> ExtensionsOf(const std::string& rpc) {
+std::vector<std::string> ExtensionsOf(const std::string& rpc, bool spine_skeletons) {
   if (rpc == "skeletal") return {".bvh", ".glb", ".gltf", ".vrm", ".vrma"};
+  if (rpc == "lipblink" && spine_skeletons) return {".json"};
   std::vector<std::string> extensions = {".motion3.json", ".csv"};
   if (rpc == "lipblink") {
     extensions.insert(extensions.end(), AudioExtensions().begin(), AudioExtensions().end());

@@ -87,7 +87,7 @@ TEST_F(AudioBeside, EachInputTakesTheRecordingOfItsNameInItsFolder) {
   for (const BatchItem& item : items) EXPECT_EQ(item.audio_error, "") << item.input;
   // The outputs are the inputs' own (the recording writes nothing).
   EXPECT_EQ(items[0].output, P("out/hero.json"));
-  EXPECT_EQ(items[0].report, P("out/hero.json.report.html"));  // as without --audio-beside
+  EXPECT_EQ(items[0].report, P("out/hero.json.report.html"));  // not a skeleton extension here
 }
 
 TEST_F(AudioBeside, RelativeInputGivesARelativeRecording) {
@@ -144,6 +144,25 @@ TEST_F(AudioBeside, PairedRecordingsAmongTheInputsAreNotItemsOfTheirOwn) {
   ASSERT_EQ(again.size(), 1u);
   EXPECT_EQ(again[0].relative, "a.motion3.json");
   EXPECT_EQ(again[0].audio, P("in/a.wav"));
+}
+
+TEST_F(AudioBeside, AFolderOfSkeletonsWithTheSpineFlagsPairsEach) {
+  // lipblink with the Spine flags collects *.json from folders (ExtensionsOf(.., true)); the
+  // recordings beside are found on disk, not collected.
+  Touch("skel/hero.json");
+  Touch("skel/hero.wav");
+  Touch("skel/sub/villain.json");
+  Touch("skel/sub/villain.mp3");
+  ASSERT_OK_AND_ASSIGN(
+      std::vector<BatchItem> items,
+      DiscoverInputs({P("skel")}, ExtensionsOf("lipblink", /*spine_skeletons=*/true), P("out"),
+                     false, /*with_report=*/true, false, /*audio_beside=*/true));
+  ASSERT_EQ(items.size(), 2u);
+  EXPECT_EQ(items[0].relative, "hero.json");
+  EXPECT_EQ(items[0].audio, P("skel/hero.wav"));
+  EXPECT_EQ(items[0].report, P("out/hero.report.html"));
+  EXPECT_EQ(items[1].relative, "sub/villain.json");
+  EXPECT_EQ(items[1].audio, P("skel/sub/villain.mp3"));
 }
 
 TEST_F(AudioBeside, WithoutTheFlagRecordingsStayInputsOfTheirOwn) {

@@ -62,12 +62,23 @@ for name in hero:flac villain:wav; do
     -o "single/$stem.json" --report "single/$stem.report.html" >/dev/null ||
     fail "single $stem failed"
   cmp -s "out/$stem.json" "single/$stem.json" || fail "batch $stem.json differs from the single run"
-  # A skeleton's report: NAME.json.report.html (batch names it after the whole file name).
-  cmp -s "out/$stem.json.report.html" "single/$stem.report.html" ||
+  cmp -s "out/$stem.report.html" "single/$stem.report.html" ||
     fail "batch $stem.report.html differs from the single run"
   grep -q "mouth_open" "out/$stem.json" || fail "$stem.json has no open mouth key"
 done
-grep -q "skel/hero.flac" out/hero.json.report.html || fail "the report does not name the recording"
+grep -q "skel/hero.flac" out/hero.report.html || fail "the report does not name the recording"
+
+# A folder of skeletons (the Spine flags make folders collect *.json; the recordings beside
+# are found, not collected): the same files.
+mkdir -p folder/sub
+cp skel/hero.json skel/hero.flac folder/
+cp skel/villain.json skel/villain.wav folder/sub/
+"$client_bin" batch lipblink folder "${spine[@]}" --audio-beside -o out_folder \
+  --summary folder.json >batch_folder.txt 2>&1 ||
+  fail "batch over a folder of skeletons failed: $(cat batch_folder.txt)"
+cmp -s out_folder/hero.json single/hero.json || fail "folder hero.json differs"
+cmp -s out_folder/sub/villain.json single/villain.json || fail "folder sub/villain.json differs"
+grep -q '"total": 2' folder.json || fail "folder summary: $(cat folder.json)"
 
 # The @list skeleton (3.7, its own attachment names, the extension in upper case).
 "$client_bin" batch lipblink @list.txt "${matt[@]}" --audio-beside -o out_matt \
