@@ -28,6 +28,24 @@ bool IsAudioExtension(const std::string& text) {
                      });
 }
 
+// A file beside `recording` that would have taken it but is not among the inputs (a skeleton
+// in a folder searched without the Spine flags): "; skel/hero.json is beside it but not an
+// input (...)", else "".
+std::string UntakenPartnerHint(const std::string& recording) {
+  const fs::path path(recording);
+  const std::string stem = path.stem().string();
+  for (const char* ending : {".json", ".motion3.json", ".csv"}) {
+    const fs::path partner = path.parent_path() / (stem + ending);
+    std::error_code error;
+    if (fs::is_regular_file(partner, error)) {
+      return absl::StrCat("; ", partner.string(),
+                          " is beside it but not an input (name it, or give the Spine flags so "
+                          "that folders collect *.json)");
+    }
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string RecordingStem(const std::string& file_name) {
@@ -89,7 +107,8 @@ std::vector<BatchItem> PairRecordingsBeside(std::vector<BatchItem> items) {
       item.audio_error = absl::StrCat(
           "--audio-beside: ", item.input,
           " is a recording with no input of its name beside it (with --audio-beside a "
-          "recording goes with its skeleton or motion; run it without --audio-beside)");
+          "recording goes with its skeleton or motion; run it without --audio-beside)",
+          UntakenPartnerHint(item.input));
     }
     kept.push_back(std::move(item));
   }

@@ -139,6 +139,15 @@ TEST_F(AudioBeside, PairedRecordingsAmongTheInputsAreNotItemsOfTheirOwn) {
   EXPECT_EQ(by_relative["stray.mp3"].audio, "");
   EXPECT_THAT(by_relative["stray.mp3"].audio_error,
               HasSubstr(P("in/stray.mp3") + " is a recording with no input of its name beside it"));
+  // A skeleton beside a recording that is not an input (folders collect *.json only with the
+  // Spine flags): the message says so.
+  Touch("skel/hero.json");
+  Touch("skel/hero.wav");
+  const std::vector<BatchItem> skel = Discover({P("skel")});
+  ASSERT_EQ(skel.size(), 1u);
+  EXPECT_THAT(skel[0].audio_error,
+              HasSubstr("; " + P("skel/hero.json") + " is beside it but not an input (name it, "
+                        "or give the Spine flags so that folders collect *.json)"));
   // Named twice (the folder and the file): still taken once, with its motion.
   const std::vector<BatchItem> again = Discover({P("in/a.wav"), P("in/a.motion3.json")});
   ASSERT_EQ(again.size(), 1u);
