@@ -254,6 +254,11 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
   const bool quiet = call.quiet;
   const bool json = call.json;
   if (json && args.summary == "-") return UsageError("--json and --summary -: one JSON on stdout");
+  if (rpc_name == "lipblink" && args.audio_beside && !args.lip_blink.speech.empty()) {
+    // The server would refuse every clip (mouth.speech with a voice): say it once, up front.
+    return UsageError("--audio-beside and --speech: each recording gives its clip's speech; "
+                      "give one or the other");
+  }
   Shard shard;
   if (!args.shard.empty() || args.shard_from_env) {
     absl::StatusOr<Shard> parsed =

@@ -149,6 +149,10 @@ PY
 grep -q "koma: bad/alone.json: --audio-beside: no recording beside\|--audio-beside: no recording beside bad/alone.json" bad.err ||
   fail "stderr does not name the skeleton: $(cat bad.err)"
 [ -s out_bad/fine.json ] || fail "the good skeleton was not written"
+# The recording gives the speech: --speech with it is refused once, up front.
+expect_error 2 "--audio-beside and --speech: each recording gives its clip's speech" \
+  "$client_bin" batch lipblink skel/hero.json "${spine[@]}" --audio-beside --speech 3-9 -o out_s
+[ ! -e out_s ] || fail "a refused batch wrote its output folder"
 # Only for lipblink.
 expect_error 2 "audio-beside" "$client_bin" batch curves skel/hero.json --audio-beside -o out_c \
   --server "$target"
