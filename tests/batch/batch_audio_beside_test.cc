@@ -7,13 +7,17 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
+#include <set>
 #include <string>
 #include <vector>
 
+#include "absl/strings/match.h"
 #include "client/batch/batch_command.h"
 #include "client/batch/batch_inputs.h"
 #include "client/batch/batch_state.h"
@@ -185,6 +189,132 @@ TEST_F(AudioBeside, WithoutTheFlagRecordingsStayInputsOfTheirOwn) {
     EXPECT_EQ(item.audio_error, "");
   }
   EXPECT_EQ(items[1].output, P("out/b.motion3.json"));
+}
+
+// Random trees against a naive reference written from the documented rule: an input (not a
+// recording) takes the one file in its folder named its stem + an audio extension (any case);
+// taken recordings leave the items; the others stay, in order.
+TEST_F(AudioBeside, RandomTreesMatchANaiveReference) {
+  std::mt19937 rng(20261127);
+  const std::vector<std::string> stems = {"a", "b", "A", "a.b"};
+  const std::vector<std::string> endings = {".json", ".motion3.json", ".csv", ".txt",
+                                            ".json.wav"};
+  const std::vector<std::string> recordings = {".wav", ".FLAC", ".mp3", ".Opus", ".ogg"};
+  const std::vector<std::string> audio = {".wav", ".flac", ".ogg", ".oga", ".opus", ".mp3"};
+  int compared = 0;
+  for (int round = 0; round < 120; ++round) {
+    fs::remove_all(root_);
+    std::vector<std::string> files;  // relative to root_
+    for (const std::string folder : {"x", "x/y"}) {
+      for (const std::string& stem : stems) {
+        for (const std::string& ending : endings) {
+          if (rng() % 3 == 0) files.push_back(Touch(folder + "/" + stem + ending));
+        }
+        // Recordings: none, one or (less often) two of the stem, in random extensions.
+        const int count = std::vector<int>{0, 0, 1, 1, 1, 2}[rng() % 6];
+        for (int k = 0; k < count; ++k) {
+          files.push_back(Touch(folder + "/" + stem + recordings[rng() % recordings.size()]));
+        }
+      }
+    }
+    std::sort(files.begin(), files.end());  // a recording drawn twice is one file
+    files.erase(std::unique(files.begin(), files.end()), files.end());
+    if (files.empty()) continue;
+    // Inputs: the folder, or some files by name.
+    std::vector<std::string> inputs;
+    if (rng() % 2 == 0) {
+      inputs.push_back(P("x"));
+    } else {
+      for (const std::string& file : files) {
+        if (rng() % 2 == 0) inputs.push_back(file);
+      }
+    }
+    if (inputs.empty()) continue;
+    absl::StatusOr<std::vector<BatchItem>> with =
+        DiscoverInputs(inputs, ExtensionsOf("lipblink"), P("out"), false, false, false, true);
+    auto lower = [](std::string text) {
+      for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      return text;
+    };
+    auto is_audio = [&](const std::string& name) {
+      for (const std::string& ext : audio) {
+        if (lower(name).size() > ext.size() &&
+            lower(name).substr(lower(name).size() - ext.size()) == ext) {
+          return true;
+        }
+      }
+      return false;
+    };
+    // The inputs as collected (documented: a folder's files by extension in path order, named
+    // files as given).
+    std::vector<std::string> raw;
+    if (inputs.size() == 1 && inputs[0] == P("x")) {
+      std::vector<std::pair<std::string, std::string>> found;  // relative, path
+      for (const std::string& file : files) {
+        const std::string name = fs::path(file).filename().string();
+        if (is_audio(name) || absl::EndsWithIgnoreCase(name, ".motion3.json") ||
+            absl::EndsWithIgnoreCase(name, ".csv")) {
+          found.emplace_back(fs::path(file).lexically_relative(P("x")).string(), file);
+        }
+      }
+      std::sort(found.begin(), found.end());
+      for (const auto& [relative, path] : found) raw.push_back(path);
+    } else {
+      raw = inputs;
+    }
+    // A clip whose output another would write makes the batch refuse (not this test's case).
+    if (!with.ok()) {
+      EXPECT_THAT(with.status().message(), HasSubstr("would both write")) << "round " << round;
+      continue;
+    }
+    // The reference.
+    std::vector<std::string> expected;        // the inputs left, in order
+    std::map<std::string, std::string> pairs;  // input -> its one recording
+    std::set<std::string> taken;
+    for (const std::string& input : raw) {
+      const fs::path path(input);
+      if (is_audio(path.filename().string())) continue;
+      std::string name = path.filename().string(), stem = name;
+      for (const std::string ending : {".motion3.json", ".json", ".csv"}) {
+        if (lower(name).size() > ending.size() &&
+            lower(name).substr(name.size() - ending.size()) == ending) {
+          stem = name.substr(0, name.size() - ending.size());
+          break;
+        }
+      }
+      if (stem == name) stem = path.stem().string();
+      std::vector<std::string> found;
+      for (const std::string& file : files) {
+        const fs::path f(file);
+        if (f.parent_path() != path.parent_path()) continue;
+        const std::string fname = f.filename().string();
+        for (const std::string& ext : audio) {
+          if (fname.size() == stem.size() + ext.size() && fname.substr(0, stem.size()) == stem &&
+              lower(fname.substr(stem.size())) == ext) {
+            found.push_back(file);
+          }
+        }
+      }
+      if (found.size() == 1) {
+        taken.insert(found[0]);
+        pairs[input] = found[0];
+      }
+    }
+    for (const std::string& input : raw) {
+      if (taken.count(input) == 0) expected.push_back(input);
+    }
+    ++compared;
+    ASSERT_EQ(with->size(), expected.size()) << "round " << round;
+    for (size_t i = 0; i < expected.size(); ++i) {
+      const BatchItem& got = (*with)[i];
+      EXPECT_EQ(got.input, expected[i]) << "round " << round;
+      // Its recording, or an error when it has none (or is a recording no input took).
+      const auto pair = pairs.find(got.input);
+      EXPECT_EQ(got.audio, pair == pairs.end() ? "" : pair->second) << got.input;
+      EXPECT_NE(got.audio.empty(), got.audio_error.empty()) << got.input;
+    }
+  }
+  EXPECT_GE(compared, 30) << "rounds compared";  // the others have colliding outputs
 }
 
 TEST_F(AudioBeside, ManifestRedoesAnItemWhoseRecordingChangedOrMoved) {
