@@ -338,3 +338,27 @@ def test_python_m_koma_spine_call_errors_exit_1(server, tmp_path):
                           str(tmp_path / "x.json"), "--server", server.address)
     assert done.returncode == 1, done.stderr
     assert 'INVALID_ARGUMENT: spine.mouth_slot no slot named "nose"' in done.stderr
+
+
+@pytest.mark.parametrize("cues_name", ["cues.json", "cues.tsv"])
+@pytest.mark.parametrize("name,flags", [
+    ("samples/hero.json", ["--animation", "talk", "--mouth-slot", "mouth", "--eye-slot", "eyes"]),
+    ("samples/talk_blink.motion3.json", ["--seed", "3"]),
+    (None, []),
+], ids=["spine", "motion3", "voice-alone"])
+def test_python_m_koma_rhubarb_writes_what_the_cli_writes(server, tmp_path, cues_name, name,
+                                                         flags):
+    """--rhubarb (the cues the C++ CLI writes for samples/voice.flac, JSON and TSV): with no
+    --mode the server follows the cues' drawings, in both clients."""
+    cues = tmp_path / cues_name
+    run_cli("lipblink", "--audio", source_path("samples", "voice.flac"), "-o",
+            str(tmp_path / "v.motion3.json"), "--cues", str(cues), "--server", server.address)
+    inputs = [] if name is None else [source_path(*name.split("/"))]
+    suffix = ".json" if name == "samples/hero.json" else ".motion3.json"
+    expected, got = tmp_path / ("cli" + suffix), tmp_path / ("py" + suffix)
+    run_cli("lipblink", *inputs, "--rhubarb", str(cues), "-o", str(expected), "--server",
+            server.address, *flags)
+    done = run_python_cli("lipblink", *inputs, "--rhubarb", str(cues), "-o", str(got),
+                          "--server", server.address, *flags)
+    assert done.returncode == 0, done.stderr
+    assert got.read_bytes() == expected.read_bytes()
