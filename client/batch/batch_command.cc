@@ -71,6 +71,14 @@ std::set<const CLI::Option*> AddBatchOptions(CLI::App* cmd, BatchCommandArgs& a)
                            "write each clip's HTML report beside its output as NAME.report.html"));
   own.insert(cmd->add_flag("--xdts", a.xdts,
                            "write each clip's XDTS exposure sheet beside its output as NAME.xdts"));
+  if (cmd->get_name() == "lipblink") {
+    // Not one of the batch's own options: it changes the outputs, so it joins the fingerprint.
+    cmd->add_flag("--audio-beside", a.audio_beside,
+                  "send each input (Spine skeleton, motion3.json, CSV) with the recording of its "
+                  "name beside it (hero.json + hero.wav; .wav, .flac, .ogg, .oga, .opus, .mp3), "
+                  "as koma lipblink IN --audio REC does; a recording so taken is not an input of "
+                  "its own");
+  }
   own.insert(cmd->add_option("-j,--jobs", a.jobs, "calls in flight (default 2 per server)")
                  ->check(CLI::Range(1, 4096)));
   own.insert(cmd->add_option("--io-threads", a.io_threads,
@@ -204,6 +212,7 @@ absl::Status WriteSummary(const std::string& path, const std::string& rpc,
                            {"output", items[i].output},
                            {"status", StatusName(r.status)},
                            {"attempts", r.attempts}};
+    if (!items[i].audio.empty()) file["audio"] = items[i].audio;
     if (!items[i].timing.empty()) file["timing"] = items[i].timing;
     if (!items[i].report.empty()) file["report"] = items[i].report;
     if (!items[i].xdts.empty()) file["xdts"] = items[i].xdts;
@@ -245,6 +254,11 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
   const bool quiet = call.quiet;
   const bool json = call.json;
   if (json && args.summary == "-") return UsageError("--json and --summary -: one JSON on stdout");
+  if (rpc_name == "lipblink" && args.audio_beside && !args.lip_blink.speech.empty()) {
+    // The server would refuse every clip (mouth.speech with a voice): say it once, up front.
+    return UsageError("--audio-beside and --speech: each recording gives its clip's speech; "
+                      "give one or the other");
+  }
   Shard shard;
   if (!args.shard.empty() || args.shard_from_env) {
     absl::StatusOr<Shard> parsed =
@@ -258,10 +272,12 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
   if (!args.summary.empty()) summary_paths.push_back(ShardedPath(args.summary, shard));
   if (json) summary_paths.push_back("-");
 
-  const std::vector<std::string> extensions = ExtensionsOf(rpc_name);
+  // lipblink with the Spine flags: every input must be a skeleton, so folders collect *.json.
+  const std::vector<std::string> extensions =
+      ExtensionsOf(rpc_name, rpc_name == "lipblink" && HasSpineFlags(args.lip_blink));
   absl::StatusOr<std::vector<BatchItem>> all_items =
       DiscoverInputs(args.inputs, extensions, args.out_dir, args.timing, args.report,
-                     args.xdts);
+                     args.xdts, rpc_name == "lipblink" && args.audio_beside);
   if (!all_items.ok()) {
     std::fprintf(stderr, "koma: %s\n", std::string(all_items.status().message()).c_str());
     return kUsageError;

@@ -27,6 +27,7 @@ struct BatchCommandArgs {
   bool timing = false;  // NAME.timing.csv beside each output
   bool report = false;  // NAME.report.html beside each output
   bool xdts = false;    // NAME.xdts beside each output
+  bool audio_beside = false;  // lipblink: each input with the recording of its name beside it
   std::string summary;
   double progress_every_s = 10.0;
   std::string shard;            // --shard K/N; empty: the whole batch

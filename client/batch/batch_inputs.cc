@@ -13,6 +13,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
+#include "client/batch/batch_audio_beside.h"
 #include "formats/text_encoding.h"
 
 namespace koma::client::batch {
@@ -141,8 +142,9 @@ bool IsAudioPath(const std::string& path) {
   return false;
 }
 
-std::vector<std::string> ExtensionsOf(const std::string& rpc) {
+std::vector<std::string> ExtensionsOf(const std::string& rpc, bool spine_skeletons) {
   if (rpc == "skeletal") return {".bvh", ".glb", ".gltf", ".vrm", ".vrma"};
+  if (rpc == "lipblink" && spine_skeletons) return {".json"};
   std::vector<std::string> extensions = {".motion3.json", ".csv"};
   if (rpc == "lipblink") {
     extensions.insert(extensions.end(), AudioExtensions().begin(), AudioExtensions().end());
@@ -164,7 +166,7 @@ absl::StatusOr<std::vector<BatchItem>> DiscoverInputs(const std::vector<std::str
                                                       const std::vector<std::string>& extensions,
                                                       const std::string& out_dir,
                                                       bool with_timing, bool with_report,
-                                                      bool with_xdts) {
+                                                      bool with_xdts, bool audio_beside) {
   Collector collector(extensions, out_dir);
   for (const std::string& argument : arguments) {
     absl::Status status = absl::StartsWith(argument, "@")
@@ -173,6 +175,7 @@ absl::StatusOr<std::vector<BatchItem>> DiscoverInputs(const std::vector<std::str
     if (!status.ok()) return status;
   }
   std::vector<BatchItem> items = collector.Take();
+  if (audio_beside) items = PairRecordingsBeside(std::move(items));
   // Every file the batch writes, with the input that writes it: no two may coincide.
   std::map<std::string, const std::string*> writer;
   for (BatchItem& item : items) {

@@ -18,11 +18,18 @@ struct BatchItem {
   std::string timing;    // the timing sheet beside the output; empty when none is asked for
   std::string report;    // the HTML report beside the output; empty when none is asked for
   std::string xdts;      // the XDTS exposure sheet beside the output; empty when none
+  // `koma batch lipblink --audio-beside` (client/batch/batch_audio_beside.h): the recording
+  // sent with this input, as the single-file command's --audio; or why there is none (the
+  // item then fails when read, as any unreadable input does).
+  std::string audio;
+  std::string audio_error;
 };
 
 // File name endings the RPC reads, lower case: {".bvh", ".glb", ".gltf", ".vrm", ".vrma"}, or
 // {".motion3.json", ".csv"} and for lipblink also the recordings' (AudioExtensions).
-std::vector<std::string> ExtensionsOf(const std::string& rpc);
+// `spine_skeletons` (lipblink with the Spine flags, where every input must be a skeleton):
+// {".json"}, so folders collect skeletons and their outputs' sheets are NAME.report.html.
+std::vector<std::string> ExtensionsOf(const std::string& rpc, bool spine_skeletons = false);
 
 // Recordings `koma batch lipblink` sends as LipBlinkRequest.audio, each written as
 // NAME.motion3.json: .wav, .flac, .ogg, .oga, .opus, .mp3 (any case).
@@ -53,14 +60,18 @@ inline std::string XdtsPathFor(const std::string& output,
 //   path order; each keeps its path below the folder (out_dir itself is never searched);
 // - "@LIST": a text file naming one file or folder per line (treated as above; blank lines
 //   and lines starting with '#' skipped; relative paths from the current folder).
-// `with_timing`, `with_report`, `with_xdts`: fill BatchItem::timing, ::report, ::xdts. INVALID_ARGUMENT naming the argument (or the list
-// file and line) for a path that does not exist, a list that cannot be read, and two inputs
-// whose outputs (or sheets, or reports) would be the same file.
+// `with_timing`, `with_report`, `with_xdts`: fill BatchItem::timing, ::report, ::xdts.
+// `audio_beside`: pair each input with the recording beside it (PairRecordingsBeside) before
+// the outputs are checked, so a paired recording writes nothing of its own.
+// INVALID_ARGUMENT naming the argument (or the list file and line) for a path that does not
+// exist, a list that cannot be read, and two inputs whose outputs (or sheets, or reports)
+// would be the same file.
 absl::StatusOr<std::vector<BatchItem>> DiscoverInputs(const std::vector<std::string>& arguments,
                                                       const std::vector<std::string>& extensions,
                                                       const std::string& out_dir,
                                                       bool with_timing, bool with_report = false,
-                                                      bool with_xdts = false);
+                                                      bool with_xdts = false,
+                                                      bool audio_beside = false);
 
 }  // namespace koma::client::batch
 

@@ -207,16 +207,40 @@ class LipBlinkClipCall final : public Clip {
   v1::LipBlinkResponse response_;
 };
 
+LipBlinkArgs WithAudio(const LipBlinkArgs& args, const std::string& path) {
+  LipBlinkArgs with = args;
+  with.audio = path;
+  return with;
+}
+
+// The voice report's sources of a recording sent with a motion or skeleton (as the
+// single-file command fills them for IN --audio REC --report OUT).
+report::VoiceReportSources VoiceSources(const LipBlinkArgs& args, const BatchItem& item,
+                                        double motion_fps, const std::string& audio) {
+  report::VoiceReportSources sources;
+  sources.voice_name = item.audio;
+  sources.motion_name = item.input;
+  sources.motion_fps = motion_fps;
+  sources.audio = audio;
+  sources.audio_max_bytes =
+      args.report_audio_max_bytes.value_or(report::kDefaultReportAudioMaxBytes);
+  sources.audio_link = report::AudioLink(item.audio, item.report);
+  return sources;
+}
+
 // A Spine skeleton with --animation and the slots: the server writes the skeleton
-// (LipBlinkRequest.spine_json, client/spine_lip_blink.h); --speech and auto-blink as given.
+// (LipBlinkRequest.spine_json, client/spine_lip_blink.h); --speech and auto-blink as given,
+// and with --audio-beside the skeleton's recording (`voice`, read from item.audio).
 class LipBlinkSpineCall final : public Clip {
  public:
   LipBlinkSpineCall(const LipBlinkArgs& args, CurveInput input,
-                    convert::SpineLipBlinkSlots slots)
+                    convert::SpineLipBlinkSlots slots, const std::string& audio_path,
+                    std::string voice)
       : args_(args),
         input_(std::move(input)),
         slots_(std::move(slots)),
-        request_(BuildSpineLipBlinkRequest(args_, input_.text, "")) {}
+        request_(BuildSpineLipBlinkRequest(WithAudio(args_, audio_path), input_.text,
+                                           std::move(voice))) {}
 
   void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
              std::function<void(grpc::Status)> done) override {
@@ -240,6 +264,11 @@ class LipBlinkSpineCall final : public Clip {
     absl::StatusOr<v1::LipBlinkRequest> decoded =
         convert::DecodedSpineLipBlinkRequest(request_, *input_.spine, slots_);
     if (!decoded.ok()) return WithPath(item, decoded.status());
+    if (!item.audio.empty()) {
+      return report::WriteLipBlinkVoiceReport(
+          item.report, *decoded, response_,
+          VoiceSources(args_, item, input_.spine->fps, request_.audio()));
+    }
     return report::WriteLipBlinkReport(item.report, *decoded, response_, item.input);
   }
 
@@ -250,12 +279,6 @@ class LipBlinkSpineCall final : public Clip {
   v1::LipBlinkRequest request_;
   v1::LipBlinkResponse response_;
 };
-
-LipBlinkArgs WithAudio(const LipBlinkArgs& args, const std::string& path) {
-  LipBlinkArgs with = args;
-  with.audio = path;
-  return with;
-}
 
 // A recording (LipBlinkRequest.audio): a new motion written from it.
 class LipBlinkVoiceCall final : public Clip {
@@ -298,11 +321,55 @@ class LipBlinkVoiceCall final : public Clip {
   v1::LipBlinkResponse response_;
 };
 
+// A motion3.json or CSV with the recording beside it (--audio-beside): the mouth written
+// into the motion, as `koma lipblink IN --audio REC -o OUT` writes it.
+class LipBlinkMotionVoiceCall final : public Clip {
+ public:
+  LipBlinkMotionVoiceCall(const LipBlinkArgs& args, CurveInput input, bool csv_output,
+                          const std::string& audio_path, std::string voice)
+      : args_(args),
+        input_(std::move(input)),
+        csv_output_(csv_output),
+        request_(BuildLipBlinkVoiceRequest(WithAudio(args, audio_path), std::move(voice),
+                                           &input_, csv_output)) {}
+
+  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
+             std::function<void(grpc::Status)> done) override {
+    response_.Clear();
+    stub.async()->LipBlink(context, &request_, &response_, std::move(done));
+  }
+
+  absl::Status Write(const BatchItem& item) override {
+    if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
+    LipBlinkArgs args = WithAudio(args_, item.audio);
+    args.input = item.input;
+    args.output = item.output;
+    args.cues.clear();
+    args.xdts = item.xdts;
+    if (absl::Status s =
+            WriteLipBlinkVoiceOutputs(args, csv_output_, input_.curves.fps, response_);
+        !s.ok() || item.report.empty()) {
+      return s;
+    }
+    return report::WriteLipBlinkVoiceReport(
+        item.report, request_, response_,
+        VoiceSources(args_, item, input_.curves.fps, request_.audio()));
+  }
+
+ private:
+  const LipBlinkArgs& args_;
+  CurveInput input_;
+  bool csv_output_;
+  v1::LipBlinkRequest request_;
+  v1::LipBlinkResponse response_;
+};
+
 class LipBlinkRpc final : public Rpc {
  public:
   explicit LipBlinkRpc(const LipBlinkArgs& args) : args_(args) {}
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
+    if (!item.audio_error.empty()) return absl::InvalidArgumentError(item.audio_error);
     if (IsAudioPath(item.input)) {
       if (HasSpineFlags(args_)) {
         return absl::InvalidArgumentError(absl::StrCat(
@@ -318,14 +385,31 @@ class LipBlinkRpc final : public Rpc {
     absl::StatusOr<CurveInput> input = ReadCurveInput(
         item.input, args_.csv_fps, CurveFormat::kAuto, spine ? kLipBlinkSpineCommand : "lipblink");
     if (!input.ok()) return input.status();
+    // --audio-beside: the recording read after the input, so an input error names the input.
+    std::string voice;
+    if (!item.audio.empty()) {
+      absl::StatusOr<std::string> read = ReadFile(item.audio);
+      if (!read.ok()) return read.status();
+      voice = *std::move(read);
+    }
     if (spine) {
       if (!input->spine) {
         return absl::InvalidArgumentError(absl::StrCat(
             "--animation, --mouth-slot, --eye-slot: ", item.input, " is not a Spine skeleton"));
       }
-      absl::StatusOr<convert::SpineLipBlinkSlots> slots = CheckSpineSlots(args_, *input->spine);
+      absl::StatusOr<convert::SpineLipBlinkSlots> slots =
+          CheckSpineSlots(WithAudio(args_, item.audio), *input->spine);
       if (!slots.ok()) return WithPath(item, slots.status());
-      return std::make_unique<LipBlinkSpineCall>(args_, *std::move(input), *std::move(slots));
+      return std::make_unique<LipBlinkSpineCall>(args_, *std::move(input), *std::move(slots),
+                                                 item.audio, std::move(voice));
+    }
+    if (!item.audio.empty()) {
+      absl::StatusOr<CurveFormat> format =
+          CurveOutputFormat(item.output, CurveFormatFromFlag(args_.format), *input);
+      if (!format.ok()) return WithPath(item, format.status());
+      const bool csv_output = *format == CurveFormat::kCsv;
+      return std::make_unique<LipBlinkMotionVoiceCall>(args_, *std::move(input), csv_output,
+                                                       item.audio, std::move(voice));
     }
     return std::make_unique<LipBlinkClipCall>(args_, *std::move(input));
   }

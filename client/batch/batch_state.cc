@@ -42,27 +42,36 @@ Manifest Manifest::Load(const std::string& out_dir, const std::string& file_name
         !options->is_string()) {
       continue;
     }
-    manifest.entries_[relative] = Entry{input->get<std::string>(), options->get<std::string>()};
+    const auto audio = entry.find("audio");
+    manifest.entries_[relative] =
+        Entry{input->get<std::string>(), options->get<std::string>(),
+              audio != entry.end() && audio->is_string() ? audio->get<std::string>() : ""};
   }
   return manifest;
 }
 
-std::string Manifest::AbsoluteInput(const BatchItem& item) {
+std::string Manifest::AbsoluteInput(const std::string& path) {
   std::error_code error;
-  const fs::path absolute = fs::absolute(item.input, error);
-  return error ? item.input : absolute.lexically_normal().string();
+  const fs::path absolute = fs::absolute(path, error);
+  return error ? path : absolute.lexically_normal().string();
 }
 
 bool Manifest::UpToDate(const BatchItem& item, const std::string& fingerprint) const {
   const auto it = entries_.find(item.relative);
   if (it == entries_.end() || it->second.options != fingerprint ||
-      it->second.input != AbsoluteInput(item)) {
+      it->second.input != AbsoluteInput(item.input) ||
+      it->second.audio != (item.audio.empty() ? "" : AbsoluteInput(item.audio))) {
     return false;
   }
-  if (!NotOlder(item.output, item.input)) return false;
-  return (item.timing.empty() || NotOlder(item.timing, item.input)) &&
-         (item.report.empty() || NotOlder(item.report, item.input)) &&
-         (item.xdts.empty() || NotOlder(item.xdts, item.input));
+  // Every output at least as new as every source (the input and its recording).
+  for (const std::string* source : {&item.input, &item.audio}) {
+    if (source->empty()) continue;
+    if (!NotOlder(item.output, *source)) return false;
+    for (const std::string* sheet : {&item.timing, &item.report, &item.xdts}) {
+      if (!sheet->empty() && !NotOlder(*sheet, *source)) return false;
+    }
+  }
+  return true;
 }
 
 absl::Status Manifest::Save() const {
@@ -71,6 +80,7 @@ absl::Status Manifest::Save() const {
   json["outputs"] = nlohmann::json::object();
   for (const auto& [relative, entry] : entries_) {
     json["outputs"][relative] = {{"input", entry.input}, {"options", entry.options}};
+    if (!entry.audio.empty()) json["outputs"][relative]["audio"] = entry.audio;
   }
   std::error_code ignored;
   fs::create_directories(fs::path(path_).parent_path(), ignored);

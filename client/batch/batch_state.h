@@ -22,11 +22,13 @@ class Manifest {
   static Manifest Load(const std::string& out_dir, const std::string& file_name = kFileName);
 
   // True when item.output (and item.timing and item.report, if asked for) exists, is not older than
-  // item.input, and was made from that input with `fingerprint`.
+  // item.input (nor than item.audio, the recording sent with it), and was made from that input
+  // (and that recording) with `fingerprint`.
   bool UpToDate(const BatchItem& item, const std::string& fingerprint) const;
 
   void Set(const BatchItem& item, const std::string& fingerprint) {
-    entries_[item.relative] = Entry{AbsoluteInput(item), fingerprint};
+    entries_[item.relative] = Entry{AbsoluteInput(item.input), fingerprint,
+                                    item.audio.empty() ? "" : AbsoluteInput(item.audio)};
   }
   void Erase(const std::string& relative) { entries_.erase(relative); }
 
@@ -37,8 +39,9 @@ class Manifest {
   struct Entry {
     std::string input;
     std::string options;
+    std::string audio;  // --audio-beside's recording (absolute); empty: none
   };
-  static std::string AbsoluteInput(const BatchItem& item);
+  static std::string AbsoluteInput(const std::string& path);
 
   std::string path_;
   std::map<std::string, Entry> entries_;

@@ -140,6 +140,9 @@ TEST(ExtensionsOf, PerRpc) {
   // LipBlink: curve files and voice recordings.
   EXPECT_THAT(ExtensionsOf("lipblink"), ElementsAre(".motion3.json", ".csv", ".wav", ".flac",
                                                     ".ogg", ".oga", ".opus", ".mp3"));
+  // LipBlink with the Spine flags: skeletons only.
+  EXPECT_THAT(ExtensionsOf("lipblink", /*spine_skeletons=*/true), ElementsAre(".json"));
+  EXPECT_THAT(ExtensionsOf("curves", true), ElementsAre(".motion3.json", ".csv"));
 }
 
 }  // namespace

@@ -27,7 +27,7 @@ using ::testing::HasSubstr;
 
 // A clip as DiscoverInputs makes it; only `relative` decides its shard.
 BatchItem Item(const std::string& relative) {
-  return BatchItem{"/in/" + relative, relative, "/out/" + relative, "", "", ""};
+  return BatchItem{"/in/" + relative, relative, "/out/" + relative, "", "", "", "", ""};
 }
 
 // `count` distinct names shaped like a studio's tree: shot folders, numbered clips.

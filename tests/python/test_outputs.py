@@ -207,3 +207,158 @@ def test_spine_lip_blink_equals_the_cli(server, client, tmp_path, name, flags, o
     written = json.loads(result.output)
     animation = options["animation"]
     assert written["animations"][animation]["slots"]["mouth"]["attachment"]
+
+
+# `python3 -m koma` with the Spine and voice flags of the C++ CLI: the same files, byte for
+# byte. (subcommand, input or None, flags, ...) with "samples/..." and "spine/..." paths.
+PYTHON_M_SPINE_AND_VOICE = [
+    ("curves", "spine/hero-3.8.json", ["--animation", "walk"]),
+    # Every animation with bone keys (one call each, chained), and a comma list.
+    ("curves", "spine/hero-4.1.json", ["--on", "2"]),
+    ("curves", "spine/hero-4.1.json", ["--animation", "walk,idle", "--tame", "1.5"]),
+    ("curves", "spine/hero-4.1.json", ["--animation", "idle", "--animation", "walk"]),
+    # --curve-on applied to the animations that have the curve (walk only here).
+    ("curves", "spine/hero-4.1.json", ["--curve-on", "torso/rotate=2", "--curve-on",
+                                       "head/rotate=1"]),
+    ("lipblink", "samples/hero.json",
+     ["--animation", "talk", "--audio", "samples/voice.flac", "--mouth-slot", "mouth",
+      "--eye-slot", "eyes", "--auto-blink", "1.5", "--seed", "5"]),
+    ("lipblink", "spine/hero-4.1.json",
+     ["--animation", "walk", "--speech", "3-20,25-30", "--mouth-slot", "mouth",
+      "--eye-slot", "eyes", "--eye-attachments", "eyes_open,eyes_half,eyes_closed"]),
+    ("lipblink", "spine/matt-3.7.json",
+     ["--animation", "shake_head", "--speech", "2-30", "--mouth-slot", "mouth",
+      "--mouth-attachments", "mouth_a,mouth_c,mouth_d", "--timing-fps", "0"]),
+    ("lipblink", "samples/talk_blink.motion3.json",
+     ["--audio", "samples/voice.flac", "--seed", "2"]),
+    ("lipblink", "samples/arm_head.motion3.json",
+     ["--audio", "samples/voice.flac", "--mode", "follow", "--auto-blink", "2"]),
+    ("lipblink", None, ["--audio", "samples/voice.flac"]),
+    ("lipblink", None, ["--audio", "samples/voice.flac", "--fps", "24", "--csv"]),
+]
+
+
+def _sample_or_spine(path):
+    if path.startswith("spine/"):
+        return source_path("tests", "testdata", "spine", path[len("spine/"):])
+    if path.startswith("samples/"):
+        return source_path(*path.split("/"))
+    return path
+
+
+@pytest.mark.parametrize("command,name,flags", PYTHON_M_SPINE_AND_VOICE,
+                         ids=["curves-3.8-walk", "curves-4.1-all", "curves-4.1-list",
+                              "curves-4.1-repeated", "curves-4.1-curve-on",
+                              "lipblink-spine-audio",
+                              "lipblink-spine-speech", "lipblink-3.7", "lipblink-motion3-audio",
+                              "lipblink-follow-audio", "lipblink-voice-alone",
+                              "lipblink-voice-alone-csv"])
+def test_python_m_koma_spine_and_voice_write_what_the_cli_writes(server, tmp_path, command,
+                                                                 name, flags):
+    flags = [_sample_or_spine(f) for f in flags]
+    suffix = ".json" if name is None or not name.endswith(".motion3.json") else ".motion3.json"
+    if "--csv" in flags:  # a voice alone written as CSV: the output's name says so
+        flags.remove("--csv")
+        suffix = ".csv"
+    elif name is None:
+        suffix = ".motion3.json"
+    inputs = [] if name is None else [_sample_or_spine(name)]
+    expected, got = tmp_path / ("cli" + suffix), tmp_path / ("py" + suffix)
+    run_cli(command, *inputs, "-o", str(expected), "--server", server.address, *flags)
+    done = run_python_cli(command, *inputs, "-o", str(got), "--server", server.address, *flags)
+    assert done.returncode == 0, done.stderr
+    assert got.read_bytes() == expected.read_bytes()
+    if name is not None and "spine" in name or name == "samples/hero.json":
+        written = json.loads(got.read_text())
+        assert written["skeleton"] == json.loads(expected.read_text())["skeleton"]
+
+
+def test_python_m_koma_curves_every_animation_differs_from_one(server, tmp_path):
+    """Without --animation every animation with bone keys is retimed (the C++ CLI's rule), so
+    the file differs from retiming walk alone; both equal the C++ CLI's."""
+    path = source_path("tests", "testdata", "spine", "hero-4.1.json")
+    every, walk = tmp_path / "every.json", tmp_path / "walk.json"
+    for out, flags in ((every, []), (walk, ["--animation", "walk"])):
+        done = run_python_cli("curves", path, "-o", str(out), "--server", server.address, *flags)
+        assert done.returncode == 0, done.stderr
+    assert every.read_bytes() != walk.read_bytes()
+    before = json.loads(pathlib.Path(path).read_text())["animations"]
+    after_every = json.loads(every.read_text())["animations"]
+    after_walk = json.loads(walk.read_text())["animations"]
+    changed_every = [n for n in before if before[n] != after_every[n]]
+    changed_walk = [n for n in before if before[n] != after_walk[n]]
+    assert changed_walk == ["walk"] and len(changed_every) >= 2 and "walk" in changed_every
+
+
+PYTHON_M_USAGE_ERRORS = [
+    (["lipblink", "-o", "x.json"],
+     "IN is required (a motion3.json or CSV), or --audio FILE / --rhubarb FILE"),
+    (["lipblink", "--audio", "samples/voice.flac", "--rhubarb", "r.json", "-o", "x.json"],
+     "--audio and --rhubarb: give one voice, not both"),
+    (["lipblink", "samples/talk_blink.motion3.json", "--animation", "talk", "-o", "x.json"],
+     "--animation, --mouth-slot, --eye-slot, --mouth-attachments, --eye-attachments: "),
+    (["lipblink", "--audio", "samples/voice.flac", "--mouth-slot", "mouth", "-o", "x.json"],
+     "--animation, --mouth-slot, --eye-slot: IN, a Spine skeleton JSON, is required"),
+    (["lipblink", "samples/hero.json", "--audio", "samples/voice.flac", "-o", "x.json"],
+     "is a Spine skeleton: `koma lipblink` reads Live2D motion3.json or per-frame CSV"),
+    (["lipblink", "samples/hero.json", "--animation", "talk", "--speech", "3-x", "-o", "x.json"],
+     '--speech: "3-x" is not a frame interval BEGIN-END'),
+    (["lipblink", "samples/hero.json", "--animation", "talk", "--speech", "9-3", "-o", "x.json"],
+     '--speech: "9-3": END must be greater than BEGIN'),
+    (["lipblink", "samples/hero.json", "--animation", "talk", "--mouth-attachments", "a,,c",
+      "-o", "x.json"], "--mouth-attachments: empty name in the list"),
+    (["lipblink", "samples/hero.json", "--animation", "talk", "--mouth-slot", "mouth",
+      "--speech", "3-9", "-o", "x.csv"], "a Spine skeleton is written back as Spine JSON"),
+    (["curves", "samples/hero.json", "--animation", "walk", "-o", "x.csv"],
+     "a Spine skeleton is written back as Spine JSON"),
+    (["curves", "samples/arm_head.motion3.json", "--animation", "walk", "-o", "x.motion3.json"],
+     "--animation: "),
+    (["curves", "samples/hero.json", "--animation", "walk,", "-o", "x.json"],
+     "--animation: empty name in the list"),
+    (["curves", "samples/hero.json", "--curve-on", "tail/rotate=2", "-o", "x.json"],
+     '--curve-on: no animation retimed here has the curve "tail/rotate"'),
+]
+
+
+@pytest.mark.parametrize("args,message", PYTHON_M_USAGE_ERRORS,
+                         ids=[f"error{i}" for i in range(len(PYTHON_M_USAGE_ERRORS))])
+def test_python_m_koma_usage_errors_exit_2(server, tmp_path, args, message):
+    args = [_sample_or_spine(a) for a in args]
+    args = [str(tmp_path / a) if a.startswith("x.") else a for a in args]
+    done = run_python_cli(*args, "--server", server.address)
+    assert done.returncode == 2, (done.returncode, done.stderr)
+    assert message in done.stderr, done.stderr
+    assert not any(tmp_path.iterdir())  # nothing written
+
+
+def test_python_m_koma_spine_call_errors_exit_1(server, tmp_path):
+    """An error the server finds (a slot the skeleton lacks) exits 1 with its code and field."""
+    done = run_python_cli("lipblink", source_path("samples", "hero.json"), "--animation", "talk",
+                          "--mouth-slot", "nose", "--speech", "3-9", "-o",
+                          str(tmp_path / "x.json"), "--server", server.address)
+    assert done.returncode == 1, done.stderr
+    assert 'INVALID_ARGUMENT: spine.mouth_slot no slot named "nose"' in done.stderr
+
+
+@pytest.mark.parametrize("cues_name", ["cues.json", "cues.tsv"])
+@pytest.mark.parametrize("name,flags", [
+    ("samples/hero.json", ["--animation", "talk", "--mouth-slot", "mouth", "--eye-slot", "eyes"]),
+    ("samples/talk_blink.motion3.json", ["--seed", "3"]),
+    (None, []),
+], ids=["spine", "motion3", "voice-alone"])
+def test_python_m_koma_rhubarb_writes_what_the_cli_writes(server, tmp_path, cues_name, name,
+                                                         flags):
+    """--rhubarb (the cues the C++ CLI writes for samples/voice.flac, JSON and TSV): with no
+    --mode the server follows the cues' drawings, in both clients."""
+    cues = tmp_path / cues_name
+    run_cli("lipblink", "--audio", source_path("samples", "voice.flac"), "-o",
+            str(tmp_path / "v.motion3.json"), "--cues", str(cues), "--server", server.address)
+    inputs = [] if name is None else [source_path(*name.split("/"))]
+    suffix = ".json" if name == "samples/hero.json" else ".motion3.json"
+    expected, got = tmp_path / ("cli" + suffix), tmp_path / ("py" + suffix)
+    run_cli("lipblink", *inputs, "--rhubarb", str(cues), "-o", str(expected), "--server",
+            server.address, *flags)
+    done = run_python_cli("lipblink", *inputs, "--rhubarb", str(cues), "-o", str(got),
+                          "--server", server.address, *flags)
+    assert done.returncode == 0, done.stderr
+    assert got.read_bytes() == expected.read_bytes()
