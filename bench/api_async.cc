@@ -93,9 +93,14 @@ void AsyncRetime::Start() {
     CurvesCall::Await({&service_, &v1::Retime::AsyncService::RequestRetimeCurves,
                        &server::HandleRetimeCurves, &limits_},
                       queue.get());
-    LipBlinkCall::Await(
-        {&service_, &v1::Retime::AsyncService::RequestLipBlink, &server::HandleLipBlink, &limits_},
-        queue.get());
+    // HandleLipBlink without the log line's shape (a captureless lambda is a Handler).
+    LipBlinkCall::Await({&service_, &v1::Retime::AsyncService::RequestLipBlink,
+                         [](const v1::LipBlinkRequest& request,
+                            const server::RequestLimits& limits, v1::LipBlinkResponse* response) {
+                           return server::HandleLipBlink(request, limits, response);
+                         },
+                         &limits_},
+                        queue.get());
     threads_.emplace_back([queue = queue.get()] {
       void* tag = nullptr;
       bool ok = false;
