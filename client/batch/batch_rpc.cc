@@ -40,6 +40,43 @@ absl::Status MakeParentFolder(const std::string& path) {
   return absl::OkStatus();
 }
 
+// Starts one call of the Retime service; one overload per RPC.
+void StartCall(v1::Retime::Stub& stub, grpc::ClientContext* context,
+               const v1::RetimeSkeletalRequest* request, v1::RetimeSkeletalResponse* response,
+               std::function<void(grpc::Status)> done) {
+  stub.async()->RetimeSkeletal(context, request, response, std::move(done));
+}
+void StartCall(v1::Retime::Stub& stub, grpc::ClientContext* context,
+               const v1::RetimeCurvesRequest* request, v1::RetimeCurvesResponse* response,
+               std::function<void(grpc::Status)> done) {
+  stub.async()->RetimeCurves(context, request, response, std::move(done));
+}
+void StartCall(v1::Retime::Stub& stub, grpc::ClientContext* context,
+               const v1::LipBlinkRequest* request, v1::LipBlinkResponse* response,
+               std::function<void(grpc::Status)> done) {
+  stub.async()->LipBlink(context, request, response, std::move(done));
+}
+
+// A clip's request and answer, and the Start every clip shares (a retry clears the answer).
+template <typename Request, typename Response>
+class CallClip : public Clip {
+ public:
+  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
+             std::function<void(grpc::Status)> done) final {
+    response_.Clear();
+    StartCall(stub, context, &request_, &response_, std::move(done));
+  }
+
+ protected:
+  explicit CallClip(Request request) : request_(std::move(request)) {}
+
+  Request request_;
+  Response response_;
+};
+using SkeletalCall = CallClip<v1::RetimeSkeletalRequest, v1::RetimeSkeletalResponse>;
+using CurvesCall = CallClip<v1::RetimeCurvesRequest, v1::RetimeCurvesResponse>;
+using LipBlinkCall = CallClip<v1::LipBlinkRequest, v1::LipBlinkResponse>;
+
 // The batch's skeletal flags with this clip's own input, output and timing sheet.
 SkeletalArgs ArgsFor(const SkeletalArgs& batch_args, const BatchItem& item) {
   SkeletalArgs args = batch_args;
@@ -50,16 +87,10 @@ SkeletalArgs ArgsFor(const SkeletalArgs& batch_args, const BatchItem& item) {
   return args;
 }
 
-class SkeletalClipCall final : public Clip {
+class SkeletalClipCall final : public SkeletalCall {
  public:
   SkeletalClipCall(const SkeletalArgs& args, SkeletalClip clip, v1::RetimeSkeletalRequest request)
-      : args_(args), clip_(std::move(clip)), request_(std::move(request)) {}
-
-  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
-             std::function<void(grpc::Status)> done) override {
-    response_.Clear();
-    stub.async()->RetimeSkeletal(context, &request_, &response_, std::move(done));
-  }
+      : SkeletalCall(std::move(request)), args_(args), clip_(std::move(clip)) {}
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
@@ -72,21 +103,13 @@ class SkeletalClipCall final : public Clip {
  private:
   const SkeletalArgs& args_;
   SkeletalClip clip_;
-  v1::RetimeSkeletalRequest request_;
-  v1::RetimeSkeletalResponse response_;
 };
 
 // A glTF file (.glb, .gltf, .vrm, .vrma): sent whole, the server's file written back.
-class GltfClipCall final : public Clip {
+class GltfClipCall final : public SkeletalCall {
  public:
   GltfClipCall(const SkeletalArgs& args, v1::RetimeSkeletalRequest request)
-      : args_(args), request_(std::move(request)) {}
-
-  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
-             std::function<void(grpc::Status)> done) override {
-    response_.Clear();
-    stub.async()->RetimeSkeletal(context, &request_, &response_, std::move(done));
-  }
+      : SkeletalCall(std::move(request)), args_(args) {}
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
@@ -98,8 +121,6 @@ class GltfClipCall final : public Clip {
 
  private:
   const SkeletalArgs& args_;
-  v1::RetimeSkeletalRequest request_;
-  v1::RetimeSkeletalResponse response_;
 };
 
 class SkeletalRpc final : public Rpc {
@@ -126,16 +147,10 @@ class SkeletalRpc final : public Rpc {
   SkeletalArgs args_;
 };
 
-class CurvesClipCall final : public Clip {
+class CurvesClipCall final : public CurvesCall {
  public:
   CurvesClipCall(const CurvesArgs& args, CurveInput input, v1::RetimeCurvesRequest request)
-      : args_(args), input_(std::move(input)), request_(std::move(request)) {}
-
-  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
-             std::function<void(grpc::Status)> done) override {
-    response_.Clear();
-    stub.async()->RetimeCurves(context, &request_, &response_, std::move(done));
-  }
+      : CurvesCall(std::move(request)), args_(args), input_(std::move(input)) {}
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
@@ -152,8 +167,6 @@ class CurvesClipCall final : public Clip {
  private:
   const CurvesArgs& args_;
   CurveInput input_;
-  v1::RetimeCurvesRequest request_;
-  v1::RetimeCurvesResponse response_;
 };
 
 class CurvesRpc final : public Rpc {
@@ -178,16 +191,12 @@ class CurvesRpc final : public Rpc {
   CurvesArgs args_;
 };
 
-class LipBlinkClipCall final : public Clip {
+class LipBlinkClipCall final : public LipBlinkCall {
  public:
   LipBlinkClipCall(const LipBlinkArgs& args, CurveInput input)
-      : args_(args), input_(std::move(input)), request_(BuildLipBlinkRequest(args_, input_.curves)) {}
-
-  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
-             std::function<void(grpc::Status)> done) override {
-    response_.Clear();
-    stub.async()->LipBlink(context, &request_, &response_, std::move(done));
-  }
+      : LipBlinkCall(BuildLipBlinkRequest(args, input.curves)),
+        args_(args),
+        input_(std::move(input)) {}
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
@@ -203,8 +212,6 @@ class LipBlinkClipCall final : public Clip {
  private:
   const LipBlinkArgs& args_;
   CurveInput input_;
-  v1::LipBlinkRequest request_;
-  v1::LipBlinkResponse response_;
 };
 
 LipBlinkArgs WithAudio(const LipBlinkArgs& args, const std::string& path) {
@@ -231,22 +238,16 @@ report::VoiceReportSources VoiceSources(const LipBlinkArgs& args, const BatchIte
 // A Spine skeleton with --animation and the slots: the server writes the skeleton
 // (LipBlinkRequest.spine_json, client/spine_lip_blink.h); --speech and auto-blink as given,
 // and with --audio-beside the skeleton's recording (`voice`, read from item.audio).
-class LipBlinkSpineCall final : public Clip {
+class LipBlinkSpineCall final : public LipBlinkCall {
  public:
   LipBlinkSpineCall(const LipBlinkArgs& args, CurveInput input,
                     convert::SpineLipBlinkSlots slots, const std::string& audio_path,
                     std::string voice)
-      : args_(args),
+      : LipBlinkCall(BuildSpineLipBlinkRequest(WithAudio(args, audio_path), input.text,
+                                               std::move(voice))),
+        args_(args),
         input_(std::move(input)),
-        slots_(std::move(slots)),
-        request_(BuildSpineLipBlinkRequest(WithAudio(args_, audio_path), input_.text,
-                                           std::move(voice))) {}
-
-  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
-             std::function<void(grpc::Status)> done) override {
-    response_.Clear();
-    stub.async()->LipBlink(context, &request_, &response_, std::move(done));
-  }
+        slots_(std::move(slots)) {}
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
@@ -276,22 +277,15 @@ class LipBlinkSpineCall final : public Clip {
   const LipBlinkArgs& args_;
   CurveInput input_;
   convert::SpineLipBlinkSlots slots_;
-  v1::LipBlinkRequest request_;
-  v1::LipBlinkResponse response_;
 };
 
 // A recording (LipBlinkRequest.audio): a new motion written from it.
-class LipBlinkVoiceCall final : public Clip {
+class LipBlinkVoiceCall final : public LipBlinkCall {
  public:
   LipBlinkVoiceCall(const LipBlinkArgs& args, const std::string& path, std::string audio)
-      : args_(args), request_(BuildLipBlinkVoiceRequest(WithAudio(args, path), std::move(audio),
-                                                        nullptr, false)) {}
-
-  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
-             std::function<void(grpc::Status)> done) override {
-    response_.Clear();
-    stub.async()->LipBlink(context, &request_, &response_, std::move(done));
-  }
+      : LipBlinkCall(
+            BuildLipBlinkVoiceRequest(WithAudio(args, path), std::move(audio), nullptr, false)),
+        args_(args) {}
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
@@ -317,27 +311,19 @@ class LipBlinkVoiceCall final : public Clip {
 
  private:
   const LipBlinkArgs& args_;
-  v1::LipBlinkRequest request_;
-  v1::LipBlinkResponse response_;
 };
 
 // A motion3.json or CSV with the recording beside it (--audio-beside): the mouth written
 // into the motion, as `koma lipblink IN --audio REC -o OUT` writes it.
-class LipBlinkMotionVoiceCall final : public Clip {
+class LipBlinkMotionVoiceCall final : public LipBlinkCall {
  public:
   LipBlinkMotionVoiceCall(const LipBlinkArgs& args, CurveInput input, bool csv_output,
                           const std::string& audio_path, std::string voice)
-      : args_(args),
+      : LipBlinkCall(BuildLipBlinkVoiceRequest(WithAudio(args, audio_path), std::move(voice),
+                                               &input, csv_output)),
+        args_(args),
         input_(std::move(input)),
-        csv_output_(csv_output),
-        request_(BuildLipBlinkVoiceRequest(WithAudio(args, audio_path), std::move(voice),
-                                           &input_, csv_output)) {}
-
-  void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
-             std::function<void(grpc::Status)> done) override {
-    response_.Clear();
-    stub.async()->LipBlink(context, &request_, &response_, std::move(done));
-  }
+        csv_output_(csv_output) {}
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
@@ -360,8 +346,6 @@ class LipBlinkMotionVoiceCall final : public Clip {
   const LipBlinkArgs& args_;
   CurveInput input_;
   bool csv_output_;
-  v1::LipBlinkRequest request_;
-  v1::LipBlinkResponse response_;
 };
 
 class LipBlinkRpc final : public Rpc {
