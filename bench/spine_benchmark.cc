@@ -92,6 +92,24 @@ void Options(v1::RetimeCurvesRequest& request) {
   request.set_tsume(1.5);
 }
 
+// The request the CLI sends for the skeleton: its curves decoded, with Options.
+v1::RetimeCurvesRequest DecodedRequest(const convert::CurveInput& input) {
+  v1::RetimeCurvesRequest request;
+  Options(request);
+  *request.mutable_curves() = convert::CurveSetToProto(input.curves);
+  return request;
+}
+
+// The answer's curves as CurveOutputText takes them.
+std::vector<std::optional<convert::CurveReplacement>> Replacements(
+    const v1::RetimeCurvesResponse& response) {
+  std::vector<std::optional<convert::CurveReplacement>> replacements;
+  for (const v1::RetimedCurve& curve : response.curves()) {
+    replacements.push_back(convert::ReplacementFromProto(curve));
+  }
+  return replacements;
+}
+
 void BM_SpineFileRpc(benchmark::State& state) {
   Fixture& f = Shared();
   v1::RetimeCurvesRequest request;
@@ -114,17 +132,12 @@ void BM_SpineDecodedRpc(benchmark::State& state) {
   for (auto _ : state) {
     absl::StatusOr<convert::CurveInput> input = convert::ParseSpineText(f.text, "walk");
     if (!input.ok()) std::abort();
-    v1::RetimeCurvesRequest request;
-    Options(request);
-    *request.mutable_curves() = convert::CurveSetToProto(input->curves);
+    const v1::RetimeCurvesRequest request = DecodedRequest(*input);
     grpc::ClientContext context;
     v1::RetimeCurvesResponse response;
     if (!f.stub->RetimeCurves(&context, request, &response).ok()) state.SkipWithError("call");
-    std::vector<std::optional<convert::CurveReplacement>> replacements;
-    for (const v1::RetimedCurve& curve : response.curves()) {
-      replacements.push_back(convert::ReplacementFromProto(curve));
-    }
-    absl::StatusOr<std::string> written = convert::CurveOutputText(*input, replacements, false);
+    absl::StatusOr<std::string> written =
+        convert::CurveOutputText(*input, Replacements(response), false);
     if (!written.ok()) state.SkipWithError("write");
     benchmark::DoNotOptimize(written->data());
   }
@@ -149,9 +162,7 @@ void BM_SpineStageCurvesRpc(benchmark::State& state) {
   Fixture& f = Shared();
   absl::StatusOr<convert::CurveInput> input = convert::ParseSpineText(f.text, "walk");
   if (!input.ok()) std::abort();
-  v1::RetimeCurvesRequest request;
-  Options(request);
-  *request.mutable_curves() = convert::CurveSetToProto(input->curves);
+  const v1::RetimeCurvesRequest request = DecodedRequest(*input);
   for (auto _ : state) {
     grpc::ClientContext context;
     v1::RetimeCurvesResponse response;
@@ -164,16 +175,11 @@ void BM_SpineStageWrite(benchmark::State& state) {
   Fixture& f = Shared();
   absl::StatusOr<convert::CurveInput> input = convert::ParseSpineText(f.text, "walk");
   if (!input.ok()) std::abort();
-  v1::RetimeCurvesRequest request;
-  Options(request);
-  *request.mutable_curves() = convert::CurveSetToProto(input->curves);
   grpc::ClientContext context;
   v1::RetimeCurvesResponse response;
-  if (!f.stub->RetimeCurves(&context, request, &response).ok()) std::abort();
-  std::vector<std::optional<convert::CurveReplacement>> replacements;
-  for (const v1::RetimedCurve& curve : response.curves()) {
-    replacements.push_back(convert::ReplacementFromProto(curve));
-  }
+  if (!f.stub->RetimeCurves(&context, DecodedRequest(*input), &response).ok()) std::abort();
+  const std::vector<std::optional<convert::CurveReplacement>> replacements =
+      Replacements(response);
   for (auto _ : state) {
     absl::StatusOr<std::string> written = convert::CurveOutputText(*input, replacements, false);
     if (!written.ok()) state.SkipWithError("write");

@@ -9,13 +9,14 @@
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
 #include "formats/error_text.h"
+#include "formats/json_text.h"
 #include "formats/xdts.h"
 #include "nlohmann/json.hpp"
 
 namespace koma::formats {
 namespace {
 
-using Json = nlohmann::json;
+using Json = nlohmann::ordered_json;  // as ParseJsonTextWithin reads it
 
 // Deeper nesting than any XDTS document has (7 levels) is refused before parsing, so a
 // hostile file cannot recurse the parser deep.
@@ -72,31 +73,6 @@ absl::StatusOr<int> IntAt(const Json& value, const std::string& path, int lo, in
 absl::StatusOr<std::string> StringAt(const Json& value, const std::string& path) {
   if (!value.is_string()) return PathError(path, "expected a string, got " + Describe(value));
   return value.get<std::string>();
-}
-
-absl::Status CheckDepth(std::string_view text) {
-  int depth = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\') {
-        ++i;
-      } else if (c == '"') {
-        in_string = false;
-      }
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxDepth) {
-        return absl::InvalidArgumentError(
-            absl::StrCat("line 2 on: JSON nested deeper than ", kMaxDepth, " levels"));
-      }
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return absl::OkStatus();
 }
 
 // One track entry: its frame and its first instruction's values.
@@ -198,13 +174,12 @@ absl::StatusOr<XdtsSheet> ReadXdts(std::string_view text, const XdtsReadLimits& 
   }
   const std::string_view body =
       line_end == std::string_view::npos ? std::string_view() : text.substr(line_end + 1);
-  KOMA_RETURN_IF_ERROR(CheckDepth(body));
-  Json document;
-  try {
-    document = Json::parse(body.begin(), body.end());
-  } catch (const Json::exception& error) {
-    return absl::InvalidArgumentError(absl::StrCat("line 2 on: invalid JSON: ", error.what()));
+  // Nesting deeper than kMaxDepth or invalid JSON: "line 2 on: invalid JSON at byte 12: ...".
+  absl::StatusOr<Json> parsed = ParseJsonTextWithin(body, kMaxDepth);
+  if (!parsed.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("line 2 on: ", parsed.status().message()));
   }
+  const Json document = *std::move(parsed);
   KOMA_ASSIGN_OR_RETURN(const Json* version, Member(document, "", "version"));
   if (!version->is_number() || version->get<double>() != kXdtsVersion) {
     return PathError("version", absl::StrCat(Describe(*version), " is not ", kXdtsVersion,

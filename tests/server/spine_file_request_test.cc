@@ -3,15 +3,14 @@
 // byte; errors name the request field and the JSON path.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "convert/curve_text.h"
 #include "convert/curves_convert.h"
 #include "formats/spine.h"
+#include "tests/formats/test_files.h"
 #include "tests/server/in_process_server.h"
 #include "tests/testing/status_matchers.h"
 
@@ -19,11 +18,7 @@ namespace koma::testing {
 namespace {
 
 std::string SpineText(const std::string& name) {
-  std::ifstream in(KOMA_TESTDATA_DIR "/spine/" + name, std::ios::binary);
-  EXPECT_TRUE(in.good()) << name;
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return formats::ReadTestFile(KOMA_TESTDATA_DIR "/spine/" + name);
 }
 
 grpc::Status Call(InProcessServer& server, const v1::RetimeCurvesRequest& request,
