@@ -272,9 +272,12 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
   if (!args.summary.empty()) summary_paths.push_back(ShardedPath(args.summary, shard));
   if (json) summary_paths.push_back("-");
 
-  // lipblink with the Spine flags: every input must be a skeleton, so folders collect *.json.
-  const std::vector<std::string> extensions =
-      ExtensionsOf(rpc_name, rpc_name == "lipblink" && HasSpineFlags(args.lip_blink));
+  // lipblink with the Spine flags, curves with --animation: every input must be a skeleton,
+  // so folders collect *.json.
+  const bool skeletons = rpc_name == "lipblink" ? HasSpineFlags(args.lip_blink)
+                         : rpc_name == "curves" ? !args.curves.animations.empty()
+                                                : false;
+  const std::vector<std::string> extensions = ExtensionsOf(rpc_name, skeletons);
   absl::StatusOr<std::vector<BatchItem>> all_items =
       DiscoverInputs(args.inputs, extensions, args.out_dir, args.timing, args.report,
                      args.xdts, rpc_name == "lipblink" && args.audio_beside);

@@ -27,8 +27,9 @@ struct BatchItem {
 
 // File name endings the RPC reads, lower case: {".bvh", ".glb", ".gltf", ".vrm", ".vrma"}, or
 // {".motion3.json", ".csv"} and for lipblink also the recordings' (AudioExtensions).
-// `spine_skeletons` (lipblink with the Spine flags, where every input must be a skeleton):
-// {".json"}, so folders collect skeletons and their outputs' sheets are NAME.report.html.
+// `spine_skeletons` (lipblink with the Spine flags, curves with --animation: every input must
+// be a skeleton): {".json"}, so folders collect skeletons and their outputs' sheets are
+// NAME.report.html.
 std::vector<std::string> ExtensionsOf(const std::string& rpc, bool spine_skeletons = false);
 
 // Recordings `koma batch lipblink` sends as LipBlinkRequest.audio, each written as

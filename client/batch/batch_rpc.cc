@@ -177,6 +177,10 @@ class CurvesRpc final : public Rpc {
     absl::StatusOr<CurveInput> input =
         ReadCurveInput(item.input, args_.csv_fps, CurveFormat::kAuto, "curves");
     if (!input.ok()) return input.status();
+    if (!input->spine && !args_.animations.empty()) {  // as `koma curves` refuses it
+      return absl::InvalidArgumentError(
+          absl::StrCat("--animation: ", item.input, " is not a Spine skeleton"));
+    }
     if (input->spine) {  // one call per file: one animation, named or the only one
       if (absl::Status s = SelectOneSpineAnimation(*input, args_.animations); !s.ok()) {
         return WithPath(item, s);

@@ -142,7 +142,7 @@ TEST(ExtensionsOf, PerRpc) {
                                                     ".ogg", ".oga", ".opus", ".mp3"));
   // LipBlink with the Spine flags: skeletons only.
   EXPECT_THAT(ExtensionsOf("lipblink", /*spine_skeletons=*/true), ElementsAre(".json"));
-  EXPECT_THAT(ExtensionsOf("curves", true), ElementsAre(".motion3.json", ".csv"));
+  EXPECT_THAT(ExtensionsOf("curves", /*spine_skeletons=*/true), ElementsAre(".json"));
 }
 
 }  // namespace

@@ -98,6 +98,22 @@ PY
   --animation walk --server "$target" >"$work/batch.txt" 2>&1 || fail "koma batch: $(cat "$work/batch.txt")"
 cmp "$work/batch/matt-3.7.json" "$work/matt-walk.json" || fail "batch matt differs from the CLI"
 cmp "$work/batch/hero-3.8.json" "$work/walk.json" || fail "batch hero-3.8 differs from the CLI"
+# A folder with --animation: its skeletons (*.json) are the inputs, the same bytes; a
+# motion3.json among them is refused by name (--animation takes skeletons only).
+mkdir -p "$work/skeletons/sub"
+cp "$data/matt-3.7.json" "$work/skeletons/"
+cp "$data/hero-3.8.json" "$work/skeletons/sub/"
+"$client_bin" batch curves "$work/skeletons" -o "$work/batch_folder" --animation walk \
+  --server "$target" >"$work/batch_folder.txt" 2>&1 ||
+  fail "koma batch FOLDER --animation: $(cat "$work/batch_folder.txt")"
+cmp "$work/batch_folder/matt-3.7.json" "$work/matt-walk.json" || fail "folder batch matt differs"
+cmp "$work/batch_folder/sub/hero-3.8.json" "$work/walk.json" || fail "folder batch hero differs"
+printf '{"Version": 3, "Meta": {"Duration": 1, "Fps": 30}, "Curves": []}' \
+  >"$work/skeletons/arm.motion3.json"
+expect_exit 1 "$work/batch-folder-err.txt" "$client_bin" batch curves "$work/skeletons" \
+  -o "$work/batch_folder2" --animation walk --server "$target"
+grep -q "animation: $work/skeletons/arm.motion3.json is not a Spine skeleton" \
+  "$work/batch-folder-err.txt" || fail "motion3 with --animation: $(cat "$work/batch-folder-err.txt")"
 expect_exit 1 "$work/batch-err.txt" "$client_bin" batch curves "$data/hero-3.8.json" \
   -o "$work/batch2" --server "$target"
 grep -q 'one animation per skeleton here; this one has 2 with bone keys ("walk", "idle")' \
