@@ -1,6 +1,7 @@
 #include "client/batch/batch_rpc.h"
 
 #include <filesystem>
+#include <optional>
 #include <system_error>
 #include <utility>
 
@@ -224,18 +225,20 @@ LipBlinkArgs WithAudio(const LipBlinkArgs& args, const std::string& path) {
   return with;
 }
 
-// The voice report's sources of a recording sent with a motion or skeleton (as the
-// single-file command fills them for IN --audio REC --report OUT).
-report::VoiceReportSources VoiceSources(const LipBlinkArgs& args, const BatchItem& item,
+// The voice report's sources of `recording` (its bytes `audio`), sent with the motion or
+// skeleton `motion_name` (empty: none), as the single-file command fills them for
+// [IN] --audio REC --report OUT.
+report::VoiceReportSources VoiceSources(const LipBlinkArgs& args, const std::string& recording,
+                                        const std::string& motion_name, const BatchItem& item,
                                         double motion_fps, const std::string& audio) {
   report::VoiceReportSources sources;
-  sources.voice_name = item.audio;
-  sources.motion_name = item.input;
+  sources.voice_name = recording;
+  sources.motion_name = motion_name;
   sources.motion_fps = motion_fps;
   sources.audio = audio;
   sources.audio_max_bytes =
       args.report_audio_max_bytes.value_or(report::kDefaultReportAudioMaxBytes);
-  sources.audio_link = report::AudioLink(item.audio, item.report);
+  sources.audio_link = report::AudioLink(recording, item.report);
   return sources;
 }
 
@@ -272,7 +275,7 @@ class LipBlinkSpineCall final : public LipBlinkCall {
     if (!item.audio.empty()) {
       return report::WriteLipBlinkVoiceReport(
           item.report, *decoded, response_,
-          VoiceSources(args_, item, input_.spine->fps, request_.audio()));
+          VoiceSources(args_, item.audio, item.input, item, input_.spine->fps, request_.audio()));
     }
     return report::WriteLipBlinkReport(item.report, *decoded, response_, item.input);
   }
@@ -283,72 +286,42 @@ class LipBlinkSpineCall final : public LipBlinkCall {
   convert::SpineLipBlinkSlots slots_;
 };
 
-// A recording (LipBlinkRequest.audio): a new motion written from it.
+// A recording (LipBlinkRequest.audio): a new motion written from it, or with `input` (a
+// motion3.json or CSV with its recording beside it, --audio-beside) the mouth written into
+// that motion, as `koma lipblink [IN] --audio REC -o OUT` writes them.
 class LipBlinkVoiceCall final : public LipBlinkCall {
  public:
-  LipBlinkVoiceCall(const LipBlinkArgs& args, const std::string& path, std::string audio)
-      : LipBlinkCall(
-            BuildLipBlinkVoiceRequest(WithAudio(args, path), std::move(audio), nullptr, false)),
-        args_(args) {}
-
-  absl::Status Write(const BatchItem& item) override {
-    if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
-    LipBlinkArgs args = args_;
-    args.audio = item.input;
-    args.output = item.output;
-    args.cues.clear();
-    args.xdts = item.xdts;
-    if (absl::Status s = WriteLipBlinkVoiceOutputs(args, /*csv_output=*/false,
-                                                   request_.voice_motion_fps(), response_);
-        !s.ok() || item.report.empty()) {
-      return s;
-    }
-    report::VoiceReportSources sources;
-    sources.voice_name = item.input;
-    sources.motion_fps = request_.voice_motion_fps();
-    sources.audio = request_.audio();
-    sources.audio_max_bytes =
-        args_.report_audio_max_bytes.value_or(report::kDefaultReportAudioMaxBytes);
-    sources.audio_link = report::AudioLink(item.input, item.report);
-    return report::WriteLipBlinkVoiceReport(item.report, request_, response_, sources);
-  }
-
- private:
-  const LipBlinkArgs& args_;
-};
-
-// A motion3.json or CSV with the recording beside it (--audio-beside): the mouth written
-// into the motion, as `koma lipblink IN --audio REC -o OUT` writes it.
-class LipBlinkMotionVoiceCall final : public LipBlinkCall {
- public:
-  LipBlinkMotionVoiceCall(const LipBlinkArgs& args, CurveInput input, bool csv_output,
-                          const std::string& audio_path, std::string voice)
+  LipBlinkVoiceCall(const LipBlinkArgs& args, std::optional<CurveInput> input, bool csv_output,
+                    const std::string& audio_path, std::string voice)
       : LipBlinkCall(BuildLipBlinkVoiceRequest(WithAudio(args, audio_path), std::move(voice),
-                                               &input, csv_output)),
+                                               input ? &*input : nullptr, csv_output)),
         args_(args),
         input_(std::move(input)),
         csv_output_(csv_output) {}
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
-    LipBlinkArgs args = WithAudio(args_, item.audio);
-    args.input = item.input;
+    // A recording alone is the item's input; one beside a motion is item.audio.
+    const std::string& recording = input_ ? item.audio : item.input;
+    const std::string motion_name = input_ ? item.input : "";
+    const double fps = input_ ? input_->curves.fps : request_.voice_motion_fps();
+    LipBlinkArgs args = WithAudio(args_, recording);
+    if (input_) args.input = item.input;
     args.output = item.output;
     args.cues.clear();
     args.xdts = item.xdts;
-    if (absl::Status s =
-            WriteLipBlinkVoiceOutputs(args, csv_output_, input_.curves.fps, response_);
+    if (absl::Status s = WriteLipBlinkVoiceOutputs(args, csv_output_, fps, response_);
         !s.ok() || item.report.empty()) {
       return s;
     }
     return report::WriteLipBlinkVoiceReport(
         item.report, request_, response_,
-        VoiceSources(args_, item, input_.curves.fps, request_.audio()));
+        VoiceSources(args_, recording, motion_name, item, fps, request_.audio()));
   }
 
  private:
   const LipBlinkArgs& args_;
-  CurveInput input_;
+  std::optional<CurveInput> input_;  // none: a new motion
   bool csv_output_;
 };
 
@@ -366,7 +339,8 @@ class LipBlinkRpc final : public Rpc {
       }
       absl::StatusOr<std::string> audio = ReadFile(item.input);
       if (!audio.ok()) return audio.status();
-      return std::make_unique<LipBlinkVoiceCall>(args_, item.input, *std::move(audio));
+      return std::make_unique<LipBlinkVoiceCall>(args_, std::nullopt, /*csv_output=*/false,
+                                                 item.input, *std::move(audio));
     }
     // With the Spine flags a skeleton is read (and anything else refused); without, refused.
     const bool spine = HasSpineFlags(args_);
@@ -396,8 +370,8 @@ class LipBlinkRpc final : public Rpc {
           CurveOutputFormat(item.output, CurveFormatFromFlag(args_.format), *input);
       if (!format.ok()) return WithPath(item, format.status());
       const bool csv_output = *format == CurveFormat::kCsv;
-      return std::make_unique<LipBlinkMotionVoiceCall>(args_, *std::move(input), csv_output,
-                                                       item.audio, std::move(voice));
+      return std::make_unique<LipBlinkVoiceCall>(args_, *std::move(input), csv_output,
+                                                 item.audio, std::move(voice));
     }
     return std::make_unique<LipBlinkClipCall>(args_, *std::move(input));
   }
