@@ -92,6 +92,15 @@ void Options(v1::RetimeCurvesRequest& request) {
   request.set_tsume(1.5);
 }
 
+// The request with the skeleton sent whole (RetimeCurvesRequest.spine_json), with Options.
+v1::RetimeCurvesRequest FileRequest(const std::string& skeleton) {
+  v1::RetimeCurvesRequest request;
+  Options(request);
+  request.set_spine_json(skeleton);
+  request.set_spine_animation("walk");
+  return request;
+}
+
 // The request the CLI sends for the skeleton: its curves decoded, with Options.
 v1::RetimeCurvesRequest DecodedRequest(const convert::CurveInput& input) {
   v1::RetimeCurvesRequest request;
@@ -112,10 +121,7 @@ std::vector<std::optional<convert::CurveReplacement>> Replacements(
 
 void BM_SpineFileRpc(benchmark::State& state) {
   Fixture& f = Shared();
-  v1::RetimeCurvesRequest request;
-  Options(request);
-  request.set_spine_json(f.text);
-  request.set_spine_animation("walk");
+  const v1::RetimeCurvesRequest request = FileRequest(f.text);
   for (auto _ : state) {
     grpc::ClientContext context;
     v1::RetimeCurvesResponse response;
@@ -189,10 +195,7 @@ void BM_SpineStageWrite(benchmark::State& state) {
 
 void BM_SpineStageDecodeAnswer(benchmark::State& state) {
   Fixture& f = Shared();
-  v1::RetimeCurvesRequest request;
-  Options(request);
-  request.set_spine_json(f.text);
-  request.set_spine_animation("walk");
+  const v1::RetimeCurvesRequest request = FileRequest(f.text);
   grpc::ClientContext context;
   v1::RetimeCurvesResponse response;
   if (!f.stub->RetimeCurves(&context, request, &response).ok()) std::abort();

@@ -411,12 +411,12 @@ grpc::ServerUnaryReactor* RetimeService::LipBlink(grpc::CallbackServerContext* c
   record.method = "LipBlink";  // frames and curves are filled in once it is parsed
   return DispatchRaw<v1::LipBlinkRequest, v1::LipBlinkResponse>(
       context, request, response, RpcMethod::kLipBlink, std::move(record),
-      [this](const v1::LipBlinkRequest& in, v1::LipBlinkResponse* out, RpcRecord& record) {
+      [this](const v1::LipBlinkRequest& in, v1::LipBlinkResponse* out, RpcRecord& described) {
         LipBlinkMotionShape shape;
         const absl::Status handled = HandleLipBlink(in, limits_, out, &shape);
         if (handled.ok()) {  // else the request's own curves (DescribeRequest) stay
-          record.frames = shape.frames;
-          record.curves = shape.curves;
+          described.frames = shape.frames;
+          described.curves = shape.curves;
         }
         return handled;
       });

@@ -5,12 +5,10 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <random>
 #include <set>
@@ -21,6 +19,7 @@
 #include "client/batch/batch_command.h"
 #include "client/batch/batch_inputs.h"
 #include "client/batch/batch_state.h"
+#include "tests/batch/scratch_folder.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma::client::batch {
@@ -31,25 +30,8 @@ using ::koma::testing::IsOk;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
-class AudioBeside : public ::testing::Test {
+class AudioBeside : public ScratchFolder {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("koma_batch_audio_beside_test_" + std::to_string(getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
-
-  std::string Touch(const std::string& relative) {
-    const fs::path path = root_ / relative;
-    fs::create_directories(path.parent_path());
-    std::ofstream(path) << "x";
-    return path.string();
-  }
-  std::string P(const std::string& relative) const { return (root_ / relative).string(); }
-
   // The items of a lipblink batch over `inputs` with --audio-beside.
   std::vector<BatchItem> Discover(const std::vector<std::string>& inputs) {
     absl::StatusOr<std::vector<BatchItem>> items =
@@ -58,8 +40,6 @@ class AudioBeside : public ::testing::Test {
     EXPECT_THAT(items.status(), IsOk());
     return items.ok() ? *items : std::vector<BatchItem>{};
   }
-
-  fs::path root_;
 };
 
 TEST_F(AudioBeside, StemDropsTheInputEnding) {

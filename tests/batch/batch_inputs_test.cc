@@ -3,13 +3,12 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
+#include "tests/batch/scratch_folder.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma::client::batch {
@@ -22,32 +21,13 @@ using ::koma::testing::IsOk;
 using ::koma::testing::StatusIs;
 
 // A scratch folder, removed with the test.
-class Tree : public ::testing::Test {
+class Tree : public ScratchFolder {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("koma_batch_inputs_test_" + std::to_string(getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
-
-  std::string Touch(const std::string& relative, const std::string& text = "x") {
-    const fs::path path = root_ / relative;
-    fs::create_directories(path.parent_path());
-    std::ofstream(path) << text;
-    return path.string();
-  }
-  std::string P(const std::string& relative) const { return (root_ / relative).string(); }
-
   static std::vector<std::string> Relatives(const std::vector<BatchItem>& items) {
     std::vector<std::string> relatives;
     for (const BatchItem& item : items) relatives.push_back(item.relative);
     return relatives;
   }
-
-  fs::path root_;
 };
 
 TEST_F(Tree, FolderIsSearchedByExtensionInPathOrderAndMirrored) {

@@ -2,7 +2,6 @@
 // which clips a rerun of `koma batch` redoes; the batch command line.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -12,6 +11,7 @@
 
 #include "client/batch/batch_command.h"
 #include "client/batch/batch_state.h"
+#include "tests/batch/scratch_folder.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma::client::batch {
@@ -20,13 +20,10 @@ namespace {
 namespace fs = std::filesystem;
 using ::koma::testing::IsOk;
 
-class ManifestTest : public ::testing::Test {
+class ManifestTest : public ScratchFolder {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("koma_batch_state_test_" + std::to_string(getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
+    ScratchFolder::SetUp();
     fs::create_directories(root_ / "in");
     fs::create_directories(root_ / "out");
     item_.input = (root_ / "in/a.bvh").string();
@@ -37,11 +34,8 @@ class ManifestTest : public ::testing::Test {
     // The output one second after its input, as after a run.
     fs::last_write_time(item_.output, fs::last_write_time(item_.input) + std::chrono::seconds(1));
   }
-  void TearDown() override { fs::remove_all(root_); }
-
   std::string Out() const { return (root_ / "out").string(); }
 
-  fs::path root_;
   BatchItem item_;
 };
 

@@ -208,7 +208,9 @@ TEST(JsonTextParseTest, EveryShortByteSequenceAsNlohmannReadsIt) {
     const absl::StatusOr<Json> fast = ParseJsonText(text);
     const absl::StatusOr<Json> dom = ParseJsonTextByDom(text);
     ASSERT_EQ(fast.status(), dom.status()) << text;
-    if (dom.ok()) ASSERT_EQ(fast->dump(), dom->dump()) << text;
+    if (dom.ok()) {
+      ASSERT_EQ(fast->dump(), dom->dump()) << text;
+    }
   };
   for (int a = 0; a < 256; ++a) {
     const std::string one(1, static_cast<char>(a));
