@@ -11,6 +11,7 @@
 
 #include "core/curve_cursor.h"
 #include "core/film_grid.h"
+#include "core/key_drawings.h"
 
 namespace koma {
 namespace {
@@ -37,11 +38,14 @@ std::vector<SegmentParams> DefaultSegmentParams(const KomaUchiOptions& options,
 }
 
 // Drawings of one segment [keys[x], keys[x + 1]]: each starts where the previous one's hold
-// ends, the first exactly on the key, and samples tau_j = G_x + L * E_j.
+// ends, the first exactly on the key, and samples tau_j = T_x + (T_{x+1} - T_x) * E_j, where T
+// are the key poses' own times in source frames (`key_time`, `next_key_time`): with a grid the
+// holds are laid out on grid frames, but a key pose snapped to a grid frame still shows the
+// curves at its own time, not the grid frame's.
 // Between merged key poses a segment gets floor(L / n) drawings (none shorter than n), between
 // named ones ceil(L / n) (none longer than n).
-void AppendSegment(int key, int next_key, const SegmentParams& params, bool merged_poses,
-                   DrawingTiming& timing) {
+void AppendSegment(int key, int next_key, double key_time, double next_key_time,
+                   const SegmentParams& params, bool merged_poses, DrawingTiming& timing) {
   const int length = next_key - key;
   const std::vector<int> holds = merged_poses ? PoseHoldLengths(length, params.frames_per_drawing)
                                               : HoldLengths(length, params.frames_per_drawing);
@@ -50,7 +54,9 @@ void AppendSegment(int key, int next_key, const SegmentParams& params, bool merg
   int frame = key;
   for (size_t j = 0; j < holds.size(); ++j) {
     const int drawing = static_cast<int>(timing.drawing_start.size());
-    const double tau = key + length * spacing[j];  // in frames, in [key, next_key]
+    // In source frames, in [key_time, next_key_time]. Without a grid the times are the keys
+    // themselves, and this is key + length * E_j bit for bit.
+    const double tau = key_time + (next_key_time - key_time) * spacing[j];
     timing.drawing_start.push_back(frame);
     for (int k = 0; k < holds[j]; ++k, ++frame) {
       timing.drawing_of_frame[frame] = drawing;
@@ -59,26 +65,31 @@ void AppendSegment(int key, int next_key, const SegmentParams& params, bool merg
   }
 }
 
-DrawingTiming BuildTiming(const std::vector<int>& keys, const std::vector<SegmentParams>& params,
-                          int frames_per_drawing, bool merged_poses) {
+// `keys`: the key poses on the frames the holds are counted in (grid frames with a grid);
+// `key_times`: the same key poses' own times in source frames.
+DrawingTiming BuildTiming(const std::vector<int>& keys, const std::vector<int>& key_times,
+                          const std::vector<SegmentParams>& params, int frames_per_drawing,
+                          bool merged_poses) {
   const int frame_count = keys.back() + 1;
   DrawingTiming timing;
   timing.frames_per_drawing = frames_per_drawing;
   timing.drawing_of_frame.resize(static_cast<size_t>(frame_count));
   timing.source_frame.resize(static_cast<size_t>(frame_count));
   for (size_t x = 0; x < params.size(); ++x) {
-    AppendSegment(keys[x], keys[x + 1], params[x], merged_poses, timing);
+    AppendSegment(keys[x], keys[x + 1], key_times[x], key_times[x + 1], params[x], merged_poses,
+                  timing);
   }
-  // The last key pose is a drawing of its own, held for its one frame.
+  // The last key pose is a drawing of its own, held for its one frame, showing the clip's end.
   const int last = frame_count - 1;
   timing.drawing_of_frame[last] = static_cast<int>(timing.drawing_start.size());
-  timing.source_frame[last] = last;
+  timing.source_frame[last] = key_times.back();
   timing.drawing_start.push_back(last);
   return timing;
 }
 
 // A timing built on grid frames, at the source rate: source frame k shows the drawing of the
-// grid frame its time falls in; taus and drawing starts become (fractional) source frames.
+// grid frame its time falls in; drawing starts become (fractional) source frames. Taus are
+// source frames already.
 DrawingTiming ExpandToSource(const DrawingTiming& on_grid, const FilmGrid& grid, int frame_count) {
   DrawingTiming out;
   out.frames_per_drawing = on_grid.frames_per_drawing;
@@ -88,13 +99,13 @@ DrawingTiming ExpandToSource(const DrawingTiming& on_grid, const FilmGrid& grid,
   for (int k = 0; k < frame_count; ++k) {
     const int g = std::min(grid.GridFrameOf(k), last_grid);
     out.drawing_of_frame[k] = on_grid.drawing_of_frame[g];
-    out.source_frame[k] = grid.SourceTime(on_grid.source_frame[g]);
+    out.source_frame[k] = on_grid.source_frame[g];
   }
   out.drawing_start_grid = on_grid.drawing_start;
   for (int g : on_grid.drawing_start) {
     out.drawing_start.push_back(std::min(grid.FirstSourceFrameAtOrAfter(g), frame_count - 1));
     out.drawing_time.push_back(grid.SourceTime(g));
-    out.drawing_tau.push_back(grid.SourceTime(on_grid.source_frame[g]));
+    out.drawing_tau.push_back(on_grid.source_frame[g]);
   }
   return out;
 }
@@ -132,34 +143,73 @@ std::map<int, int> HoldHistogram(const DrawingTiming& timing) {
   return histogram;
 }
 
-// The curve sampled once per drawing (at its tau, non-decreasing, so the cursor only walks
-// forward) and held over the drawing's frames. `parameters`: per drawing, the Bezier parameter
-// at its tau (CurveCursor::EvaluateSharing), read when `known` (a curve with the same times
-// was retimed on this timing before), else written.
+// The Bezier parameters of curves with the same times at the drawings' taus
+// (CurveCursor::EvaluateSharing), per drawing, solved by the first curve that shows that
+// drawing at its tau (a curve whose key moved a drawing off its tau solves nothing there).
+struct SharedParameters {
+  std::vector<double> parameter;
+  std::vector<char> solved;
+};
+
+// The drawing whose hold contains a key at `frame` (source frames): on the grid, the drawing of
+// the grid frame the key snaps to (nearest, ties to the earlier, at most the last); else the
+// drawing of the source frame nearest the key.
+int DrawingOfKey(const DrawingTiming& timing, const std::optional<FilmGrid>& grid, double frame) {
+  if (grid) {
+    const std::vector<int>& starts = timing.drawing_start_grid;
+    const int g = std::min(grid->NearestGridFrame(frame), starts.back());
+    return static_cast<int>(std::upper_bound(starts.begin(), starts.end(), g) - starts.begin()) -
+           1;
+  }
+  const double last = static_cast<double>(timing.drawing_of_frame.size() - 1);
+  return timing.drawing_of_frame[static_cast<size_t>(std::clamp(std::round(frame), 0.0, last))];
+}
+
+// The curve shown once per drawing and held over the drawing's frames: at its tau, except
+// where the curve's own keys are drawn (core/key_drawings.h): a drawing that carries a key
+// shows its value exactly, one clamped onto a carried key shows that key. The times shown are
+// non-decreasing, so the cursor only walks forward.
 RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const DrawingTiming& timing,
-                       int timing_index, const std::map<int, int>& histogram,
-                       std::vector<double>& parameters, bool known) {
+                       const std::optional<FilmGrid>& grid, int timing_index,
+                       const std::map<int, int>& histogram, SharedParameters& shared) {
   RetimedCurve out;
   out.timing = timing_index;
   out.hold_histogram = histogram;
   const std::vector<int>& starts = timing.drawing_start;
+  const size_t drawings = starts.size();
   const size_t frame_count = timing.drawing_of_frame.size();
   out.values.resize(frame_count);
-  out.steps.reserve(starts.size());
-  CurveCursor cursor(curve, beziers_restricted);
+  out.steps.reserve(drawings);
   const bool on_grid = !timing.drawing_time.empty();
-  if (!known) parameters.resize(starts.size());
-  for (size_t d = 0; d < starts.size(); ++d) {
+  std::vector<double> tau(drawings);
+  for (size_t d = 0; d < drawings; ++d) {
+    tau[d] = on_grid ? timing.drawing_tau[d] : timing.source_frame[static_cast<size_t>(starts[d])];
+  }
+  std::vector<KeyDrawing> keys = KeysToDraw(curve);
+  for (KeyDrawing& key : keys) key.drawing = DrawingOfKey(timing, grid, key.frame);
+  CurveDrawingTimes placed = PlaceKeysOnDrawings(std::move(keys), tau);
+  if (shared.solved.size() != drawings) {
+    shared.parameter.assign(drawings, 0.0);
+    shared.solved.assign(drawings, 0);
+  }
+  CurveCursor cursor(curve, beziers_restricted);
+  for (size_t d = 0; d < drawings; ++d) {
     const size_t begin = static_cast<size_t>(starts[d]);
-    size_t end = d + 1 < starts.size() ? static_cast<size_t>(starts[d + 1]) : frame_count;
+    size_t end = d + 1 < drawings ? static_cast<size_t>(starts[d + 1]) : frame_count;
     if (end < begin) end = begin;  // a grid drawing no source frame shows
-    const double value = cursor.EvaluateSharing(
-        on_grid ? timing.drawing_tau[d] : timing.source_frame[begin], parameters[d], known);
+    double value;
+    if (placed.at_key[d] >= 0) {
+      value = placed.keys[static_cast<size_t>(placed.at_key[d])].value;
+    } else {
+      value = cursor.EvaluateSharing(tau[d], shared.parameter[d], shared.solved[d] != 0);
+      shared.solved[d] = 1;
+    }
     std::fill(out.values.begin() + begin, out.values.begin() + end, value);
     out.steps.push_back({on_grid ? timing.drawing_time[d] : static_cast<double>(begin), value});
   }
   const double last = static_cast<double>(frame_count - 1);
   if (on_grid && out.steps.back().frame < last) out.steps.push_back({last, out.steps.back().value});
+  out.keys = std::move(placed.keys);
   return out;
 }
 
@@ -308,7 +358,7 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
   const std::vector<SegmentParams> defaults = DefaultSegmentParams(options, keys.size() - 1);
   const int first_timing = static_cast<int>(result.timings.size());
   group.timing = first_timing;
-  result.timings.push_back(BuildTiming(keys, defaults, options.frames_per_drawing, merged_poses));
+  result.timings.push_back(BuildTiming(keys, group.key_frames, defaults, options.frames_per_drawing, merged_poses));
   // Each distinct per-curve n (ascending) of the group's curves gets a timing with that n in
   // every segment (the segments' tame and tsume still apply), unless that is the group's first
   // timing itself: n is the default and no segment override changes it.
@@ -330,7 +380,7 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
       continue;
     }
     timing_of_n[n] = static_cast<int>(result.timings.size());
-    result.timings.push_back(BuildTiming(keys, params, n, merged_poses));
+    result.timings.push_back(BuildTiming(keys, group.key_frames, params, n, merged_poses));
   }
   std::map<int, std::map<int, int>> histograms;  // per timing index; on grid frames with a grid
   for (size_t t = static_cast<size_t>(first_timing); t < result.timings.size(); ++t) {
@@ -342,32 +392,31 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
   // the solve depends only on the times. A Spine skeleton's bones are mostly keyed at the same
   // times (the 50-bone benchmark: 150 curves, one set of times). Per timing and hash of the
   // times: the first curve with those times and its parameters.
-  std::map<std::pair<int, uint64_t>, std::vector<std::pair<int, std::vector<double>>>> solved;
-  std::vector<double> own_parameters;
+  std::map<std::pair<int, uint64_t>, std::vector<std::pair<int, SharedParameters>>> solved;
   for (int c : members) {
     const Curve& curve = set.curves[c];
     const auto own = options.curve_frames_per_drawing.find(curve.id);
     const int t =
         own == options.curve_frames_per_drawing.end() ? first_timing : timing_of_n[own->second];
-    std::vector<double>* parameters = &own_parameters;
-    bool known = false;
+    SharedParameters own_parameters;
+    SharedParameters* parameters = &own_parameters;
     if (!curve.dense() && !set.beziers_restricted) {
-      std::vector<std::pair<int, std::vector<double>>>& same_hash =
+      std::vector<std::pair<int, SharedParameters>>& same_hash =
           solved[{t, CurveTimesHash(curve)}];
+      parameters = nullptr;
       for (auto& [first, shared] : same_hash) {
         if (SameCurveTimes(set.curves[first], curve)) {
           parameters = &shared;
-          known = true;
           break;
         }
       }
-      if (!known) {
-        same_hash.emplace_back(c, std::vector<double>());
+      if (parameters == nullptr) {
+        same_hash.emplace_back(c, SharedParameters());
         parameters = &same_hash.back().second;
       }
     }
-    result.curves[c] = RetimeOne(curve, set.beziers_restricted, result.timings[t], t,
-                                 histograms[t], *parameters, known);
+    result.curves[c] = RetimeOne(curve, set.beziers_restricted, result.timings[t], grid, t,
+                                 histograms[t], *parameters);
   }
   return group;
 }

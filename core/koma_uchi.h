@@ -11,6 +11,7 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "core/curves.h"
+#include "core/key_drawings.h"
 #include "core/timing_groups.h"
 
 namespace koma {
@@ -108,7 +109,10 @@ std::vector<double> Spacing(int drawings, double tame, double tsume);
 struct DrawingTiming {
   int frames_per_drawing = 3;         // the n this timing was made with (default n)
   std::vector<int> drawing_of_frame;  // per output frame: its drawing, 0-based, global
-  std::vector<double> source_frame;   // per output frame: tau of its drawing, in frames
+  // Per output frame: tau of its drawing, in source frames. A segment's taus run between its
+  // key poses' own times (not the grid frames they snapped to), the clip's last drawing shows
+  // its last frame. A curve's own keys may move what it shows off tau (RetimedCurve::keys).
+  std::vector<double> source_frame;
   std::vector<int> drawing_start;     // per drawing: its first output frame
   // With a grid: per drawing, the grid frame it starts on, its start time in (fractional)
   // source frames, and its tau in source frames (a drawing between two output frames has
@@ -120,7 +124,9 @@ struct DrawingTiming {
 
 struct RetimedCurve {
   int timing = 0;              // index into KomaUchiResult::timings; -1: a kKeep group's curve
-  std::vector<double> values;  // per output frame: curve(tau)
+  // Per output frame: the curve at its drawing's time (tau, or the curve's key the drawing
+  // carries: core/key_drawings.h).
+  std::vector<double> values;
   // Stepped keyframes: one point per drawing at its first frame with its value (motion3:
   // start point, then a stepped segment to each next point). With a grid the points lie at
   // the drawings' exact grid times, and a last point at the clip's last frame holds the last
@@ -128,6 +134,10 @@ struct RetimedCurve {
   std::vector<CurvePoint> steps;
   // Hold length in frames (grid frames with a grid) -> number of drawings.
   std::map<int, int> hold_histogram;
+  // The curve's keys the rule draws (its first, last and extreme keyframes; KeysToDraw), each
+  // with the drawing that carries it, in time order; drawn = false for a key that shared its
+  // drawing with one of a larger swing. Empty for a dense curve and a kKeep group's curve.
+  std::vector<KeyDrawing> keys;
 };
 
 // One timing group's answer.

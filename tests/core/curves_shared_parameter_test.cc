@@ -3,11 +3,13 @@
 // plain evaluation on 300 random sets: many curves share a few sets of times (with different
 // values), some differ from a shared set in one handle frame, end frame or segment type, some
 // are dense; restricted and unrestricted Beziers, with and without the 24 fps grid, curves with
-// their own n (several timings). Every drawing's value must equal EvaluateCurve at the
-// drawing's tau, bit for bit.
+// their own n (several timings). Every drawing's value must equal EvaluateCurve at the time
+// the curve shows there (its tau, or one of its keys: core/key_drawings.h), bit for bit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -16,6 +18,8 @@
 #include "absl/strings/str_cat.h"
 #include "core/curve_cursor.h"
 #include "core/curves.h"
+#include "core/film_grid.h"
+#include "core/key_drawings.h"
 #include "core/koma_uchi.h"
 #include "core/split_mix64.h"
 #include "tests/testing/status_matchers.h"
@@ -129,12 +133,36 @@ TEST(CurvesSharedParameterTest, EveryDrawingEqualsThePlainEvaluation) {
       const DrawingTiming& timing = result.timings[static_cast<size_t>(retimed.timing)];
       const bool on_grid = !timing.drawing_time.empty();
       ASSERT_GE(retimed.steps.size(), timing.drawing_start.size());
+      // The times the curve shows (its keys placed as RetimeCurves places them), then each
+      // drawing's value by the plain evaluation at its time, or the key it shows.
+      const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, options.timing_fps);
+      std::vector<double> taus;
       for (size_t d = 0; d < timing.drawing_start.size(); ++d) {
-        const double tau = on_grid ? timing.drawing_tau[d]
-                                   : timing.source_frame[static_cast<size_t>(timing.drawing_start[d])];
-        const double want = EvaluateCurve(set.curves[c], tau, set.beziers_restricted);
+        taus.push_back(on_grid ? timing.drawing_tau[d]
+                               : timing.source_frame[static_cast<size_t>(timing.drawing_start[d])]);
+      }
+      std::vector<KeyDrawing> keys = KeysToDraw(set.curves[c]);
+      for (KeyDrawing& key : keys) {
+        if (grid) {
+          const std::vector<int>& starts = timing.drawing_start_grid;
+          const int g = std::min(grid->NearestGridFrame(key.frame), starts.back());
+          key.drawing = static_cast<int>(std::upper_bound(starts.begin(), starts.end(), g) -
+                                         starts.begin()) - 1;
+        } else {
+          key.drawing = timing.drawing_of_frame[static_cast<size_t>(std::clamp(
+              std::round(key.frame), 0.0, static_cast<double>(set.frame_count - 1)))];
+        }
+      }
+      const CurveDrawingTimes placed = PlaceKeysOnDrawings(std::move(keys), taus);
+      ASSERT_GE(retimed.steps.size(), timing.drawing_start.size());
+      for (size_t d = 0; d < timing.drawing_start.size(); ++d) {
+        const double want =
+            placed.at_key[d] >= 0
+                ? placed.keys[static_cast<size_t>(placed.at_key[d])].value
+                : EvaluateCurve(set.curves[c], placed.time[d], set.beziers_restricted);
         ASSERT_EQ(Bits(retimed.steps[d].value), Bits(want))
-            << "round " << round << " curve " << c << " drawing " << d << " tau " << tau;
+            << "round " << round << " curve " << c << " drawing " << d << " time "
+            << placed.time[d];
         ++drawings_checked;
       }
       // Each drawing's value held over its frames.

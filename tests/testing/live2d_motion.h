@@ -38,6 +38,11 @@ struct Live2dMotionSpec {
   int curve_count = 60;  // 40-80 in the tests; beyond the standard ids, "ParamExtra<k>" chains
   double seconds = 5.0;
   uint64_t seed = 1;
+  // Quick accents (issue 40): now and then a body curve flicks out and back within 2 frames of
+  // 30 fps (a nod, a hand's snap), a keyed peak no merged key pose stands for.
+  bool accents = false;
+  // Loops (Live2D Meta.Loop, idle motions): every curve ends on the value it starts with.
+  bool loops = false;
 };
 
 namespace live2d_motion_internal {
@@ -88,7 +93,7 @@ inline std::vector<int> Beats(SplitMix64& rng, int frame_count, double fps) {
 // A body/face curve of a chain: eased moves to a new value at each beat + its offset, often
 // with a settle key 2-6 frames later (overshoot), sometimes linear.
 inline Curve ChainCurve(SplitMix64& rng, const std::string& id, const std::vector<int>& beats,
-                        int offset, int frame_count, double fps, bool moving) {
+                        int offset, int frame_count, double fps, bool moving, bool accents) {
   Curve curve;
   curve.id = id;
   curve.start = {0.0, rng.Unit() * 2.0 - 1.0};
@@ -105,6 +110,15 @@ inline Curve ChainCurve(SplitMix64& rng, const std::string& id, const std::vecto
       const int settle = at + scale * (2 + Below(rng, 5));
       value += (rng.Unit() - 0.5) * 0.3;
       if (settle < frame_count - 1) AddPoint(curve, SegmentType::kBezier, settle, value);
+    }
+    if (accents && Below(rng, 3) == 0) {  // out and back within 2 frames (of 30 fps)
+      const int out = static_cast<int>(LastFrame(curve)) + scale * (3 + Below(rng, 4));
+      const double flick = value + (rng.Unit() < 0.5 ? -1.0 : 1.0) * (0.4 + 0.6 * rng.Unit());
+      if (out + 2 * scale < frame_count - 1) {
+        AddPoint(curve, SegmentType::kLinear, out, value);
+        AddPoint(curve, SegmentType::kBezier, out + scale, flick);
+        AddPoint(curve, SegmentType::kBezier, out + 2 * scale, value);
+      }
     }
   }
   AddPoint(curve, SegmentType::kLinear, frame_count - 1, value);
@@ -186,8 +200,16 @@ inline CurveSet Live2dMotion(const Live2dMotionSpec& spec) {
     for (const std::string& id : ids) {
       if (static_cast<int>(set.curves.size()) >= spec.curve_count) break;
       const bool moving = in::Below(rng, 8) != 0;
-      set.curves.push_back(in::ChainCurve(rng, id, beats, offset, frames, spec.fps, moving));
+      set.curves.push_back(
+          in::ChainCurve(rng, id, beats, offset, frames, spec.fps, moving, spec.accents));
       offset += scale * (1 + in::Below(rng, 4));  // the next trails by 1-4 frames
+    }
+  }
+  if (spec.loops) {  // the last key returns to the first key's value
+    for (Curve& curve : set.curves) {
+      CurveSegment& last = curve.segments.back();
+      last.end.value = curve.start.value;
+      if (last.type == SegmentType::kBezier) last.handles[1].value = curve.start.value;
     }
   }
   return set;
