@@ -339,9 +339,11 @@ absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
     // One track per timing group (the default group's first), each at its own n.
     std::vector<DrawingTiming> timings;
     std::vector<std::string> names;
+    std::vector<int> indices;  // of the timings in the response
     if (response.timing_groups_size() == 0) {
       timings.push_back(TimingFromProto(response.timings(0)));
       names.emplace_back(kDefaultTimingGroupName);
+      indices.push_back(0);
     }
     for (const v1::CurveTimingGroupResult& group : response.timing_groups()) {
       if (group.curves_size() == 0 || group.frames_per_drawing() == 0) continue;  // no drawings
@@ -351,9 +353,12 @@ absl::Status WriteCurvesOutputs(const CurvesArgs& args, const CurveInput& input,
       }
       timings.push_back(TimingFromProto(response.timings(group.timing())));
       names.push_back(group.name());
+      indices.push_back(group.timing());
     }
     std::vector<formats::DrawingSheetTrack> tracks;
-    for (size_t k = 0; k < timings.size(); ++k) tracks.push_back({names[k], &timings[k]});
+    for (size_t k = 0; k < timings.size(); ++k) {
+      tracks.push_back({names[k], &timings[k], convert::KeysByDrawing(response, indices[k])});
+    }
     const std::string sheet = formats::WriteGroupedDrawingSheetCsv(tracks, input.curves.fps);
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }

@@ -68,6 +68,8 @@ struct CurvesArgs : CurveFileArgs {
   std::vector<std::string> group_on;    // --group-on NAME=N: a group's n (also face, hair)
   std::vector<std::string> group_mode;  // --group-mode NAME=MODE: a group's mode (also face, hair)
   bool default_groups = true;           // --no-default-groups (false): one group
+  // --check-keys: measure the answer against the input's keys (core/key_check.h) and print it.
+  bool check_keys = false;
 };
 
 // The request for `curves` with every flag of `args` applied. INVALID_ARGUMENT naming the

@@ -84,6 +84,10 @@ CLI::App* AddCurvesCommand(CLI::App& app, CurvesArgs& args) {
   cmd->add_flag("--default-timing-groups,!--no-default-groups", args.default_groups,
                 "without --group, Live2D's standard ids in the groups face and hair, the rest "
                 "body (default); --no-default-groups: every curve on the same key poses");
+  cmd->add_flag("--check-keys", args.check_keys,
+                "measure the answer against the input's keys: keyed extremes and ends not drawn "
+                "(within 3 frames and 0.5% of the curve's range) and drawings a second; printed "
+                "after the summary and in --json's key_check");
   AddCurveFileFlags(cmd, args, "the drawings are");
   return cmd;
 }

@@ -1,5 +1,6 @@
 #include "client/curves_summary.h"
 
+#include <algorithm>
 #include <map>
 #include <vector>
 
@@ -8,6 +9,7 @@
 #include "absl/strings/str_join.h"
 #include "client/files.h"
 #include "convert/curves_convert.h"
+#include "core/key_check.h"
 
 namespace koma::client {
 namespace {
@@ -54,6 +56,62 @@ std::map<int, std::string> GroupOfTiming(const v1::RetimeCurvesResponse& respons
     }
   }
   return names;
+}
+
+// The keys the answer draws: how many it lists, and those that shared a drawing with a key of
+// a larger swing (not drawn), as "ID@FRAME".
+struct KeyCounts {
+  int listed = 0;
+  int displaced = 0;  // drawn a drawing early or late
+  std::vector<std::string> shared;
+};
+
+KeyCounts CountKeys(const v1::RetimeCurvesResponse& response) {
+  KeyCounts counts;
+  for (const v1::RetimedCurve& curve : response.curves()) {
+    for (const v1::KeyDrawing& key : curve.keys()) {
+      ++counts.listed;
+      if (key.displaced()) ++counts.displaced;
+      if (!key.drawn()) counts.shared.push_back(absl::StrCat(curve.id(), "@", key.frame()));
+    }
+  }
+  return counts;
+}
+
+// The key check of the answer (core/key_check.h): every stepped curve but those kept as they
+// came (timing -1) and the mouth and eyes LipBlink draws (no holds).
+KeyCheck CheckAnswerKeys(const CurveSet& curves, const v1::RetimeCurvesResponse& response) {
+  std::vector<std::vector<CurvePoint>> steps(static_cast<size_t>(response.curves_size()));
+  std::vector<const std::vector<CurvePoint>*> stepped(steps.size(), nullptr);
+  for (int c = 0; c < response.curves_size(); ++c) {
+    const v1::RetimedCurve& curve = response.curves(c);
+    if (curve.timing() < 0 || curve.hold_histogram_size() == 0) continue;
+    steps[c] = convert::StepsFromProto(curve.stepped());
+    stepped[c] = &steps[c];
+  }
+  KeyCheckOptions options;
+  options.timing_fps = response.timing_fps();
+  return CheckKeys(curves, stepped, options);
+}
+
+std::string KeyCheckText(const KeyCheck& check) {
+  std::string text = absl::StrFormat(
+      "  key check    %d keyed extremes, %d missed by more than 0.5%% of their curve's range",
+      check.extremes, check.extremes_missed);
+  const CurveKeyCheck* worst = nullptr;
+  for (const CurveKeyCheck& c : check.curves) {
+    if (c.extremes_missed > 0 && (worst == nullptr || c.worst_miss > worst->worst_miss)) worst = &c;
+  }
+  if (worst != nullptr) {
+    absl::StrAppendFormat(&text, " (worst %s at frame %g, %.1f%%)", worst->id,
+                          worst->worst_miss_frame, 100.0 * worst->worst_miss);
+  }
+  absl::StrAppendFormat(&text,
+                        "; %d ends missed; drawings a second over %zu moving curves: median "
+                        "%.2f, p95 %.2f, max %.2f\n",
+                        check.ends_missed, check.curves.size(), check.drawings_per_second_median,
+                        check.drawings_per_second_p95, check.drawings_per_second_max);
+  return text;
 }
 
 }  // namespace
@@ -126,6 +184,24 @@ std::string CurvesSummaryText(const CurvesArgs& args, const CurveSet& curves,
                             name, OnName(timing.frames_per_drawing()), absl::StrJoin(drawn, ", "));
     }
   }
+  const KeyCounts keys = CountKeys(response);
+  if (keys.listed > 0) {
+    absl::StrAppendFormat(&text, "  keys drawn   %d of %d (first, last and keyed extremes)",
+                          keys.listed - static_cast<int>(keys.shared.size()), keys.listed);
+    if (keys.displaced > 0) {
+      absl::StrAppendFormat(&text, "; %d a drawing early or late (two keys in one hold)",
+                            keys.displaced);
+    }
+    if (!keys.shared.empty()) {
+      const size_t shown = std::min<size_t>(keys.shared.size(), 5);
+      absl::StrAppendFormat(
+          &text, "; %zu shared a drawing with a larger swing: %s%s", keys.shared.size(),
+          absl::StrJoin(keys.shared.begin(), keys.shared.begin() + shown, ", "),
+          shown < keys.shared.size() ? ", ..." : "");
+    }
+    absl::StrAppend(&text, "\n");
+  }
+  if (args.check_keys) absl::StrAppend(&text, KeyCheckText(CheckAnswerKeys(curves, response)));
   if (!args.timing.empty()) {
     absl::StrAppend(&text, "  drawing sheet: ", OutputName(args.timing), "\n");
   }
@@ -180,8 +256,44 @@ nlohmann::json CurvesSummaryJson(const CurvesArgs& args, const CurveSet& curves,
     for (const v1::HoldCount& c : curve.hold_histogram()) {
       histogram.push_back({{"length", c.length()}, {"drawings", c.drawings()}});
     }
-    j["curves"].push_back(
-        {{"id", curve.id()}, {"timing", curve.timing()}, {"hold_histogram", histogram}});
+    int shared = 0, displaced = 0;
+    for (const v1::KeyDrawing& key : curve.keys()) {
+      shared += key.drawn() ? 0 : 1;
+      displaced += key.displaced() ? 1 : 0;
+    }
+    j["curves"].push_back({{"id", curve.id()},
+                           {"timing", curve.timing()},
+                           {"hold_histogram", histogram},
+                           {"keys_drawn", curve.keys_size() - shared},
+                           {"keys_displaced", displaced},
+                           {"keys_shared", shared}});
+  }
+  const KeyCounts keys = CountKeys(response);
+  j["keys_drawn"] = keys.listed - static_cast<int>(keys.shared.size());
+  j["keys_displaced"] = keys.displaced;
+  j["keys_shared"] = keys.shared.size();
+  if (args.check_keys) {
+    const KeyCheck check = CheckAnswerKeys(curves, response);
+    nlohmann::json missed = nlohmann::json::array();
+    for (const CurveKeyCheck& c : check.curves) {
+      if (c.extremes_missed == 0 && !c.first_missed && !c.last_missed) continue;
+      missed.push_back({{"id", c.id},
+                        {"extremes", c.extremes},
+                        {"extremes_missed", c.extremes_missed},
+                        {"worst_miss", c.worst_miss},
+                        {"worst_miss_frame", c.worst_miss_frame},
+                        {"first_missed", c.first_missed},
+                        {"last_missed", c.last_missed}});
+    }
+    j["key_check"] = {{"curves", check.curves.size()},
+                      {"extremes", check.extremes},
+                      {"extremes_missed", check.extremes_missed},
+                      {"ends_missed", check.ends_missed},
+                      {"drawings_per_second",
+                       {{"median", check.drawings_per_second_median},
+                        {"p95", check.drawings_per_second_p95},
+                        {"max", check.drawings_per_second_max}}},
+                      {"missed", missed}};
   }
   return j;
 }

@@ -164,8 +164,9 @@ int RunSpineCurves(const CurvesArgs& args, const CurveInput& input, const Comman
     if (summary.is_null()) summary = animation_summary;
     animations.push_back(std::move(animation_summary));
     if (!args.timing.empty() && response.timings_size() > 0) {
+      const DrawingTiming timing = TimingFromProto(response.timings(0));
       const std::string sheet = formats::WriteDrawingSheetCsv(
-          TimingFromProto(response.timings(0)), selected.curves.fps);
+          {"body", &timing, convert::KeysByDrawing(response, 0)}, selected.curves.fps);
       if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return out.Failure(s);
     }
     if (!args.xdts.empty()) {

@@ -9,6 +9,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "convert/curves_convert.h"
 #include "core/film_grid.h"
 
 namespace koma::client {
@@ -199,7 +200,19 @@ absl::StatusOr<XdtsSheet> CurvesXdtsSheet(const v1::RetimeCurvesResponse& respon
       }
       track.cells[r] = absl::StrCat(std::max(drawing, 0) + 1);
     }
+    // The key drawings (genga) of this track: a one-row dialog line where each drawing that
+    // draws some curve's key starts, naming the curves (docs/semantics.md, "Every key is
+    // drawn").
+    const std::vector<std::vector<std::string>> keys = convert::KeysByDrawing(response, i);
+    XdtsDialogTrack key_track{absl::StrCat(track.name, " keys"), {}};
+    const auto& starts = grid ? timing.drawing_start_grid() : timing.drawing_start();
+    for (int d = 0; d < starts.size() && static_cast<size_t>(d) < keys.size(); ++d) {
+      const int begin = starts[d];
+      if (keys[d].empty() || begin < 0 || begin >= rows) continue;
+      key_track.lines.push_back({begin, begin + 1, "key", absl::StrJoin(keys[d], ", ")});
+    }
     sheet.cell_tracks.push_back(std::move(track));
+    if (!key_track.lines.empty()) sheet.dialog_tracks.push_back(std::move(key_track));
   }
   return sheet;
 }

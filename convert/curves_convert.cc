@@ -185,6 +185,45 @@ const char* MouthShapeName(int shape) {
   }
 }
 
+std::vector<std::vector<std::string>> KeysByDrawing(const v1::RetimeCurvesResponse& response,
+                                                    int timing) {
+  if (timing < 0 || timing >= response.timings_size()) return {};
+  std::vector<std::vector<std::string>> ids(
+      static_cast<size_t>(response.timings(timing).drawing_start_size()));
+  for (const v1::RetimedCurve& curve : response.curves()) {
+    if (curve.timing() != timing) continue;
+    for (const v1::KeyDrawing& key : curve.keys()) {
+      if (!key.drawn() || key.drawing() < 0 || static_cast<size_t>(key.drawing()) >= ids.size()) {
+        continue;
+      }
+      std::vector<std::string>& names = ids[static_cast<size_t>(key.drawing())];
+      if (names.empty() || names.back() != curve.id()) names.push_back(curve.id());
+    }
+  }
+  return ids;
+}
+
+v1::KeyRole KeyRoleToProto(KeyRole role) {
+  switch (role) {
+    case KeyRole::kFirst:
+      return v1::KEY_ROLE_FIRST;
+    case KeyRole::kLast:
+      return v1::KEY_ROLE_LAST;
+    case KeyRole::kExtreme:
+      break;
+  }
+  return v1::KEY_ROLE_EXTREME;
+}
+
+void KeyDrawingToProto(const KeyDrawing& key, v1::KeyDrawing* out) {
+  out->set_frame(key.frame);
+  out->set_value(key.value);
+  out->set_role(KeyRoleToProto(key.role));
+  out->set_drawing(key.drawing);
+  out->set_drawn(key.drawn);
+  out->set_displaced(key.displaced);
+}
+
 v1::CurveTimingGroupMode TimingGroupModeToProto(TimingGroupMode mode) {
   switch (mode) {
     case TimingGroupMode::kKeep:

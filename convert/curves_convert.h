@@ -49,6 +49,17 @@ DrawingTiming TimingFromProto(const v1::DrawingTiming& timing);
 // "unspecified" for any other value.
 const char* MouthShapeName(int shape);
 
+// Per drawing of response.timings(timing): the ids of the curves whose keys it draws (their
+// KeyDrawing with drawn = true), in the curves' order. Sized to the timing's drawings.
+std::vector<std::vector<std::string>> KeysByDrawing(const v1::RetimeCurvesResponse& response,
+                                                    int timing);
+
+// A core key role (core/key_drawings.h) as the proto's.
+v1::KeyRole KeyRoleToProto(KeyRole role);
+
+// A core key drawing as the proto's.
+void KeyDrawingToProto(const KeyDrawing& key, v1::KeyDrawing* out);
+
 // A core timing group mode as the proto's.
 v1::CurveTimingGroupMode TimingGroupModeToProto(TimingGroupMode mode);
 

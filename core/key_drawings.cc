@@ -28,6 +28,9 @@ std::vector<KeyDrawing> KeysToDraw(const Curve& curve) {
   const auto point = [&curve](size_t i) -> const CurvePoint& {
     return i == 0 ? curve.start : curve.segments[i - 1].end;
   };
+  bool moves = false;
+  for (size_t i = 1; i < n && !moves; ++i) moves = point(i).value != curve.start.value;
+  if (!moves) return keys;  // every drawing shows the one value: nothing to place
   for (size_t i = 0; i < n; ++i) {
     const CurvePoint& p = point(i);
     // Changes of value from the point before and to the point after (0 at the ends).
@@ -35,7 +38,10 @@ std::vector<KeyDrawing> KeysToDraw(const Curve& curve) {
     const double out = i + 1 < n ? point(i + 1).value - p.value : 0.0;
     KeyDrawing key;
     key.frame = p.frame;
-    key.value = p.value;
+    // What the curve shows at the key's time: its value, but where an inverse-stepped segment
+    // starts the next point's value, which that segment shows from the key on.
+    const bool inverse = i + 1 < n && curve.segments[i].type == SegmentType::kInverseStepped;
+    key.value = inverse ? point(i + 1).value : p.value;
     key.swing = std::max(std::fabs(in), std::fabs(out));
     if (i + 1 == n) {
       key.role = KeyRole::kLast;

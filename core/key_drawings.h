@@ -25,7 +25,9 @@ enum class KeyRole : unsigned char {
 // One keyframe the rule draws.
 struct KeyDrawing {
   double frame = 0.0;  // the key's time, in (fractional) source frames
-  double value = 0.0;  // its input value: the drawing shows exactly this
+  // Its input value, which the drawing shows exactly: the curve's value at the key's time (the
+  // key's own value, or the next key's where an inverse-stepped segment starts at the key).
+  double value = 0.0;
   KeyRole role = KeyRole::kExtreme;
   double swing = 0.0;  // largest change of value to a neighbouring keyframe (units of the curve)
   // The drawing that shows the key: the one whose hold contains it, or (displaced) the one
@@ -44,7 +46,8 @@ struct KeyDrawing {
 // extreme when the value turns there (rises then falls, or falls then rises) or a run of equal
 // values starts or ends there (a hold the animator keyed); a point inside a flat run or on a
 // monotone stretch is not. `drawing` is left 0. Empty for a dense curve (it has no keyframes)
-// and for a curve with no segments (one point: nothing moves).
+// and for a curve whose keyframes all have one value (a Bezier's handles aside, nothing moves:
+// every drawing shows that value).
 std::vector<KeyDrawing> KeysToDraw(const Curve& curve);
 
 // The source time each drawing shows of one curve, and its keys placed on the drawings.

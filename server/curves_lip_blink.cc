@@ -96,6 +96,7 @@ absl::Status DrawGroupLipBlinks(const std::vector<GroupLipBlink>& jobs, KomaUchi
         out.values = std::move(held);
       }
       out.hold_histogram.clear();
+      out.keys.clear();  // LipBlink draws these curves, not the key rule
     }
   }
   return absl::OkStatus();

@@ -221,6 +221,7 @@ void FillCurvesResponse(const CurveSet& set, const KomaUchiResult& result,
       count->set_length(length);
       count->set_drawings(drawings);
     }
+    for (const KeyDrawing& key : in.keys) convert::KeyDrawingToProto(key, out->add_keys());
   }
   response->set_timing_fps(result.timing_fps);
   response->mutable_key_grid_frames()->Add(result.key_grid_frames.begin(),

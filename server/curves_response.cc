@@ -7,6 +7,7 @@
 #include <string>
 
 #include "absl/base/config.h"
+#include "convert/curves_convert.h"
 #include "koma/v1/motion.pb.h"
 #include "koma/v1/retime.pb.h"
 #include "server/response_slice.h"
@@ -46,6 +47,7 @@ constexpr uint8_t kTiming = Tag(2, kVarint);
 constexpr uint8_t kValues = Tag(3, kLength);
 constexpr uint8_t kStepped = Tag(4, kLength);
 constexpr uint8_t kHoldHistogram = Tag(5, kLength);
+constexpr uint8_t kKeys = Tag(6, kLength);
 }  // namespace retimed
 namespace curve {  // Curve (stepped: id, start, then stepped segments)
 constexpr uint8_t kId = Tag(1, kLength);
@@ -60,6 +62,14 @@ namespace point {  // CurvePoint
 constexpr uint8_t kFrame = Tag(1, kFixed64);
 constexpr uint8_t kValue = Tag(2, kFixed64);
 }  // namespace point
+namespace key {  // KeyDrawing
+constexpr uint8_t kFrame = Tag(1, kFixed64);
+constexpr uint8_t kValue = Tag(2, kFixed64);
+constexpr uint8_t kRole = Tag(3, kVarint);
+constexpr uint8_t kDrawing = Tag(4, kVarint);
+constexpr uint8_t kDrawn = Tag(5, kVarint);
+constexpr uint8_t kDisplaced = Tag(6, kVarint);
+}  // namespace key
 namespace hold {  // HoldCount
 constexpr uint8_t kLength = Tag(1, kVarint);
 constexpr uint8_t kDrawings = Tag(2, kVarint);
@@ -87,6 +97,12 @@ size_t PointBody(const CurvePoint& p) {
 }
 
 size_t HoldBody(int length, int drawings) { return Int32Field(length) + Int32Field(drawings); }
+
+// A KeyDrawing's body: at most 9 + 9 + 2 + 11 + 2 + 2 = 35 bytes, so its length is one byte.
+size_t KeyBody(const KeyDrawing& k) {
+  return (Bits(k.frame) != 0 ? 9 : 0) + (Bits(k.value) != 0 ? 9 : 0) + 2 +
+         Int32Field(k.drawing) + (k.drawn ? 2 : 0) + (k.displaced ? 2 : 0);
+}
 
 size_t SteppedBody(const std::string& id, const std::vector<CurvePoint>& steps) {
   size_t bytes = id.empty() ? 0 : LengthField(id.size());
@@ -193,6 +209,7 @@ CurvesResponseEncoder::CurvesResponseEncoder(const CurveSet& set, const KomaUchi
     for (const auto& [length, drawings] : in.hold_histogram) {
       sizes.body += LengthField(HoldBody(length, drawings));
     }
+    for (const KeyDrawing& key : in.keys) sizes.body += 2 + KeyBody(key);
     sizes.field = LengthField(sizes.body);
     size_ += sizes.field;
     curves_.push_back(sizes);
@@ -259,6 +276,23 @@ uint8_t* CurvesResponseEncoder::WriteCurve(size_t c, uint8_t* out) const {
     out = WriteLength(retimed::kHoldHistogram, HoldBody(length, drawings), out);
     out = WriteInt32Field(hold::kLength, length, out);
     out = WriteInt32Field(hold::kDrawings, drawings, out);
+  }
+  for (const KeyDrawing& key : in.keys) {
+    *out++ = retimed::kKeys;
+    *out++ = static_cast<uint8_t>(KeyBody(key));
+    out = WriteDouble(key::kFrame, key.frame, out);
+    out = WriteDouble(key::kValue, key.value, out);
+    *out++ = key::kRole;
+    *out++ = static_cast<uint8_t>(convert::KeyRoleToProto(key.role));
+    out = WriteInt32Field(key::kDrawing, key.drawing, out);
+    if (key.drawn) {
+      *out++ = key::kDrawn;
+      *out++ = 1;
+    }
+    if (key.displaced) {
+      *out++ = key::kDisplaced;
+      *out++ = 1;
+    }
   }
   return out;
 }

@@ -157,12 +157,30 @@ nlohmann::json CurvesReportWriter::Data() const {
     for (int k = 0; k < q.curves().curves_size(); ++k) {
       if (q.curves().curves(k).id() == c.id()) before = SampleInputCurve(q.curves(), k);
     }
+    // The keys koma draws exactly: [time s, value, drawn, displaced, the showing drawing's
+    // start s] (docs/semantics.md, "Every key is drawn").
+    nlohmann::json keys = nlohmann::json::array();
+    const v1::DrawingTiming* timing =
+        c.timing() >= 0 && c.timing() < r.timings_size() ? &r.timings(c.timing()) : nullptr;
+    for (const v1::KeyDrawing& k : c.keys()) {
+      double start = k.frame() / fps;
+      if (timing != nullptr && k.drawing() >= 0) {
+        if (grid && k.drawing() < timing->drawing_start_grid_size()) {
+          start = timing->drawing_start_grid(k.drawing()) / r.timing_fps();
+        } else if (!grid && k.drawing() < timing->drawing_start_size()) {
+          start = timing->drawing_start(k.drawing()) / fps;
+        }
+      }
+      keys.push_back({Round6(k.frame() / fps), Round6(k.value()), k.drawn(), k.displaced(),
+                      Round6(start)});
+    }
     curves.push_back({{"id", c.id()},
                       {"timing", c.timing()},
                       {"group", group_of_curve[static_cast<size_t>(i)]},
                       {"before", ThinnedPlot(before, 1.0 / fps)},
                       {"after", AfterPlot(c, fps)},
-                      {"histogram", histogram}});
+                      {"histogram", histogram},
+                      {"keys", keys}});
   }
   data["curves"] = curves;
   data["xdts"] = ExposureSheetData(CurvesXdtsSheet(r, XdtsClipName(input_name_, "")));

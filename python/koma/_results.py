@@ -116,6 +116,11 @@ class SkeletalResult(_Result):
         return f"SkeletalResult(counts={self.counts})"
 
 
+# KeyDrawing.role as the word docs/python.md uses.
+_KEY_ROLES = {retime_pb2.KEY_ROLE_FIRST: "first", retime_pb2.KEY_ROLE_LAST: "last",
+              retime_pb2.KEY_ROLE_EXTREME: "extreme"}
+
+
 class CurvesResult(_Result):
     """A RetimeCurves answer.
 
@@ -134,7 +139,9 @@ class CurvesResult(_Result):
             drawing_start, drawing_start_grid (frames; grid frames for the last).
         curves: {curve id: {"timing": index into timings (-1: a GROUP_KEEP curve, as it came
             in), "values": per-frame values, "holds": {length in frames: drawings} (empty for
-            kept curves and the mouth and eyes LipBlink draws)}}.
+            kept curves and the mouth and eyes LipBlink draws), "keys": the keys koma draws
+            exactly (docs/semantics.md, "Every key is drawn"): [{"frame", "value", "role"
+            ("first", "last" or "extreme"), "drawing", "drawn", "displaced"}]}}.
         counts: dict with curves, frames, key_poses, drawings (of the default timing).
         timing_fps: the film grid used (frames per second); 0 when counting source frames.
         response: the koma.v1.RetimeCurvesResponse message itself.
@@ -162,7 +169,11 @@ class CurvesResult(_Result):
         } for t in response.timings]
         self.timing = dict(enumerate(self.timings[0]["source_frame"])) if self.timings else {}
         self.curves = {c.id: {"timing": c.timing, "values": list(c.values),
-                              "holds": {h.length: h.drawings for h in c.hold_histogram}}
+                              "holds": {h.length: h.drawings for h in c.hold_histogram},
+                              "keys": [{"frame": k.frame, "value": k.value,
+                                        "role": _KEY_ROLES.get(k.role, "unspecified"),
+                                        "drawing": k.drawing, "drawn": k.drawn,
+                                        "displaced": k.displaced} for k in c.keys]}
                        for c in response.curves}
         self.counts = {
             "curves": len(response.curves),

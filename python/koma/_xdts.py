@@ -140,7 +140,7 @@ def curves_sheet(response, name):
     if rows == 0:
         raise ValueError("the answer times no curve")
     tracks = sum(1 for group in ids if group)
-    cells = []
+    cells, dialog = [], []
     for i, timing in enumerate(response.timings):
         if not ids[i]:
             continue
@@ -159,7 +159,21 @@ def curves_sheet(response, name):
                 drawing = of_frame[min(r, len(of_frame) - 1)]
             column.append(str(max(drawing, 0) + 1))
         cells.append((track_name, column))
-    return {"name": name, "duration": rows, "cells": cells, "dialog": []}
+        # client/xdts_sheets.cc: a one-row line where each drawing that draws a key starts.
+        keys = [[] for _ in timing.drawing_start]
+        for curve in response.curves:
+            if curve.timing != i:
+                continue
+            for key in curve.keys:
+                if key.drawn and 0 <= key.drawing < len(keys):
+                    if not keys[key.drawing] or keys[key.drawing][-1] != curve.id:
+                        keys[key.drawing].append(curve.id)
+        begins = list(timing.drawing_start_grid) if grid else list(timing.drawing_start)
+        lines = [(begins[d], begins[d] + 1, "key", ", ".join(keys[d]))
+                 for d in range(min(len(begins), len(keys))) if keys[d] and 0 <= begins[d] < rows]
+        if lines:
+            dialog.append((f"{track_name} keys", lines))
+    return {"name": name, "duration": rows, "cells": cells, "dialog": dialog}
 
 
 def _nearest_level(value, levels):

@@ -57,6 +57,7 @@ TEST(KeysToDrawTest, DenseAndSinglePointCurvesHaveNone) {
   Curve point;
   point.start = {0, 1};
   EXPECT_TRUE(KeysToDraw(point).empty());
+  EXPECT_TRUE(KeysToDraw(Linear({{0, 2}, {5, 2}, {9, 2}})).empty());  // flat: nothing moves
 }
 
 KeyDrawing Key(double frame, double value, KeyRole role, double swing, int drawing) {
@@ -206,12 +207,18 @@ std::vector<double> NaiveValues(const Curve& curve, const DrawingTiming& timing,
   std::vector<CurvePoint> p = {curve.start};
   for (const CurveSegment& s : curve.segments) p.push_back(s.end);
   std::vector<NaiveKey> keys;
-  for (size_t i = 0; i < p.size(); ++i) {
+  const bool flat = std::all_of(p.begin(), p.end(),
+                                [&p](const CurvePoint& q) { return q.value == p[0].value; });
+  for (size_t i = 0; i < (flat ? 0 : p.size()); ++i) {
     const double in = i > 0 ? p[i].value - p[i - 1].value : 0;
     const double out = i + 1 < p.size() ? p[i + 1].value - p[i].value : 0;
     const int rank = i + 1 == p.size() ? 2 : i == 0 ? 1 : 0;
     const bool extreme = (in * out < 0) || ((in == 0) != (out == 0));
-    if (rank > 0 || extreme) keys.push_back({p[i].frame, p[i].value, std::max(std::fabs(in), std::fabs(out)), rank});
+    // The value shown at the key: an inverse-stepped segment shows the next point's from there.
+    const double shown = i + 1 < p.size() && curve.segments[i].type == SegmentType::kInverseStepped
+                             ? p[i + 1].value
+                             : p[i].value;
+    if (rank > 0 || extreme) keys.push_back({p[i].frame, shown, std::max(std::fabs(in), std::fabs(out)), rank});
   }
   const size_t drawings = timing.drawing_start.size();
   std::vector<double> tau(drawings);

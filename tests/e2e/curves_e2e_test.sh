@@ -47,6 +47,28 @@ for b, a in zip(before["Curves"], after["Curves"]):
 print("motion3.json checks passed")
 PY
 
+# Every key is drawn (issue 40): the sample's keys, measured by --check-keys, and each drawing
+# that carries keys named in the sheet's keys column and the XDTS's key track.
+"$client_bin" curves "$sample" -o "$work/keys.motion3.json" --check-keys --json \
+  --timing "$work/keys.csv" --xdts "$work/keys.xdts" --server "$target" >"$work/keys.json" \
+  || fail "koma curves --check-keys failed"
+python3 - "$work/keys.json" "$work/keys.csv" "$work/keys.xdts" <<'PY' || fail "keys are not drawn"
+import csv, json, sys
+summary = json.load(open(sys.argv[1]))
+check = summary["key_check"]
+assert check["ends_missed"] == 0, check
+assert check["extremes"] > 0 and check["extremes_missed"] <= summary["keys_shared"], check
+named = [row["keys"] for row in csv.DictReader(open(sys.argv[2])) if row["keys"]]
+assert named, "no drawing sheet row names a key"
+xdts = json.loads(open(sys.argv[3], encoding="utf-8").read().partition("\n")[2])
+table = xdts["timeTables"][0]
+dialog = [f for f in table["fields"] if f["fieldId"] == 3]
+assert dialog, "no key track in the XDTS"
+headers = [h for h in table["timeTableHeaders"] if h["fieldId"] == 3][0]["names"]
+assert all(name.endswith(" keys") for name in headers), headers
+print("keys:", summary["keys_drawn"], "drawn,", summary["keys_shared"], "shared;", check)
+PY
+
 # The retimed file reads back: retime it again.
 "$client_bin" curves "$work/out.motion3.json" -o "$work/again.motion3.json" \
   --server "$target" >/dev/null || fail "the written motion3.json does not read back"

@@ -33,6 +33,31 @@ assert a == b
 PY
 done
 
+# Keys are sacred (issue 40): the real 3.7 walk is a cycle, every bone value whose input ends
+# where it starts ends there written (the torso's last key 0 was written as 11.3), and the
+# torso's bounce keyed at 30 is drawn at 30 (it was 29.8).
+"$python" - "$here" "$data/matt-3.7.json" "$work/matt-3.7.anime.json" <<'PY' || fail "matt walk: the loop does not close or a key is not drawn"
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import spine_eval
+before, after = (json.load(open(p, encoding="utf-8")) for p in sys.argv[2:4])
+closed = spine_eval.loop_closes(before, after, "walk")
+assert closed >= 3, closed
+torso = spine_eval.bone_values(after)["walk"]["torso/translate.y"]
+keyed = spine_eval.bone_values(before)["walk"]["torso/translate.y"]
+assert max(keyed.values) in torso.values, (max(keyed.values), torso.values)
+print("matt walk:", closed, "bone values close their loop; the bounce", max(keyed.values), "is drawn")
+PY
+# --check-keys measures it: no keyed extreme or end missed on the walk.
+"$client_bin" curves "$data/matt-3.7.json" -o "$work/matt-check.json" --animation walk --check-keys \
+  --json --server "$target" >"$work/matt-check.summary.json" || fail "--check-keys failed"
+"$python" - "$work/matt-check.summary.json" <<'PY' || fail "matt walk: --check-keys finds missed keys"
+import json, sys
+check = json.load(open(sys.argv[1]))["key_check"]
+assert check["ends_missed"] == 0 and check["extremes_missed"] == 0, check
+assert check["extremes"] > 0 and check["drawings_per_second"]["max"] <= 8.5, check
+PY
+
 # 30 fps on threes: 8 drawings a second (idle's keys are 1 s apart); only the named animation
 # changes; everything koma does not retime is unchanged.
 "$client_bin" curves "$data/hero-3.8.json" -o "$work/walk.json" --animation walk --server "$target" \

@@ -8,9 +8,16 @@ curves (absent or "linear": linear; "stepped"; a Bezier: 3.7 `curve: [cx1, cy1, 
 absolute per value), the setup pose before a timeline's first key, the last value after it.
 
 check(before, after, animations): for every bone value of every animation retimed, at every
-grid time g / 24 s, the output's value equals the input's value at the time of the drawing that
-shows on grid frame g (koma's semantics: key poses snapped to the grid, D = ceil(L / 3) drawings
-per segment held as evenly as possible, longer holds first, drawing j at G_x + L * j / D).
+grid time g / 24 s, the output's value equals what the drawing shown on grid frame g must show
+of that value (docs/semantics.md): key poses snapped to the grid and merged, max(1, L // 3)
+drawings per segment held as evenly as possible, longer holds first, drawing j at
+T_x + (T_{x+1} - T_x) * j / D between the key poses' own times; and every key drawn: the
+value's first, last and extreme keys shown exactly by the drawing whose hold contains them (a
+key that loses its drawing to a larger swing moves next door when no key falls there), the
+other drawings at their tau clamped between the keys drawn around them.
+
+Key times are taken as Spine writes them, to 4 decimals: a time within 0.00005 s of a whole
+frame is that frame (docs/formats.md).
 """
 import json
 import math
@@ -24,9 +31,19 @@ def _round_half_away(x):
     return int(math.floor(abs(x) + 0.5)) * (1 if x >= 0 else -1)
 
 
+def snap_time(t, fps):
+    """A Spine key time (seconds, written to 4 decimals) within that precision of a whole frame
+    is that frame's time."""
+    frame = t * fps
+    whole = round(frame)
+    return whole / fps if abs(frame - whole) <= 0.00005 * fps + 1e-12 else t
+
+
 class Timeline:
-    def __init__(self, keys, fields, component, neutral, major):
+    def __init__(self, keys, fields, component, neutral, major, fps=None):
         self.times = [float(k.get("time", 0)) for k in keys]
+        if fps is not None:
+            self.times = [snap_time(t, fps) for t in self.times]
         self.values = [float(k.get(fields[component], neutral)) for k in keys]
         self.neutral = neutral
         self.beziers = []
@@ -93,6 +110,7 @@ def bone_values(doc):
         kinds4[base + "x"] = (base, ["value"], [".x"])
         kinds4[base + "y"] = (base, ["value"], [".y"])
     kinds = kinds3 if major == 3 else kinds4
+    fps = float(doc["skeleton"].get("fps", 30))
     out = {}
     for name, animation in doc.get("animations", {}).items():
         curves = {}
@@ -104,7 +122,7 @@ def bone_values(doc):
                 for c, suffix in enumerate(suffixes):
                     # in 3.x a scale key's missing x/y is 1 (3.8's documented default).
                     neutral = 1.0 if base == "scale" else 0.0
-                    curves["%s/%s%s" % (bone, base, suffix)] = Timeline(keys, fields, c, neutral, major)
+                    curves["%s/%s%s" % (bone, base, suffix)] = Timeline(keys, fields, c, neutral, major, fps)
         out[name] = curves
     return out
 
@@ -122,12 +140,14 @@ def duration(value):
     return latest
 
 
-def drawing_times(doc, name, curves, on=ON, merge=True):
-    """Per grid frame g, the grid time tau (in grid frames) of the drawing shown there, `on`
-    grid frames per drawing. Key poses are the keys' times snapped to the grid; with `merge`
-    (koma's default, docs/semantics.md "Key poses"), a time less than `on` grid frames after
-    the pose before it, or before the last frame, joins that pose, and a segment of L frames
-    gets max(1, L // on) drawings; without it ceil(L / on)."""
+def drawing_layout(doc, name, curves, on=ON, merge=True):
+    """The drawings of an animation on the grid: (drawing_of_grid, starts, taus) with, per grid
+    frame, the drawing shown; per drawing its first grid frame and its tau in seconds. Key poses
+    are the keys' times rounded to frames, snapped to the grid (the first of several on one grid
+    frame kept); with `merge` (koma's default, docs/semantics.md "Key poses") a time less than
+    `on` grid frames after the pose before it, or before the last frame, joins that pose, and a
+    segment of L frames gets max(1, L // on) drawings; without it ceil(L / on). Taus lie between
+    the key poses' own times, the last drawing at the clip's end."""
     fps = float(doc["skeleton"].get("fps", 30))
     last = _round_half_away(duration(doc["animations"][name]) * fps)
     grid_count = int(math.floor(last * GRID_FPS / fps + 1e-9)) + 1
@@ -135,28 +155,84 @@ def drawing_times(doc, name, curves, on=ON, merge=True):
     source_keys = {0, last}
     for timeline in curves.values():
         source_keys.update(_round_half_away(t * fps) for t in timeline.keys())
-    grid_keys = []
+    poses = []  # (grid frame, source frame)
     for k in sorted(source_keys):
         g = min(_round_half_away(k * GRID_FPS / fps), last_grid)
-        if g == last_grid or (grid_keys and grid_keys[-1] == g):
+        if g == last_grid or (poses and poses[-1][0] == g):
             continue
-        if merge and grid_keys and (g - grid_keys[-1] < on or last_grid - g < on):
+        if merge and poses and (g - poses[-1][0] < on or last_grid - g < on):
             continue
-        grid_keys.append(g)
-    grid_keys.append(last_grid)
-    tau = [None] * grid_count
-    for a, b in zip(grid_keys, grid_keys[1:]):
+        poses.append((g, k))
+    poses.append((last_grid, last))
+    drawing_of_grid = [None] * grid_count
+    starts, taus = [], []
+    for (a, ta), (b, tb) in zip(poses, poses[1:]):
         length = b - a
         count = max(1, length // on) if merge else -(-length // on)
         q, r = divmod(length, count)
         start = a
         for j in range(count):
             hold = q + 1 if j < r else q
+            starts.append(start)
+            taus.append((ta + (tb - ta) * j / count) / fps)
             for g in range(start, start + hold):
-                tau[g] = a + length * j / count
+                drawing_of_grid[g] = len(starts) - 1
             start += hold
-    tau[last_grid] = last_grid
-    return tau
+    starts.append(last_grid)
+    taus.append(last / fps)
+    drawing_of_grid[last_grid] = len(starts) - 1
+    return drawing_of_grid, starts, taus
+
+
+def drawn_values(timeline, drawing_of_grid, taus):
+    """Per drawing, the value a bone value shows: its keys to draw (first, last, and each key
+    whose value turns or starts or ends a run of equal values) each in the drawing of the grid
+    frame nearest its time; one per drawing (last, then first, then the largest change to a
+    neighbouring key, the earlier of equals); a loser moves to the drawing before (it is earlier
+    than the winner) or after, when no key falls there; the other drawings at their tau clamped
+    between the drawn keys around them."""
+    t, v = timeline.times, timeline.values
+    keys = []  # (time, value, rank, swing)
+    for i in range(len(t)):
+        inc = v[i] - v[i - 1] if i > 0 else 0.0
+        out = v[i + 1] - v[i] if i + 1 < len(t) else 0.0
+        rank = 2 if i + 1 == len(t) else 1 if i == 0 else 0
+        if rank or inc * out < 0 or ((inc == 0) != (out == 0)):
+            keys.append((t[i], v[i], rank, max(abs(inc), abs(out))))
+    count = len(taus)
+    last_grid = len(drawing_of_grid) - 1
+
+    def beats(k, c):
+        return c is None or keys[k][2] > keys[c][2] or (keys[k][2] == keys[c][2] and keys[k][3] > keys[c][3])
+
+    home, carried = [], [None] * count
+    for k, key in enumerate(keys):
+        g = min(max(math.ceil(key[0] * GRID_FPS - 0.5 - 1e-9), 0), last_grid)
+        home.append(drawing_of_grid[g])
+        if beats(k, carried[home[k]]):
+            carried[home[k]] = k
+    moved = list(carried)
+    for k in range(len(keys)):
+        w = carried[home[k]]
+        if w == k:
+            continue
+        target = home[k] - 1 if keys[k][0] < keys[w][0] else home[k] + 1
+        if 0 <= target < count and carried[target] is None and beats(k, moved[target]):
+            moved[target] = k
+    values = []
+    for d in range(count):
+        if moved[d] is not None:
+            values.append(keys[moved[d]][1])
+            continue
+        before = [moved[e] for e in range(d) if moved[e] is not None]
+        after = [moved[e] for e in range(d + 1, count) if moved[e] is not None]
+        if before and taus[d] <= keys[before[-1]][0]:
+            values.append(keys[before[-1]][1])
+        elif after and taus[d] >= keys[after[0]][0]:
+            values.append(keys[after[0]][1])
+        else:
+            values.append(timeline.at(taus[d]))
+    return values
 
 
 def check(before_doc, after_doc, animations, on=ON):
@@ -166,7 +242,7 @@ def check(before_doc, after_doc, animations, on=ON):
     for name in animations:
         before, after = before_all[name], after_all[name]
         assert sorted(before) == sorted(after), (name, sorted(before), sorted(after))
-        tau = drawing_times(before_doc, name, before, on)
+        drawing_of_grid, _, taus = drawing_layout(before_doc, name, before, on)
         fps = float(before_doc["skeleton"].get("fps", 30))
         clip_end = _round_half_away(duration(before_doc["animations"][name]) * fps) / fps
         for curve_id, timeline in before.items():
@@ -180,13 +256,28 @@ def check(before_doc, after_doc, animations, on=ON):
                         name, curve_id, "key off the grid", t)
                 if k + 1 < len(out.times):
                     assert out.beziers[k] == "stepped", (name, curve_id, k, out.beziers[k])
-            for g, drawing in enumerate(tau):
-                want = timeline.at(drawing / GRID_FPS)
+            shown = drawn_values(timeline, drawing_of_grid, taus)
+            for g, drawing in enumerate(drawing_of_grid):
+                want = shown[drawing]
                 got = out.at(g / GRID_FPS)
                 assert abs(got - want) <= 1e-6 * max(1.0, abs(want)), (
-                    name, curve_id, "grid frame", g, "got", got, "want", want, "tau", drawing)
+                    name, curve_id, "grid frame", g, "got", got, "want", want, "drawing", drawing,
+                    "tau", taus[drawing])
                 checked += 1
     return checked
+
+
+def loop_closes(before_doc, after_doc, animation):
+    """For every bone value whose input ends on the value it starts with, the output does too."""
+    before, after = bone_values(before_doc)[animation], bone_values(after_doc)[animation]
+    closed = 0
+    for curve_id, timeline in before.items():
+        if len(timeline.values) < 2 or timeline.values[0] != timeline.values[-1]:
+            continue
+        out = after[curve_id]
+        assert abs(out.values[-1] - out.values[0]) <= 1e-9, (animation, curve_id, out.values[0], out.values[-1])
+        closed += 1
+    return closed
 
 
 def drawings_in(doc, name, curve_id, begin, end):

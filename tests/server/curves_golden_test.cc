@@ -6,10 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "convert/curves_convert.h"
+#include "core/curves.h"
 #include "core/split_mix64.h"
 #include "koma/v1/retime.pb.h"
 #include "tests/server/curves_request_builder.h"
@@ -48,6 +51,30 @@ grpc::Status RawCall(koma::testing::InProcessServer& server, const std::string& 
   return koma::testing::RawUnaryCall(server, "/koma.v1.Retime/RetimeCurves", request_bytes, answer);
 }
 
+// Where every key is a key pose (source frames, no merging, whole-frame keys), drawing every
+// key changes no drawing: each value is still the curve at its drawing's tau, but for the last
+// bits of a drawing that shows a key (its exact value where a Bezier evaluated at its own key
+// time may differ by an ulp). Checked to 1e-9 of each value.
+void ExpectValuesAtTau(const v1::RetimeCurvesRequest& request, const std::string& bytes) {
+  v1::RetimeCurvesResponse response;
+  ASSERT_TRUE(response.ParseFromString(bytes));
+  const absl::StatusOr<CurveSet> set = convert::CurveSetFromProto(request.curves(), "curves");
+  ASSERT_TRUE(set.ok()) << set.status();
+  int keys = 0;
+  for (int c = 0; c < response.curves_size(); ++c) {
+    const v1::RetimedCurve& curve = response.curves(c);
+    const v1::DrawingTiming& timing = response.timings(curve.timing());
+    keys += curve.keys_size();
+    for (int f = 0; f < curve.values_size(); ++f) {
+      const double want =
+          EvaluateCurve(set->curves[c], timing.source_frame(f), set->beziers_restricted);
+      ASSERT_NEAR(curve.values(f), want, 1e-9 * std::max(1.0, std::fabs(want)))
+          << curve.id() << " frame " << f;
+    }
+  }
+  EXPECT_GT(keys, 0);
+}
+
 // The raw bytes the server answers for `request` (the call must succeed).
 std::string AnswerBytes(koma::testing::InProcessServer& server,
                         const v1::RetimeCurvesRequest& request) {
@@ -58,15 +85,18 @@ std::string AnswerBytes(koma::testing::InProcessServer& server,
 }
 
 // Counted in source frames (timing_fps 0), every keyframe time a key pose (merge_key_poses
-// false): the answers from before the film grid and key-pose merging, unchanged.
+// false): every key is a key pose, so each value is the curve at its drawing's tau as before the
+// film grid, key-pose merging and key drawing (to the last bits; pinned again by issue 40, which
+// adds `keys`).
 TEST(CurvesGoldenTest, DefaultOptionsAnswerTheSameBytes) {
   koma::testing::InProcessServer server;
   v1::RetimeCurvesRequest request = MixedRequest(12, 300, 1);
   request.set_timing_fps(0.0);
   request.set_merge_key_poses(false);
   const std::string bytes = AnswerBytes(server, request);
-  EXPECT_EQ(bytes.size(), 106839u);
-  EXPECT_EQ(Fnv1a64(bytes), 6502357649322255037ULL);
+  ExpectValuesAtTau(request, bytes);
+  EXPECT_EQ(bytes.size(), 113482u);
+  EXPECT_EQ(Fnv1a64(bytes), 8729159673933705115ULL);
 }
 
 // The same 30 fps curves on the 24 fps film grid, every keyframe time a key pose; and the same
@@ -76,8 +106,9 @@ TEST(CurvesGoldenTest, FilmGridAnswersArePinned) {
   v1::RetimeCurvesRequest unmerged = MixedRequest(12, 300, 1);
   unmerged.set_merge_key_poses(false);
   const std::string grid = AnswerBytes(server, unmerged);
-  EXPECT_EQ(grid.size(), 94770u);
-  EXPECT_EQ(Fnv1a64(grid), 14491162749119409826ULL);
+  // Changed by issue 40 on purpose: key poses show their own times, every key is drawn.
+  EXPECT_EQ(grid.size(), 101385u);
+  EXPECT_EQ(Fnv1a64(grid), 15378439863639697570ULL);
   v1::RetimeCurvesRequest at24 = MixedRequest(12, 300, 1);
   at24.mutable_curves()->set_fps(24.0);
   v1::RetimeCurvesRequest at24_no_grid = at24;
@@ -104,8 +135,9 @@ TEST(CurvesGoldenTest, OverridesTameAndTsumeAnswerTheSameBytes) {
   segment->set_frames_per_drawing(4);
   segment->set_tsume(2.0);
   const std::string bytes = AnswerBytes(server, request);
-  EXPECT_EQ(bytes.size(), 62813u);
-  EXPECT_EQ(Fnv1a64(bytes), 126128801214034750ULL);
+  ExpectValuesAtTau(request, bytes);
+  EXPECT_EQ(bytes.size(), 66478u);
+  EXPECT_EQ(Fnv1a64(bytes), 2333193302754019377ULL);
 }
 
 // The defaults since key-pose merging (issue 29): keyframes closer than a drawing form one key
@@ -115,13 +147,14 @@ TEST(CurvesGoldenTest, OverridesTameAndTsumeAnswerTheSameBytes) {
 TEST(CurvesGoldenTest, MergedKeyPosesAndGroupsArePinned) {
   koma::testing::InProcessServer server;
   const std::string grid = AnswerBytes(server, MixedRequest(12, 300, 1));
-  EXPECT_EQ(grid.size(), 58539u);
-  EXPECT_EQ(Fnv1a64(grid), 5180814753605967952ULL);
+  // Changed by issue 40 on purpose: every key drawn, key poses at their own times.
+  EXPECT_EQ(grid.size(), 65063u);
+  EXPECT_EQ(Fnv1a64(grid), 12403230893466738574ULL);
   v1::RetimeCurvesRequest frames = MixedRequest(12, 300, 1);
   frames.set_timing_fps(0.0);
   const std::string source = AnswerBytes(server, frames);
-  EXPECT_EQ(source.size(), 63063u);
-  EXPECT_EQ(Fnv1a64(source), 15305012261383724633ULL);
+  EXPECT_EQ(source.size(), 69587u);
+  EXPECT_EQ(Fnv1a64(source), 9905982016678519615ULL);
   v1::RetimeCurvesRequest grouped = MixedRequest(12, 300, 1);
   const char* ids[] = {"ParamAngleX", "ParamBodyAngleX", "ParamArmLA",    "ParamHandL",
                        "ParamHairFront", "ParamHairBack", "ParamEyeLOpen", "ParamEyeROpen",
@@ -139,8 +172,8 @@ TEST(CurvesGoldenTest, MergedKeyPosesAndGroupsArePinned) {
   face->add_ids("ParamBrow*");
   face->set_tame(1.5);
   const std::string groups = AnswerBytes(server, grouped);
-  EXPECT_EQ(groups.size(), 65357u);
-  EXPECT_EQ(Fnv1a64(groups), 16433060504135506421ULL);
+  EXPECT_EQ(groups.size(), 71881u);
+  EXPECT_EQ(Fnv1a64(groups), 930107110922528065ULL);
 }
 
 // RetimeCurves parses its own request (a raw method): bytes that are no request get

@@ -11,14 +11,21 @@
 
   const curvesSection = section('Curves before and after');
   const cursors = [];  // a time cursor on every plot, following the player below the plots
+  const keyCount = D.curves.reduce((n, c) => n + c.keys.length, 0);
+  const sharedCount = D.curves.reduce((n, c) => n + c.keys.filter((k) => !k[2]).length, 0);
   curvesSection.append(legend([['var(--before)', 'before (input, smooth)'], ['var(--after)', 'after (drawings, stepped)'],
                                ['var(--key)', `key poses (${D.key_frames.length}` +
-                                 (mergedCount ? `; solid: ${mergedCount} merged from several keyframe times)` : ')')]]));
+                                 (mergedCount ? `; solid: ${mergedCount} merged from several keyframe times)` : ')')],
+                               ['var(--drawn-key)', `keys drawn exactly (◆ ${keyCount - sharedCount}` +
+                                 (sharedCount ? `; ◇ ${sharedCount} shared a drawing and not drawn)` : ')')]]));
+  // The curves that move first; the flat ones (the input never changes) in one line.
+  const moving = (c) => { const [lo, hi] = range(c.before.y); return hi > lo; };
+  const flat = D.curves.filter((c) => !moving(c));
   if (D.groups.length > 1) {
     curvesSection.append(el('p', {class: 'legend'}, 'Timing groups, each on its own key poses: ' +
       D.groups.map((g) => `${g.name} (${g.mode === 'step' ? '' : g.mode + ', '}${g.curves} curves, ${g.key_frames.length} key poses)`).join(', ') + '.'));
   }
-  for (const c of D.curves) {
+  for (const c of D.curves.filter(moving)) {
     const timing = c.timing >= 0 ? D.timings[c.timing] : null;  // null: a kept curve
     const [lo1, hi1] = range(c.before.y), [lo2, hi2] = range(c.after.y);
     const plot = plotFrame({xMax: duration, yMin: Math.min(lo1, lo2), yMax: Math.max(hi1, hi2), height: 170});
@@ -47,13 +54,29 @@
       }
     }
     plot.svg.append(dots);
+    // The curve's keys koma draws (docs/semantics.md, "Every key is drawn"): a diamond at the
+    // key, filled where a drawing shows it exactly, hollow where it shared a drawing; a key a
+    // drawing early or late is joined to the drawing that shows it.
+    const keyMarks = svgEl('g', {class: 'drawn-keys'});
+    for (const [t, v, drawn, displaced, shownAt] of c.keys) {
+      const x = plot.x(t), y = plot.y(v);
+      if (displaced) keyMarks.append(svgEl('line', {class: 'key-link', x1: x, y1: y, x2: plot.x(shownAt), y2: y}));
+      keyMarks.append(svgEl('path', {class: drawn ? 'keymark drawn' : 'keymark shared', d: `M${x} ${y - 4.5}L${x + 4.5} ${y}L${x} ${y + 4.5}L${x - 4.5} ${y}Z`,
+                                     'data-time': t, 'data-value': v, 'data-drawn': drawn ? 1 : 0, 'data-shown-at': shownAt}));
+    }
+    plot.svg.append(keyMarks);
     const cursor = svgEl('line', {class: 'cursor', y1: plot.top, y2: plot.bottom});
     plot.svg.append(cursor);
     cursors.push({plot, line: cursor});
     const g = D.groups[c.group];
     const group = D.groups.length > 1 ? `${g.name}${g.mode === 'step' ? '' : ' (' + g.mode + ')'}, ` : '';
     const how = timing ? `on ${timing.n}s, ${starts.length} drawings` : 'kept as it is';
-    curvesSection.append(el('h3', {'data-mode': g.mode}, `${c.id} — ${group}${how}`), plot.svg);
+    const keyText = c.keys.length ? `, ${c.keys.filter((k) => k[2]).length} of ${c.keys.length} keys drawn` : '';
+    curvesSection.append(el('h3', {'data-mode': g.mode}, `${c.id} — ${group}${how}${keyText}`), plot.svg);
+  }
+  if (flat.length) {
+    curvesSection.append(el('p', {class: 'flat-curves', 'data-curves': JSON.stringify(flat.map((c) => c.id))},
+      `${flat.length} curve${flat.length > 1 ? 's do' : ' does'} not move (not plotted): ${flat.map((c) => c.id).join(', ')}.`));
   }
 
   // ---- hold histograms ------------------------------------------------------------------------
