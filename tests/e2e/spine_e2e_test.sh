@@ -58,6 +58,48 @@ assert check["ends_missed"] == 0 and check["extremes_missed"] == 0, check
 assert check["extremes"] > 0 and check["drawings_per_second"]["max"] <= 8.5, check
 PY
 
+# A Bezier whose handle leaves its segment's time span, as the Spine editor writes it (its
+# first handle dragged before the key: cx1 < the key's time), is read and retimed (it was
+# refused), and the report marks its peak drawn. The root's key at 0.1667 s (frame 5, as Spine
+# writes 1/6 s) makes the key pose; the head's peak keyed a frame later (0.2 s) joins it, so the
+# drawing that holds the peak has its tau at frame 5, where the head is still rising: before
+# keys were drawn koma showed that, short of the peak.
+"$python" - "$work/handles.json" <<'PY'
+import json, sys
+skeleton = {
+    "skeleton": {"spine": "4.1.24", "fps": 30},
+    "bones": [{"name": "root"}, {"name": "head", "parent": "root"}],
+    "animations": {"nod": {"bones": {
+        "head": {"rotate": [
+            {"curve": [-0.05, 5, 0.15, 20]},
+            {"time": 0.2, "value": 20, "curve": [0.25, 20, 0.3, 0]},
+            {"time": 0.4, "value": 0}]},
+        "root": {"translate": [{"x": 0}, {"time": 0.1667, "x": 5}, {"time": 0.4, "x": 10}]}}}},
+}
+json.dump(skeleton, open(sys.argv[1], "w"), indent=1)
+PY
+"$client_bin" curves "$work/handles.json" -o "$work/handles.anime.json" --report "$work/handles.html" \
+  --json --server "$target" >"$work/handles.summary.json" ||
+  fail "a skeleton with a handle outside its segment was not retimed"
+"$python" - "$here" "$work/handles.json" "$work/handles.html" <<'PY' || fail "the report does not show the handle skeleton's peak drawn"
+import html, json, re, sys
+sys.path.insert(0, sys.argv[1])
+import spine_eval
+before = json.load(open(sys.argv[2]))
+page = open(sys.argv[3], encoding="utf-8").read()
+data = json.loads(html.unescape(re.search(r'<script type="application/json" id="koma-data">(.*?)</script>', page, re.S).group(1)))
+curve = [c for c in data["curves"] if c["id"] == "head/rotate"][0]
+peak = [k for k in curve["keys"] if abs(k[0] - 0.2) < 1e-6]
+assert peak and peak[0][1] == 20 and peak[0][2], curve["keys"]
+# The drawing that shows it: its tau alone shows far less than the peak.
+timeline = spine_eval.bone_values(before)["nod"]["head/rotate"]
+at_tau = timeline.at(5 / 30)
+assert abs(at_tau - 20) > 0.1, at_tau
+print("handle outside its segment: peak 20 drawn; the drawing's tau alone shows", round(at_tau, 2))
+PY
+"$python" "$here/spine_eval.py" "$work/handles.json" "$work/handles.anime.json" ||
+  fail "the handle skeleton's written values differ from the rule's"
+
 # 30 fps on threes: 8 drawings a second (idle's keys are 1 s apart); only the named animation
 # changes; everything koma does not retime is unchanged.
 "$client_bin" curves "$data/hero-3.8.json" -o "$work/walk.json" --animation walk --server "$target" \
