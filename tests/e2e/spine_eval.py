@@ -5,7 +5,9 @@ not from koma's C++ reader nor from Spine's runtimes: bone rotate/translate/scal
 timelines (3.x `angle`, x/y; 4.x `value`, x/y and the separate translatex/... timelines), their
 curves (absent or "linear": linear; "stepped"; a Bezier: 3.7 `curve: [cx1, cy1, cx2, cy2]`, 3.8
 `curve: cx1, c2, c3, c4` normalised to the segment, 4.x `curve: [cx1, cy1, cx2, cy2, ...]`
-absolute per value), the setup pose before a timeline's first key, the last value after it.
+absolute per value), the setup pose before a timeline's first key, the last value after it;
+key times within Spine's 4-decimal rounding of a frame taken as that frame, as koma documents
+(docs/formats.md). Beziers with a handle outside their segment are not evaluated here.
 
 check(before, after, animations): for every bone value of every animation retimed, at every
 grid time g / 24 s, the output's value equals the input's value at the time of the drawing that
@@ -24,9 +26,16 @@ def _round_half_away(x):
     return int(math.floor(abs(x) + 0.5)) * (1 if x >= 0 else -1)
 
 
+def key_time(t, fps):
+    """A key's time as read (docs/formats.md, "Key times to 4 decimals"): Spine writes 4
+    decimals, so a time within 0.00005 s (+ 1e-6 frame) of a whole frame is that frame's."""
+    frame = round(t * fps)
+    return frame / fps if abs(t * fps - frame) <= 0.00005 * fps + 1e-6 else t
+
+
 class Timeline:
-    def __init__(self, keys, fields, component, neutral, major):
-        self.times = [float(k.get("time", 0)) for k in keys]
+    def __init__(self, keys, fields, component, neutral, major, fps):
+        self.times = [key_time(float(k.get("time", 0)), fps) for k in keys]
         self.values = [float(k.get(fields[component], neutral)) for k in keys]
         self.neutral = neutral
         self.beziers = []
@@ -44,10 +53,17 @@ class Timeline:
                         cx1, cy1, cx2, cy2 = curve
                     else:
                         cx1, cy1, cx2, cy2 = curve, key.get("c2", 0), key.get("c3", 1), key.get("c4", 1)
+                    in_span = 0 <= cx1 <= 1 and 0 <= cx2 <= 1
                     handles = (t0 + cx1 * (t1 - t0), v0 + cy1 * (v1 - v0),
                                t0 + cx2 * (t1 - t0), v0 + cy2 * (v1 - v0))
                 else:
-                    handles = tuple(curve[4 * component:4 * component + 4])
+                    cx1, cy1, cx2, cy2 = curve[4 * component:4 * component + 4]
+                    written = (float(key.get("time", 0)), float(keys[i + 1].get("time", 0)))
+                    in_span = all(written[0] <= cx <= written[1] for cx in (cx1, cx2))
+                    # absolute handles clamped into the keys' times as read
+                    handles = (min(max(cx1, t0), t1), cy1, min(max(cx2, t0), t1), cy2)
+                if not in_span:
+                    raise ValueError("a handle outside its segment: not evaluated here")
                 self.beziers.append(handles)
 
     def keys(self):
@@ -85,6 +101,7 @@ class Timeline:
 def bone_values(doc):
     """{animation: {curve id: Timeline}} for every bone value timeline."""
     major = int(doc["skeleton"]["spine"].split(".")[0])
+    fps = float(doc["skeleton"].get("fps", 30))
     kinds3 = {"rotate": ("rotate", ["angle"], [""]), "translate": ("translate", ["x", "y"], [".x", ".y"]),
               "scale": ("scale", ["x", "y"], [".x", ".y"]), "shear": ("shear", ["x", "y"], [".x", ".y"])}
     kinds4 = {"rotate": ("rotate", ["value"], [""])}
@@ -104,7 +121,7 @@ def bone_values(doc):
                 for c, suffix in enumerate(suffixes):
                     # in 3.x a scale key's missing x/y is 1 (3.8's documented default).
                     neutral = 1.0 if base == "scale" else 0.0
-                    curves["%s/%s%s" % (bone, base, suffix)] = Timeline(keys, fields, c, neutral, major)
+                    curves["%s/%s%s" % (bone, base, suffix)] = Timeline(keys, fields, c, neutral, major, fps)
         out[name] = curves
     return out
 

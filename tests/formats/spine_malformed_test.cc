@@ -123,6 +123,8 @@ TEST(ParseSpineMalformedTest, ReportsPathAndValue) {
       {"4.x handle time before the segment", Edit41("[0.1,1,0.9,2,0.1,0,0.9,3]",
                                                     "[0.1,1,0.9,2,-0.1,0,0.9,3]"),
        kInvalid, kTranslate + "[0].curve[4]: handle time -0.1 s is outside its segment [0, 1] s"},
+      {"two keys on one frame", Edit41(R"({"time":0.5,"value":9)", R"({"time":0.99995,"value":9)"),
+       kInvalid, kRotate + "[2].time: 1 s is frame 30, as the previous key's 0.99995 s"},
       {"one curve keyed twice", Edit41(R"("translate":[)", R"("translatex":[{"value":1}],"translate":[)"),
        kInvalid, kTranslate + ": the curve \"arm/translate.x\" is keyed twice in this animation"},
       {"NaN-like number", Edit38(R"("angle":9)", R"("angle":1e999)"), kInvalid, "invalid JSON"},
