@@ -17,6 +17,7 @@
 #include "formats/motion3_internal.h"
 #include "formats/number_format.h"
 #include "formats/spine.h"
+#include "formats/spine_played_bezier.h"
 
 namespace koma::formats {
 namespace {
@@ -222,14 +223,6 @@ absl::StatusOr<KeyCurve> ReadKeyCurve(const Reader& reader, const Json& key, con
                                               DescribeJson(*curve)));
   }
   if (reader.major == 3) {
-    for (int h : {0, 2}) {
-      const double cx = out.bezier[0][h];
-      if (cx < 0.0 || cx > 1.0) {
-        return PathError(curve_path(),
-                         absl::StrCat("handle time ", FormatDouble(cx),
-                                      " is outside its segment (0 to 1 of the way to the next key)"));
-      }
-    }
     // One normalised curve for every value of the key.
     for (int k = 0; k < 4; ++k) out.bezier[1][k] = out.bezier[0][k];
   }
@@ -237,8 +230,10 @@ absl::StatusOr<KeyCurve> ReadKeyCurve(const Reader& reader, const Json& key, con
 }
 
 // Appends to `segments` the segment from key `from` to key `to` (frames and values; t0 and t1
-// their times as written, seconds), shaped by value v of the first key's `curve`. A Bezier's
-// handles are clamped into [from, to] (against rounding, and when a key moved to its frame).
+// their times as written, seconds), shaped by value v of the first key's `curve`. A Bezier
+// whose handle times both lie within [t0, t1] is one Bezier segment, its handles clamped into
+// [from, to] (against rounding, and when a key moved to its frame); one with a handle outside
+// (the editor writes them) is the straight segments the runtimes play (spine_played_bezier.h).
 template <typename PathFn>
 absl::Status AppendSegment(const Reader& reader, const KeyCurve& curve, int v, double t0, double t1,
                            const CurvePoint& from, const CurvePoint& to, const PathFn& curve_path,
@@ -253,25 +248,42 @@ absl::Status AppendSegment(const Reader& reader, const KeyCurve& curve, int v, d
   // 3.x handles on the keys' frames when a key moved to its frame; else in seconds as before.
   const bool moved =
       from.frame != SecondsToFrames(t0, reader.fps) || to.frame != SecondsToFrames(t1, reader.fps);
+  CurvePoint handles[2];
+  bool in_span = true;
   for (int h = 0; h < 2; ++h) {
     const double cx = curve.bezier[v][2 * h], cy = curve.bezier[v][2 * h + 1];
-    CurvePoint handle;
     if (reader.major == 3) {  // normalised: cx of the way to the next key, cy of the change
-      handle.frame = moved ? from.frame + cx * (to.frame - from.frame)
-                           : SecondsToFrames(t0 + cx * (t1 - t0), reader.fps);
-      handle.value = from.value + cy * (to.value - from.value);
+      in_span = in_span && cx >= 0.0 && cx <= 1.0;
+      handles[h].frame = moved ? from.frame + cx * (to.frame - from.frame)
+                               : SecondsToFrames(t0 + cx * (t1 - t0), reader.fps);
+      handles[h].value = from.value + cy * (to.value - from.value);
     } else {  // absolute: seconds and the value's unit
-      if (cx < t0 || cx > t1) {
-        return PathError(absl::StrCat(curve_path(), "[", 4 * v + 2 * h, "]"),
-                         absl::StrCat("handle time ", FormatDouble(cx),
-                                      " s is outside its segment [", FormatDouble(t0), ", ",
-                                      FormatDouble(t1), "] s"));
-      }
-      handle = CurvePoint{SecondsToFrames(cx, reader.fps), cy};
+      in_span = in_span && t0 <= cx && cx <= t1;
+      handles[h] = CurvePoint{SecondsToFrames(cx, reader.fps), cy};
     }
-    segment.handles[h] = CurvePoint{std::clamp(handle.frame, from.frame, to.frame), handle.value};
   }
-  segments.push_back(segment);
+  if (in_span) {
+    for (int h = 0; h < 2; ++h) {
+      segment.handles[h] =
+          CurvePoint{std::clamp(handles[h].frame, from.frame, to.frame), handles[h].value};
+    }
+    segments.push_back(segment);
+    return absl::OkStatus();
+  }
+  const CurvePoint controls[4] = {from, handles[0], handles[1], to};
+  const std::vector<CurvePoint> played = SpinePlayedBezier(controls);
+  if (played.empty()) {
+    const double* b = curve.bezier[v];
+    return PathError(curve_path(),
+                     absl::StrCat("the handles (cx1, cy1, cx2, cy2) ", FormatDouble(b[0]), ", ",
+                                  FormatDouble(b[1]), ", ", FormatDouble(b[2]), ", ",
+                                  FormatDouble(b[3]), " are too far out to evaluate"));
+  }
+  for (const CurvePoint& point : played) {
+    CurveSegment straight;  // kLinear
+    straight.end = point;
+    segments.push_back(straight);
+  }
   return absl::OkStatus();
 }
 
