@@ -154,7 +154,13 @@ int RunSpineCurves(const CurvesArgs& args, const CurveInput& input, const Comman
     }
     formats::SpineRetimed one_retimed{index, {}};
     for (const v1::RetimedCurve& curve : response.curves()) {
-      one_retimed.stepped.push_back(convert::ReplacementFromProto(curve).steps);
+      // A GROUP_KEEP curve (timing -1, no stepped keys) keeps its timeline as it came in, as
+      // the server writes it (its stepped keys would be one key at 0 s, value 0).
+      if (curve.timing() < 0) {
+        one_retimed.stepped.emplace_back();
+      } else {
+        one_retimed.stepped.push_back(convert::ReplacementFromProto(curve).steps);
+      }
     }
     retimed.push_back(std::move(one_retimed));
     text += absl::StrCat("animation ", formats::QuoteForError(name), ":\n",

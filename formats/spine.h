@@ -21,6 +21,10 @@
 //        value v0 + cy (v1 - v0); one curve for both values of a translate key.
 //   4.x  "curve": [cx1, cy1, cx2, cy2] per value (8 numbers for x and y), absolute: times in
 //        seconds, values in the value's unit.
+// A Bezier with a handle time outside its segment (the editor writes them) becomes the straight
+// pieces Spine's runtimes play instead (formats/spine_played_bezier.h); the keys stay. Key
+// times within 0.00005 s of a whole frame (Spine writes 4 decimals: 1/6 s is 0.1667) are that
+// frame; handles are clamped into the segment between the keys' frames.
 // Before its first key a timeline shows the setup pose (the runtimes' rule): the curve then
 // starts at frame 0 with the neutral value (0; 1 for scale) stepped to the first key. At and
 // after its last key it holds the last value.
@@ -89,13 +93,13 @@ bool IsSpineJson(std::string_view text);
 // ("animations.walk.bones.torso.rotate[2].time: ...") for: malformed JSON (with the byte
 // offset, and a hint when the bytes look like a binary .skel), nesting deeper than
 // kMaxSpineDepth, a missing or unsupported skeleton.spine, bones that are not named objects,
-// wrong types in bone timelines, keys whose times do not increase, unknown curve kinds, Bezier
-// arrays of the wrong length or handles outside their segment's time span, timelines naming a
-// bone that is not in `bones`, a 3.x field (angle, c2..c4, a curve number) in a 4.x file, a
-// 4.x field or timeline (value, translatex, ...) in a 3.x file, and the same curve keyed twice
-// (translate and translatex on one bone). OUT_OF_RANGE when an animation is longer than an int
-// counts frames. Timelines koma does not retime (slots, events, deform, constraints, inherit,
-// ...) are kept, not checked.
+// wrong types in bone timelines, keys whose times do not increase (also two keys on one frame
+// by the 4-decimal rule), unknown curve kinds, Bezier arrays of the wrong length, handles too
+// far out to evaluate in doubles, timelines naming a bone that is not in `bones`, a 3.x field
+// (angle, c2..c4, a curve number) in a 4.x file, a 4.x field or timeline (value, translatex,
+// ...) in a 3.x file, and the same curve keyed twice (translate and translatex on one bone).
+// OUT_OF_RANGE when an animation is longer than an int counts frames. Timelines koma does not
+// retime (slots, events, deform, constraints, inherit, ...) are kept, not checked.
 absl::StatusOr<SpineFile> ParseSpine(std::string_view text);
 
 // The index in file.animations of the animation named `name`; NOT_FOUND listing the names.

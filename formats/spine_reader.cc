@@ -17,6 +17,7 @@
 #include "formats/motion3_internal.h"
 #include "formats/number_format.h"
 #include "formats/spine.h"
+#include "formats/spine_played_bezier.h"
 
 namespace koma::formats {
 namespace {
@@ -35,10 +36,23 @@ using motion3_internal::StringAt;
 // A time t x fps closer than this to an integer is that integer (frames), as for motion3.json.
 constexpr double kSpineFrameSnap = 1e-6;
 
-double SecondsToFrames(double seconds, double fps) {
+// Spine writes times rounded to 4 decimals: a key on frame 5 at 30 fps (1/6 s) is saved as
+// 0.1667 s, frame 5.001. A key time within that rounding of a whole frame is that frame.
+constexpr double kSpineTimeRounding = 0.00005;  // seconds: half the 4th decimal
+
+double Frames(double seconds, double fps, double snap) {
   const double frames = seconds * fps;
   const double nearest = std::round(frames);
-  return std::fabs(frames - nearest) <= kSpineFrameSnap ? nearest + 0.0 : frames;  // no -0
+  return std::fabs(frames - nearest) <= snap ? nearest + 0.0 : frames;  // no -0
+}
+
+// Handle times: as motion3.json's, within kSpineFrameSnap of a frame.
+double SecondsToFrames(double seconds, double fps) { return Frames(seconds, fps, kSpineFrameSnap); }
+
+// Key times: within the 4 decimals' rounding (0.00005 s x fps frames), plus kSpineFrameSnap for
+// the binary rounding of t x fps, of a frame (docs/formats.md).
+double KeyTimeToFrames(double seconds, double fps) {
+  return Frames(seconds, fps, kSpineTimeRounding * fps + kSpineFrameSnap);
 }
 
 // How a bone timeline's keys hold their values.
@@ -209,18 +223,68 @@ absl::StatusOr<KeyCurve> ReadKeyCurve(const Reader& reader, const Json& key, con
                                               DescribeJson(*curve)));
   }
   if (reader.major == 3) {
-    for (int h : {0, 2}) {
-      const double cx = out.bezier[0][h];
-      if (cx < 0.0 || cx > 1.0) {
-        return PathError(curve_path(),
-                         absl::StrCat("handle time ", FormatDouble(cx),
-                                      " is outside its segment (0 to 1 of the way to the next key)"));
-      }
-    }
     // One normalised curve for every value of the key.
     for (int k = 0; k < 4; ++k) out.bezier[1][k] = out.bezier[0][k];
   }
   return out;
+}
+
+// Appends to `segments` the segment from key `from` to key `to` (frames and values; t0 and t1
+// their times as written, seconds), shaped by value v of the first key's `curve`. A Bezier
+// whose handle times both lie within [t0, t1] is one Bezier segment, its handles clamped into
+// [from, to] (against rounding, and when a key moved to its frame); one with a handle outside
+// (the editor writes them) is the straight segments the runtimes play (spine_played_bezier.h).
+template <typename PathFn>
+absl::Status AppendSegment(const Reader& reader, const KeyCurve& curve, int v, double t0, double t1,
+                           const CurvePoint& from, const CurvePoint& to, const PathFn& curve_path,
+                           std::vector<CurveSegment>& segments) {
+  CurveSegment segment;
+  segment.type = curve.type;
+  segment.end = to;
+  if (segment.type != SegmentType::kBezier) {
+    segments.push_back(segment);
+    return absl::OkStatus();
+  }
+  // 3.x handles on the keys' frames when a key moved to its frame; else in seconds as before.
+  const bool moved =
+      from.frame != SecondsToFrames(t0, reader.fps) || to.frame != SecondsToFrames(t1, reader.fps);
+  CurvePoint handles[2];
+  bool in_span = true;
+  for (int h = 0; h < 2; ++h) {
+    const double cx = curve.bezier[v][2 * h], cy = curve.bezier[v][2 * h + 1];
+    if (reader.major == 3) {  // normalised: cx of the way to the next key, cy of the change
+      in_span = in_span && cx >= 0.0 && cx <= 1.0;
+      handles[h].frame = moved ? from.frame + cx * (to.frame - from.frame)
+                               : SecondsToFrames(t0 + cx * (t1 - t0), reader.fps);
+      handles[h].value = from.value + cy * (to.value - from.value);
+    } else {  // absolute: seconds and the value's unit
+      in_span = in_span && t0 <= cx && cx <= t1;
+      handles[h] = CurvePoint{SecondsToFrames(cx, reader.fps), cy};
+    }
+  }
+  if (in_span) {
+    for (int h = 0; h < 2; ++h) {
+      segment.handles[h] =
+          CurvePoint{std::clamp(handles[h].frame, from.frame, to.frame), handles[h].value};
+    }
+    segments.push_back(segment);
+    return absl::OkStatus();
+  }
+  const CurvePoint controls[4] = {from, handles[0], handles[1], to};
+  const std::vector<CurvePoint> played = SpinePlayedBezier(controls);
+  if (played.empty()) {
+    const double* b = curve.bezier[v];
+    return PathError(curve_path(),
+                     absl::StrCat("the handles (cx1, cy1, cx2, cy2) ", FormatDouble(b[0]), ", ",
+                                  FormatDouble(b[1]), ", ", FormatDouble(b[2]), ", ",
+                                  FormatDouble(b[3]), " are too far out to evaluate"));
+  }
+  for (const CurvePoint& point : played) {
+    CurveSegment straight;  // kLinear
+    straight.end = point;
+    segments.push_back(straight);
+  }
+  return absl::OkStatus();
 }
 
 // The curves of one bone timeline (`keys` at `path`), appended to `animation`.
@@ -238,7 +302,8 @@ absl::Status ReadTimeline(const Reader& reader, const TimelineKind& kind, const 
     }
   }
   if (keys.empty()) return absl::OkStatus();  // nothing to retime; kept as it is
-  std::vector<double> times;
+  std::vector<double> times;   // seconds, as written
+  std::vector<double> frames;  // the keys' frames (KeyTimeToFrames)
   std::vector<double> key_values[2];
   std::vector<KeyCurve> curves;
   for (size_t i = 0; i < keys.size(); ++i) {
@@ -267,14 +332,23 @@ absl::Status ReadTimeline(const Reader& reader, const TimelineKind& kind, const 
       key_values[v].push_back(value);
     }
     KOMA_ASSIGN_OR_RETURN(KeyCurve curve, ReadKeyCurve(reader, key, key_path, values));
+    const double frame = KeyTimeToFrames(time, reader.fps);
+    if (!frames.empty() && !(frame > frames.back())) {  // both within 0.00005 s of one frame
+      return PathError(MemberPath(key_path(), "time"),
+                       absl::StrCat(FormatDouble(time), " s is frame ", FormatDouble(frame),
+                                    ", as the previous key's ", FormatDouble(times.back()),
+                                    " s (key times within 0.00005 s of a frame, Spine's 4 "
+                                    "decimals, are that frame)"));
+    }
     times.push_back(time);
+    frames.push_back(frame);
     curves.push_back(curve);
   }
   for (int v = 0; v < values; ++v) {
     Curve out;
     out.id = curve_ids[v];
-    SpineChannel channel{bone, kind.name, v, times.front() > 0.0};
-    const double first = SecondsToFrames(times.front(), reader.fps);
+    SpineChannel channel{bone, kind.name, v, frames.front() > 0.0};
+    const double first = frames.front();
     if (channel.from_setup) {
       out.start = CurvePoint{0.0, kind.neutral};
       CurveSegment to_first;
@@ -285,43 +359,11 @@ absl::Status ReadTimeline(const Reader& reader, const TimelineKind& kind, const 
       out.start = CurvePoint{first, key_values[v].front()};
     }
     for (size_t i = 0; i + 1 < times.size(); ++i) {
-      CurveSegment segment;
-      segment.type = curves[i].type;
-      segment.end = CurvePoint{SecondsToFrames(times[i + 1], reader.fps), key_values[v][i + 1]};
-      if (segment.type == SegmentType::kBezier) {
-        const double* b = curves[i].bezier[v];
-        const double t0 = times[i], t1 = times[i + 1];
-        const double v0 = key_values[v][i], v1 = key_values[v][i + 1];
-        double handle_times[2], handle_values[2];
-        if (reader.major == 3) {
-          handle_times[0] = t0 + b[0] * (t1 - t0);
-          handle_values[0] = v0 + b[1] * (v1 - v0);
-          handle_times[1] = t0 + b[2] * (t1 - t0);
-          handle_values[1] = v0 + b[3] * (v1 - v0);
-        } else {
-          handle_times[0] = b[0];
-          handle_values[0] = b[1];
-          handle_times[1] = b[2];
-          handle_values[1] = b[3];
-          for (int h = 0; h < 2; ++h) {
-            if (handle_times[h] < t0 || handle_times[h] > t1) {
-              return PathError(
-                  absl::StrCat(path, "[", i, "].curve[", 4 * v + 2 * h, "]"),
-                  absl::StrCat("handle time ", FormatDouble(handle_times[h]),
-                               " s is outside its segment [", FormatDouble(t0), ", ",
-                               FormatDouble(t1), "] s"));
-            }
-          }
-        }
-        // Within the segment's frames also after rounding (3.x's t0 + cx (t1 - t0)).
-        const double from = out.segments.empty() ? out.start.frame : out.segments.back().end.frame;
-        for (int h = 0; h < 2; ++h) {
-          segment.handles[h] = CurvePoint{
-              std::clamp(SecondsToFrames(handle_times[h], reader.fps), from, segment.end.frame),
-              handle_values[h]};
-        }
-      }
-      out.segments.push_back(segment);
+      const CurvePoint from = out.segments.empty() ? out.start : out.segments.back().end;
+      KOMA_RETURN_IF_ERROR(AppendSegment(
+          reader, curves[i], v, times[i], times[i + 1], from,
+          CurvePoint{frames[i + 1], key_values[v][i + 1]},
+          [&path, i] { return absl::StrCat(path, "[", i, "].curve"); }, out.segments));
     }
     animation.curves.curves.push_back(std::move(out));
     animation.channels.push_back(std::move(channel));

@@ -157,6 +157,18 @@ before, after = (json.load(open(p)) for p in sys.argv[2:4])
 print("on twos:", spine_eval.check(before, after, ["walk"], on=2), "values checked")
 PY
 
+# A kept timing group (--group-mode NAME=keep): its timelines are written back as they came
+# (they were once written as one key at 0 s), the other bones retimed.
+"$client_bin" curves "$data/hero-4.1.json" -o "$work/kept.json" --animation walk \
+  --group 'trunk=torso/*' --group-mode trunk=keep --server "$target" >/dev/null ||
+  fail "--group-mode trunk=keep failed"
+"$python" - "$data/hero-4.1.json" "$work/kept.json" <<'PY' || fail "a kept group's timelines changed"
+import json, sys
+before, after = (json.load(open(p))["animations"]["walk"]["bones"] for p in sys.argv[1:3])
+assert after["torso"] == before["torso"], after["torso"]
+assert after["head"] != before["head"], "head was not retimed"
+PY
+
 # koma batch: one animation per skeleton (named, or the only one with bone keys), the same
 # bytes as the single command.
 "$client_bin" curves "$data/matt-3.7.json" -o "$work/matt-walk.json" --animation walk \

@@ -5,7 +5,9 @@ not from koma's C++ reader nor from Spine's runtimes: bone rotate/translate/scal
 timelines (3.x `angle`, x/y; 4.x `value`, x/y and the separate translatex/... timelines), their
 curves (absent or "linear": linear; "stepped"; a Bezier: 3.7 `curve: [cx1, cy1, cx2, cy2]`, 3.8
 `curve: cx1, c2, c3, c4` normalised to the segment, 4.x `curve: [cx1, cy1, cx2, cy2, ...]`
-absolute per value), the setup pose before a timeline's first key, the last value after it.
+absolute per value), the setup pose before a timeline's first key, the last value after it;
+key times within Spine's 4-decimal rounding of a frame taken as that frame, as koma documents
+(docs/formats.md). Beziers with a handle outside their segment are not evaluated here.
 
 check(before, after, animations): for every bone value of every animation retimed, at every
 grid time g / 24 s, the output's value equals what the drawing shown on grid frame g must show
@@ -15,9 +17,6 @@ T_x + (T_{x+1} - T_x) * j / D between the key poses' own times; and every key dr
 value's first, last and extreme keys shown exactly by the drawing whose hold contains them (a
 key that loses its drawing to a larger swing moves next door when no key falls there), the
 other drawings at their tau clamped between the keys drawn around them.
-
-Key times are taken as Spine writes them, to 4 decimals: a time within 0.00005 s of a whole
-frame is that frame (docs/formats.md).
 """
 import json
 import math
@@ -31,19 +30,16 @@ def _round_half_away(x):
     return int(math.floor(abs(x) + 0.5)) * (1 if x >= 0 else -1)
 
 
-def snap_time(t, fps):
-    """A Spine key time (seconds, written to 4 decimals) within that precision of a whole frame
-    is that frame's time."""
-    frame = t * fps
-    whole = round(frame)
-    return whole / fps if abs(frame - whole) <= 0.00005 * fps + 1e-12 else t
+def key_time(t, fps):
+    """A key's time as read (docs/formats.md, "Key times to 4 decimals"): Spine writes 4
+    decimals, so a time within 0.00005 s (+ 1e-6 frame) of a whole frame is that frame's."""
+    frame = round(t * fps)
+    return frame / fps if abs(t * fps - frame) <= 0.00005 * fps + 1e-6 else t
 
 
 class Timeline:
-    def __init__(self, keys, fields, component, neutral, major, fps=None):
-        self.times = [float(k.get("time", 0)) for k in keys]
-        if fps is not None:
-            self.times = [snap_time(t, fps) for t in self.times]
+    def __init__(self, keys, fields, component, neutral, major, fps):
+        self.times = [key_time(float(k.get("time", 0)), fps) for k in keys]
         self.values = [float(k.get(fields[component], neutral)) for k in keys]
         self.neutral = neutral
         self.beziers = []
@@ -61,10 +57,17 @@ class Timeline:
                         cx1, cy1, cx2, cy2 = curve
                     else:
                         cx1, cy1, cx2, cy2 = curve, key.get("c2", 0), key.get("c3", 1), key.get("c4", 1)
+                    in_span = 0 <= cx1 <= 1 and 0 <= cx2 <= 1
                     handles = (t0 + cx1 * (t1 - t0), v0 + cy1 * (v1 - v0),
                                t0 + cx2 * (t1 - t0), v0 + cy2 * (v1 - v0))
                 else:
-                    handles = tuple(curve[4 * component:4 * component + 4])
+                    cx1, cy1, cx2, cy2 = curve[4 * component:4 * component + 4]
+                    written = (float(key.get("time", 0)), float(keys[i + 1].get("time", 0)))
+                    in_span = all(written[0] <= cx <= written[1] for cx in (cx1, cx2))
+                    # absolute handles clamped into the keys' times as read
+                    handles = (min(max(cx1, t0), t1), cy1, min(max(cx2, t0), t1), cy2)
+                if not in_span:
+                    raise ValueError("a handle outside its segment: not evaluated here")
                 self.beziers.append(handles)
 
     def keys(self):
@@ -102,6 +105,7 @@ class Timeline:
 def bone_values(doc):
     """{animation: {curve id: Timeline}} for every bone value timeline."""
     major = int(doc["skeleton"]["spine"].split(".")[0])
+    fps = float(doc["skeleton"].get("fps", 30))
     kinds3 = {"rotate": ("rotate", ["angle"], [""]), "translate": ("translate", ["x", "y"], [".x", ".y"]),
               "scale": ("scale", ["x", "y"], [".x", ".y"]), "shear": ("shear", ["x", "y"], [".x", ".y"])}
     kinds4 = {"rotate": ("rotate", ["value"], [""])}

@@ -97,8 +97,9 @@ TEST(ParseSpineMalformedTest, ReportsPathAndValue) {
        kTranslate + "[0].curve: a Bezier needs 4 numbers (cx1, cy1, cx2, cy2), got 3"},
       {"3.x Bezier with a string", Edit38("[0.1,0.2,0.3,0.4]", R"([0.1,0.2,"x",0.4])"), kInvalid,
        kTranslate + "[0].curve[2]: expected a number, got \"x\""},
-      {"3.x handle time past the segment", Edit38("[0.1,0.2,0.3,0.4]", "[0.1,0.2,1.3,0.4]"),
-       kInvalid, kTranslate + "[0].curve: handle time 1.3 is outside its segment"},
+      {"3.x handle time too far out", Edit38("[0.1,0.2,0.3,0.4]", "[0.1,0.2,1e308,0.4]"), kInvalid,
+       kTranslate + "[0].curve: the handles (cx1, cy1, cx2, cy2) 0.1, 0.2, 1e+308, 0.4 "
+                    "are too far out to evaluate"},
       {"3.8 c2 a string", Edit38(R"("c3":0.75)", R"("c3":"a")"), kInvalid,
        kRotate + "[0].c3: expected a number, got \"a\""},
       {"c2 with an array", Edit38("[0.1,0.2,0.3,0.4]", R"([0.1,0.2,0.3,0.4],"c2":1)"), kInvalid,
@@ -120,9 +121,11 @@ TEST(ParseSpineMalformedTest, ReportsPathAndValue) {
        kRotate + "[0].curve: a Bezier needs 4 numbers (cx1, cy1, cx2, cy2 per value), got 8"},
       {"4.x translate Bezier of 4", Edit41("[0.1,1,0.9,2,0.1,0,0.9,3]", "[0.1,1,0.9,2]"),
        kInvalid, kTranslate + "[0].curve: a Bezier needs 8 numbers"},
-      {"4.x handle time before the segment", Edit41("[0.1,1,0.9,2,0.1,0,0.9,3]",
-                                                    "[0.1,1,0.9,2,-0.1,0,0.9,3]"),
-       kInvalid, kTranslate + "[0].curve[4]: handle time -0.1 s is outside its segment [0, 1] s"},
+      {"4.x handle time too far out",
+       Edit41("[0.1,1,0.9,2,0.1,0,0.9,3]", "[0.1,1,0.9,2,-1e307,0,0.9,3]"), kInvalid,
+       kTranslate + "[0].curve: the handles (cx1, cy1, cx2, cy2) -1e+307, 0, 0.9, 3 are too"},
+      {"two keys on one frame", Edit41(R"({"time":0.5,"value":9)", R"({"time":0.99995,"value":9)"),
+       kInvalid, kRotate + "[2].time: 1 s is frame 30, as the previous key's 0.99995 s"},
       {"one curve keyed twice", Edit41(R"("translate":[)", R"("translatex":[{"value":1}],"translate":[)"),
        kInvalid, kTranslate + ": the curve \"arm/translate.x\" is keyed twice in this animation"},
       {"NaN-like number", Edit38(R"("angle":9)", R"("angle":1e999)"), kInvalid, "invalid JSON"},
@@ -130,6 +133,18 @@ TEST(ParseSpineMalformedTest, ReportsPathAndValue) {
   for (const MalformedCase& c : kCases) {
     EXPECT_THAT(ParseSpine(c.text).status(), StatusIs(c.code, HasSubstr(c.message))) << c.name;
   }
+}
+
+// Handles outside their segment's time span are written by the Spine editor and played by the
+// runtimes: read (as the runtimes play them, tests/formats/spine_editor_curves_test.cc).
+TEST(ParseSpineMalformedTest, HandlesOutsideTheirSegmentAreRead) {
+  EXPECT_THAT(ParseSpine(Edit38("[0.1,0.2,0.3,0.4]", "[0.1,0.2,1.3,0.4]")).status(), IsOk());
+  EXPECT_THAT(ParseSpine(Edit38(R"("curve":0.25,"c3":0.75)", R"("curve":-0.5,"c3":0.75)")).status(),
+              IsOk());
+  EXPECT_THAT(
+      ParseSpine(Edit41("[0.1,1,0.9,2,0.1,0,0.9,3]", "[0.1,1,0.9,2,-0.1,0,0.9,3]")).status(),
+      IsOk());
+  EXPECT_THAT(ParseSpine(Edit41("[0.1,1,0.4,9]", "[0.1,1,0.7,9]")).status(), IsOk());
 }
 
 // Timelines koma does not retime are kept without checks, as are unknown fields.

@@ -62,15 +62,18 @@ TEST(SpineTest, ReadsTheRhubarb37Export) {
   ASSERT_EQ(Ids(shake), std::vector<std::string>{"head/rotate"});
   const Curve& rotate = shake.curves.curves[0];
   ASSERT_EQ(rotate.segments.size(), 4u);
-  // Keys are exact; a [0.25, 0, 0.75, 1] ease is symmetric, so its middle is the mean.
-  EXPECT_DOUBLE_EQ(At(rotate, 0.1667), 10.02);
+  // Keys are exact, 0.1667 s (1/6 s to Spine's 4 decimals) on frame 5; a [0.25, 0, 0.75, 1]
+  // ease is symmetric, so its middle is the mean.
+  EXPECT_EQ(rotate.segments[0].end.frame, 5.0);
+  EXPECT_DOUBLE_EQ(EvaluateCurve(rotate, 5.0, false), 10.02);
   EXPECT_DOUBLE_EQ(At(rotate, 0.5), -9.37);
-  EXPECT_NEAR(At(rotate, (0.1667 + 0.5) / 2), (10.02 - 9.37) / 2, 1e-9);
-  // Normalised handles: time t0 + cx (t1 - t0), value v0 + cy (v1 - v0), in frames.
+  EXPECT_NEAR(EvaluateCurve(rotate, (5.0 + 15.0) / 2, false), (10.02 - 9.37) / 2, 1e-9);
+  // Normalised handles: time t0 + cx (t1 - t0), value v0 + cy (v1 - v0), in frames, between
+  // the keys' frames (0.1667 s is frame 5, 0.8333 s frame 25).
   EXPECT_EQ(rotate.segments[1].type, SegmentType::kBezier);
-  EXPECT_NEAR(rotate.segments[1].handles[0].frame, (0.1667 + 0.25 * (0.5 - 0.1667)) * 30, 1e-9);
+  EXPECT_DOUBLE_EQ(rotate.segments[1].handles[0].frame, 5 + 0.25 * (15 - 5));
   EXPECT_DOUBLE_EQ(rotate.segments[1].handles[0].value, 10.02);
-  EXPECT_NEAR(rotate.segments[3].handles[0].frame, (0.8333 + 0.574 * (1.5 - 0.8333)) * 30, 1e-9);
+  EXPECT_DOUBLE_EQ(rotate.segments[3].handles[0].frame, 25 + 0.574 * (45 - 25));
   EXPECT_DOUBLE_EQ(rotate.segments[3].handles[1].value, 0.0);
   const SpineAnimation& walk = file.animations[1];
   EXPECT_EQ(Ids(walk), (std::vector<std::string>{"torso/translate.x", "torso/translate.y"}));
@@ -139,8 +142,10 @@ TEST(SpineTest, Reads42SeparateTranslateLayout) {
   EXPECT_EQ(walk.channels[0].timeline, "translatex");
   EXPECT_EQ(walk.channels[1].timeline, "translatey");
   const Curve& y = CurveNamed(walk, "torso/translate.y");
-  EXPECT_EQ(At(y, 0.1), 0.0);  // setup pose before its first key at 0.1667 s
-  EXPECT_EQ(At(y, 0.6667), 12.0);
+  EXPECT_EQ(At(y, 0.1), 0.0);  // setup pose before its first key at 0.1667 s (frame 5)
+  EXPECT_EQ(EvaluateCurve(y, 4.999, false), 0.0);
+  EXPECT_EQ(EvaluateCurve(y, 5.0, false), 2.0);
+  EXPECT_EQ(EvaluateCurve(y, 20.0, false), 12.0);              // 0.6667 s: frame 20
   EXPECT_EQ(At(CurveNamed(walk, "head/shear.y"), 0.59), 0.0);  // stepped from 0
   EXPECT_EQ(At(CurveNamed(walk, "head/shear.y"), 0.6), 10.0);
 }
