@@ -67,6 +67,7 @@ absl::StatusOr<Curve> CurveFromProtoAt(const v1::Curve& proto, const PathFn& pat
     segment.handles[0] = PointFromProto(in.handle1());
     segment.handles[1] = PointFromProto(in.handle2());
     segment.end = PointFromProto(in.end());
+    segment.inserted = in.inserted();
   }
   return curve;
 }
@@ -100,6 +101,7 @@ void CurveToProto(const Curve& curve, v1::Curve* out) {
       PointToProto(segment.handles[1], s->mutable_handle2());
     }
     PointToProto(segment.end, s->mutable_end());
+    if (segment.inserted) s->set_inserted(true);
   }
 }
 

@@ -31,6 +31,10 @@ struct CurveSegment {
   SegmentType type = SegmentType::kLinear;
   CurvePoint handles[2];  // Bezier control points P1, P2; unused otherwise
   CurvePoint end;         // the segment's last point
+  // True when a reader inserted `end` to approximate a curve between two keys (a Spine Bezier
+  // with a handle outside its span, played as the runtimes' straight pieces): it is evaluated
+  // like any point, but it is not a keyframe (no key pose, no key to draw).
+  bool inserted = false;
 };
 
 struct Curve {

@@ -42,8 +42,10 @@ KeyCheck CheckKeys(const CurveSet& input, const std::vector<const std::vector<Cu
     const Curve& curve = input.curves[c];
     const std::vector<CurvePoint>* out = c < stepped.size() ? stepped[c] : nullptr;
     if (curve.dense() || out == nullptr || out->empty() || curve.segments.empty()) continue;
-    std::vector<CurvePoint> points = {curve.start};
-    for (const CurveSegment& s : curve.segments) points.push_back(s.end);
+    std::vector<CurvePoint> points = {curve.start};  // the keyframes (no inserted points)
+    for (const CurveSegment& s : curve.segments) {
+      if (!s.inserted) points.push_back(s.end);
+    }
     double low = points[0].value, high = points[0].value;
     for (const CurvePoint& p : points) {
       low = std::min(low, p.value);

@@ -23,25 +23,32 @@ bool Beats(const KeyDrawing& b, const KeyDrawing& a) {
 std::vector<KeyDrawing> KeysToDraw(const Curve& curve) {
   std::vector<KeyDrawing> keys;
   if (curve.dense() || curve.segments.empty()) return keys;
-  // Points 0 .. n - 1: the start, then each segment's end.
-  const size_t n = curve.segments.size() + 1;
-  const auto point = [&curve](size_t i) -> const CurvePoint& {
-    return i == 0 ? curve.start : curve.segments[i - 1].end;
+  // The keyframes: the start (point 0), then each segment's end that a reader did not insert
+  // (point s + 1 for segment s). Inserted points shape the curve but are no keys.
+  std::vector<size_t> key_points = {0};
+  for (size_t s = 0; s < curve.segments.size(); ++s) {
+    if (!curve.segments[s].inserted) key_points.push_back(s + 1);
+  }
+  const auto point = [&curve](size_t p) -> const CurvePoint& {
+    return p == 0 ? curve.start : curve.segments[p - 1].end;
   };
+  const size_t n = key_points.size();
+  const auto value_of = [&](size_t i) { return point(key_points[i]).value; };
   bool moves = false;
-  for (size_t i = 1; i < n && !moves; ++i) moves = point(i).value != curve.start.value;
+  for (size_t i = 1; i < n && !moves; ++i) moves = value_of(i) != curve.start.value;
   if (!moves) return keys;  // every drawing shows the one value: nothing to place
   for (size_t i = 0; i < n; ++i) {
-    const CurvePoint& p = point(i);
-    // Changes of value from the point before and to the point after (0 at the ends).
-    const double in = i > 0 ? p.value - point(i - 1).value : 0.0;
-    const double out = i + 1 < n ? point(i + 1).value - p.value : 0.0;
+    const size_t p = key_points[i];
+    // Changes of value from the key before and to the key after (0 at the ends).
+    const double in = i > 0 ? value_of(i) - value_of(i - 1) : 0.0;
+    const double out = i + 1 < n ? value_of(i + 1) - value_of(i) : 0.0;
     KeyDrawing key;
-    key.frame = p.frame;
+    key.frame = point(p).frame;
     // What the curve shows at the key's time: its value, but where an inverse-stepped segment
-    // starts the next point's value, which that segment shows from the key on.
-    const bool inverse = i + 1 < n && curve.segments[i].type == SegmentType::kInverseStepped;
-    key.value = inverse ? point(i + 1).value : p.value;
+    // starts the value it steps to, which that segment shows from the key on.
+    const bool inverse =
+        p < curve.segments.size() && curve.segments[p].type == SegmentType::kInverseStepped;
+    key.value = inverse ? curve.segments[p].end.value : point(p).value;
     key.swing = std::max(std::fabs(in), std::fabs(out));
     if (i + 1 == n) {
       key.role = KeyRole::kLast;

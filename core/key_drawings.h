@@ -41,7 +41,8 @@ struct KeyDrawing {
   bool drawn = true;
 };
 
-// The keyframes of a keyframe curve that must be drawn, in time order: the first and the last
+// The keyframes of a keyframe curve (its start and every segment end not `inserted`) that
+// must be drawn, in time order: the first and the last
 // point, and every point whose value is a local extreme of the points' values. A point is an
 // extreme when the value turns there (rises then falls, or falls then rises) or a run of equal
 // values starts or ends there (a hold the animator keyed); a point inside a flat run or on a

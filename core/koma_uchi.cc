@@ -234,7 +234,9 @@ std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set,
   const auto mark_curve = [&mark_time](const Curve& curve) {
     if (curve.dense()) return;
     mark_time(curve.start.frame);
-    for (const CurveSegment& segment : curve.segments) mark_time(segment.end.frame);
+    for (const CurveSegment& segment : curve.segments) {
+      if (!segment.inserted) mark_time(segment.end.frame);  // an inserted point is no key
+    }
   };
   if (options.key_frames.empty()) {
     if (members == nullptr) {

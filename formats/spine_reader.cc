@@ -279,9 +279,12 @@ absl::Status AppendSegment(const Reader& reader, const KeyCurve& curve, int v, d
                                   FormatDouble(b[1]), ", ", FormatDouble(b[2]), ", ",
                                   FormatDouble(b[3]), " are too far out to evaluate"));
   }
-  for (const CurvePoint& point : played) {
+  for (size_t k = 0; k < played.size(); ++k) {
     CurveSegment straight;  // kLinear
-    straight.end = point;
+    straight.end = played[k];
+    // The points between the keys are the runtimes' samples, not keys: no key poses, no keys
+    // to draw (the last point is the next key itself).
+    straight.inserted = k + 1 < played.size();
     segments.push_back(straight);
   }
   return absl::OkStatus();

@@ -50,6 +50,23 @@ TEST(KeysToDrawTest, FirstLastTurnsAndHoldEdges) {
   // sides; 12 turns (falls, then rises).
 }
 
+// Points a reader inserted to shape a curve (a Spine Bezier played as straight pieces) are no
+// keys: neither keys to draw (a turn among them is not a keyed extreme) nor key poses.
+TEST(KeysToDrawTest, InsertedPointsAreNoKeys) {
+  Curve curve = Linear({{0, 0}, {2, 6}, {3, 4}, {10, 10}, {20, 0}});
+  curve.segments[0].inserted = true;  // 2 and 3: the played pieces between keys 0 and 10
+  curve.segments[1].inserted = true;
+  EXPECT_EQ(Frames(KeysToDraw(curve)), (std::vector<double>{0, 10, 20}));
+  CurveSet set;
+  set.fps = 24.0;
+  set.frame_count = 21;
+  set.curves = {curve};
+  KomaUchiOptions options;
+  options.timing_fps = 0.0;
+  options.merge_key_poses = false;
+  EXPECT_EQ(KeyPoses(options, set), (std::vector<int>{0, 10, 20}));
+}
+
 TEST(KeysToDrawTest, DenseAndSinglePointCurvesHaveNone) {
   Curve dense;
   dense.samples = {0, 1, 2};
