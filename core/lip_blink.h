@@ -102,7 +102,7 @@ struct Blink {
 // "LipBlink", "Open levels"): E_max when `max` is given; else the input's own level.
 struct BlinkLevels {
   double before = 0.0;  // the closing phase: the level the eye closes from
-  double after = 0.0;   // the half-open drawing's top and the open frames after: where it reopens to
+  double after = 0.0;   // where it reopens to: the open frames after, the half drawing's top
 };
 
 struct EyeResult {
@@ -122,9 +122,9 @@ absl::Status ValidateEyeOptions(const EyeOptions& options, int frame_count);
 // Eye curves (each one value per frame, same length) with anime blinks: the closing phase
 // snaps to open, closed from C_start through max(C_end, C_start + k - 1), then half-open for k
 // frames, then open; never past the clip or into the next blink. Open is the level the eye
-// closes from (closing phase) and reopens to (after), half between closed and the latter. Auto-blinks, when enabled,
-// are drawn from SplitMix64(seed ^ kAutoBlinkStream) so turning them on does not change the
-// mouth's draws.
+// closes from (closing phase) and reopens to (after), half between closed and the latter.
+// Auto-blinks, when enabled, are drawn from SplitMix64(seed ^ kAutoBlinkStream) so turning them on
+// does not change the mouth's draws.
 EyeResult ConvertEyes(const std::vector<absl::Span<const double>>& eyes,
                       const EyeOptions& options, uint64_t seed);
 

@@ -197,7 +197,7 @@ using lip_blink_internal::OpenAtLeast;
 
 struct Levels {
   double closed = 0.0, mid = 0.0, open = 0.0;  // E_min, E_mid, E_max
-  bool flat = false;  // the input's own range is below kFlatRange
+  bool flat = false;                           // the input's own range is below kFlatRange
 };
 
 // E_min and E_max given, or the curve's min and max; a flat curve (range < kFlatRange) closes
@@ -240,8 +240,8 @@ std::vector<BlinkLevels> CurveLevels(absl::Span<const double> eye, const std::ve
       levels.push_back(detected[d++]);
       continue;
     }
-    const double there = options.max ? *options.max
-                                     : eye[std::min(b.closed_begin + 2 * b.hold, last)];
+    const double there =
+        options.max ? *options.max : eye[std::min(b.closed_begin + 2 * b.hold, last)];
     levels.push_back({there, there});
   }
   return levels;
@@ -363,10 +363,10 @@ EyeResult ConvertEyes(const std::vector<absl::Span<const double>>& eyes, const E
   for (size_t c = 0; c < eyes.size(); ++c) {
     // Unlinked: each curve on its own, its auto-blinks from a fresh stream of the same seed,
     // so a curve's result does not depend on the other curves or their order.
-    result.blinks.push_back(options.linked ? shared
-                                           : lip_blink_internal::InsertAutoBlinks(
-                                                 DetectOne(eyes[c], levels[c], options),
-                                                 frame_count, options, seed));
+    result.blinks.push_back(
+        options.linked ? shared
+                       : lip_blink_internal::InsertAutoBlinks(
+                             DetectOne(eyes[c], levels[c], options), frame_count, options, seed));
     result.levels.push_back(CurveLevels(eyes[c], result.blinks.back(), levels[c], options));
     result.values.push_back(Paint(eyes[c], result.blinks.back(), result.levels.back(),
                                   levels[c].closed, options.mid_ratio));

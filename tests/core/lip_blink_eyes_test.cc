@@ -238,8 +238,14 @@ std::vector<double> Joined(std::initializer_list<std::vector<double>> parts) {
 // was the open drawing, and since 0.8 never counted as open the whole squint around the blink
 // was painted at 1 (the squint erased).
 TEST(ConvertEyesTest, AHeldSquintReopensToItsOwnLevel) {
-  const std::vector<double> eye = Joined({Repeat(1.0, 10), {0.9}, Repeat(0.8, 10), {0.5, 0.2},
-                                          Repeat(0.0, 2), {0.3, 0.6}, Repeat(0.8, 10), {0.9},
+  const std::vector<double> eye = Joined({Repeat(1.0, 10),
+                                          {0.9},
+                                          Repeat(0.8, 10),
+                                          {0.5, 0.2},
+                                          Repeat(0.0, 2),
+                                          {0.3, 0.6},
+                                          Repeat(0.8, 10),
+                                          {0.9},
                                           Repeat(1.0, 10)});
   const EyeResult r = ConvertEyes({eye}, EyeOptions(), 1);
   ASSERT_EQ(r.blinks[0].size(), 1u);
@@ -254,18 +260,24 @@ TEST(ConvertEyesTest, AHeldSquintReopensToItsOwnLevel) {
   expected[26] = 0.8;                 // and open at 0.8
   EXPECT_EQ(r.values[0], expected);
   // A curve held at 0.8 throughout reopens to 0.8 as well.
-  const std::vector<double> held = Joined(
-      {Repeat(0.8, 8), {0.4}, Repeat(0.0, 2), {0.2, 0.5}, Repeat(0.8, 8)});
+  const std::vector<double> held =
+      Joined({Repeat(0.8, 8), {0.4}, Repeat(0.0, 2), {0.2, 0.5}, Repeat(0.8, 8)});
   const EyeResult h = ConvertEyes({held}, EyeOptions(), 1);
   ASSERT_EQ(h.blinks[0].size(), 1u);
-  EXPECT_EQ(h.values[0], (Joined({Repeat(0.8, 8), {0.8}, Repeat(0.0, 2), {0.4, 0.8},
-                                  Repeat(0.8, 8)})));
+  EXPECT_EQ(h.values[0],
+            (Joined({Repeat(0.8, 8), {0.8}, Repeat(0.0, 2), {0.4, 0.8}, Repeat(0.8, 8)})));
 }
 
 // E_max given: every open drawing is E_max, as the paper (the squint above painted at 1).
 TEST(ConvertEyesTest, AGivenMaxIsEveryOpenDrawing) {
-  const std::vector<double> eye = Joined({Repeat(1.0, 10), {0.9}, Repeat(0.8, 10), {0.5, 0.2},
-                                          Repeat(0.0, 2), {0.3, 0.6}, Repeat(0.8, 10), {0.9},
+  const std::vector<double> eye = Joined({Repeat(1.0, 10),
+                                          {0.9},
+                                          Repeat(0.8, 10),
+                                          {0.5, 0.2},
+                                          Repeat(0.0, 2),
+                                          {0.3, 0.6},
+                                          Repeat(0.8, 10),
+                                          {0.9},
                                           Repeat(1.0, 10)});
   EyeOptions options;
   options.max = 1.0;
@@ -285,11 +297,20 @@ TEST(ConvertEyesTest, AGivenMaxIsEveryOpenDrawing) {
 // overshoot's own frames show 1.2, as keyed.
 TEST(ConvertEyesTest, AnOvershootDoesNotOpenTheEyesWide) {
   const std::vector<double> blink = {0.6, 0.0, 0.0, 0.5};
-  const std::vector<double> left =
-      Joined({Repeat(1.0, 12), blink, Repeat(1.0, 10), {1.1, 1.2, 1.1}, Repeat(1.0, 10), blink,
-              Repeat(1.0, 12)});
-  std::vector<double> right = Joined({Repeat(1.0, 13), blink, Repeat(1.0, 9), {1.1, 1.2, 1.1},
-                                      Repeat(1.0, 10), blink, Repeat(1.0, 12)});
+  const std::vector<double> left = Joined({Repeat(1.0, 12),
+                                           blink,
+                                           Repeat(1.0, 10),
+                                           {1.1, 1.2, 1.1},
+                                           Repeat(1.0, 10),
+                                           blink,
+                                           Repeat(1.0, 12)});
+  std::vector<double> right = Joined({Repeat(1.0, 13),
+                                      blink,
+                                      Repeat(1.0, 9),
+                                      {1.1, 1.2, 1.1},
+                                      Repeat(1.0, 10),
+                                      blink,
+                                      Repeat(1.0, 12)});
   right.pop_back();
   right.insert(right.begin() + 53, 1.0);  // the second blink a frame later too
   for (double& v : right) v *= 0.97;
@@ -337,9 +358,16 @@ TEST(ConvertEyesTest, AnOvershootDoesNotOpenTheEyesWide) {
 // the top it opens to, so the repaint joins the input there without a dip, and the eye then
 // settles to 1 as keyed; the next blink closes from 1.
 TEST(ConvertEyesTest, AnEyeThatOpensIntoAnOvershootReopensToItsTop) {
-  const std::vector<double> eye = Joined({Repeat(1.0, 8), {0.5}, Repeat(0.0, 2), {0.6},
-                                          {1.2, 1.15, 1.05}, Repeat(1.0, 10), {0.5}, Repeat(0.0, 2),
-                                          {0.5}, Repeat(1.0, 6)});
+  const std::vector<double> eye = Joined({Repeat(1.0, 8),
+                                          {0.5},
+                                          Repeat(0.0, 2),
+                                          {0.6},
+                                          {1.2, 1.15, 1.05},
+                                          Repeat(1.0, 10),
+                                          {0.5},
+                                          Repeat(0.0, 2),
+                                          {0.5},
+                                          Repeat(1.0, 6)});
   const EyeResult r = ConvertEyes({eye}, EyeOptions(), 1);
   ASSERT_EQ(r.blinks[0].size(), 2u);
   EXPECT_EQ(r.levels[0][0].before, 1.0);
@@ -384,7 +412,8 @@ TEST(ConvertEyesTest, RandomHeldLevelsAreEachBlinksOpenDrawings) {
     const auto level = [&] { return 0.55 + 0.7 * rng.Unit(); };
     const auto hold_at = [&](double l) {
       const int n = rng.Int(8, 30);
-      const int overshoot_at = n >= 2 * kHeld + 4 && rng.OneIn(2) ? rng.Int(kHeld, n - kHeld - 3) : -1;
+      const int overshoot_at =
+          n >= 2 * kHeld + 4 && rng.OneIn(2) ? rng.Int(kHeld, n - kHeld - 3) : -1;
       for (int i = 0; i < n; ++i) {
         const bool over = overshoot_at >= 0 && i >= overshoot_at && i < overshoot_at + 3;
         eye.push_back(over ? l + 0.05 + 0.2 * rng.Unit() : l);
@@ -428,7 +457,8 @@ TEST(ConvertEyesTest, RandomHeldLevelsAreEachBlinksOpenDrawings) {
         ASSERT_EQ(blinks.size(), expected.size()) << "trial " << trial;
         for (size_t i = 0; i < blinks.size(); ++i) {
           const Expected& e = expected[i];
-          EXPECT_EQ(blinks[i].closing_begin, e.closing_begin) << "trial " << trial << " blink " << i;
+          EXPECT_EQ(blinks[i].closing_begin, e.closing_begin)
+              << "trial " << trial << " blink " << i;
           EXPECT_EQ(blinks[i].closed_begin, e.closed_begin) << "trial " << trial;
           EXPECT_EQ(blinks[i].closed_end, e.closed_end) << "trial " << trial;
           EXPECT_EQ(blinks[i].open_span, e.open_span) << "trial " << trial << " blink " << i;

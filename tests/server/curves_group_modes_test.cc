@@ -296,15 +296,15 @@ v1::CurveSet WideEyedMotion() {
   const auto add = [&left](std::vector<double> part) {
     left.insert(left.end(), part.begin(), part.end());
   };
-  add({0.6, 0.2, 0.0, 0.0, 0.3, 0.7});                         // blink A, frames 30-35
+  add({0.6, 0.2, 0.0, 0.0, 0.3, 0.7});  // blink A, frames 30-35
   add(std::vector<double>(24, 1.0));
-  add({1.05, 1.12, 1.18, 1.2, 1.2, 1.18, 1.12, 1.05});         // the overshoot, frames 60-67
+  add({1.05, 1.12, 1.18, 1.2, 1.2, 1.18, 1.12, 1.05});  // the overshoot, frames 60-67
   add(std::vector<double>(22, 1.0));
-  add({0.96, 0.92, 0.88, 0.84});                               // into the squint, frames 90-93
-  add(std::vector<double>(16, 0.8));                           // held from 94
-  add({0.5, 0.2, 0.0, 0.0, 0.3, 0.6});                         // blink B, frames 110-115
+  add({0.96, 0.92, 0.88, 0.84});        // into the squint, frames 90-93
+  add(std::vector<double>(16, 0.8));    // held from 94
+  add({0.5, 0.2, 0.0, 0.0, 0.3, 0.6});  // blink B, frames 110-115
   add(std::vector<double>(24, 0.8));
-  add({0.84, 0.88, 0.92, 0.96});                               // out of it, frames 140-143
+  add({0.84, 0.88, 0.92, 0.96});  // out of it, frames 140-143
   add(std::vector<double>(36, 1.0));
   v1::CurveSet set;
   set.set_fps(30.0);
@@ -363,8 +363,12 @@ TEST(CurvesGroupModesTest, EyesReopenToTheAnimatorsLevelOnTheRpcAndInTheFaceGrou
     int at_level = 0, half_of_squint = 0, group_wide = 0;
     for (int k = 0; k < frames; ++k) {
       const double v = rpc->values(k);
-      if (k < 60 || k > 68) EXPECT_LE(v, scale) << track.id() << " frame " << k;
-      if (k >= 95 && k <= 139) EXPECT_LE(v, 0.8 * scale) << track.id() << " frame " << k;
+      if (k < 60 || k > 68) {
+        EXPECT_LE(v, scale) << track.id() << " frame " << k;
+      }
+      if (k >= 95 && k <= 139) {
+        EXPECT_LE(v, 0.8 * scale) << track.id() << " frame " << k;
+      }
       at_level += v == scale;
       half_of_squint += v == 0.5 * (0.8 * scale);
       // The group: LipBlink's values where LipBlink repaints (the blinks, at the squint's
@@ -372,7 +376,9 @@ TEST(CurvesGroupModesTest, EyesReopenToTheAnimatorsLevelOnTheRpcAndInTheFaceGrou
       // while a drawing of the overshoot is held.
       if (repainted[k]) {
         EXPECT_EQ(group.values(k), v) << track.id() << " frame " << k;
-        if (k >= 95 && k <= 139) EXPECT_LE(group.values(k), 0.8 * scale) << k;
+        if (k >= 95 && k <= 139) {
+          EXPECT_LE(group.values(k), 0.8 * scale) << track.id() << " frame " << k;
+        }
       }
       group_wide += group.values(k) > scale;
     }
