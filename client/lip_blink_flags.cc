@@ -39,12 +39,13 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   AddNumber(cmd, "--eyes-mid-ratio", &args.eyes_mid_ratio, OpenInterval(0, 1),
             "r of the half-open eye, E_mid = E_min + r (E_max - E_min) (default 0.5)");
   AddNumber(cmd, "--eyes-threshold", &args.eyes_threshold, OpenInterval(0, 0.5),
-            "delta: closed at or below E_min + delta of the range, open at or above E_max - "
-            "delta (default 0.1)");
+            "delta: closed at or below E_min + delta of the range, open within delta of the "
+            "open level (default 0.1)");
   AddNumber(cmd, "--eyes-min", &args.eyes_min, {},
             "the closed eye level E_min (default: the curves' minimum)");
   AddNumber(cmd, "--eyes-max", &args.eyes_max, {},
-            "the open eye level E_max (default: the curves' maximum)");
+            "the open eye level E_max, every blink's open drawing (default: each blink "
+            "opens to the input's own level)");
   AddBool(cmd, "--eyes-linked", &args.eyes_linked,
           "one blink timing for all eye curves (default true)");
   cmd->add_flag("--unlinked-eyes", args.unlinked_eyes, "same as --eyes-linked false");

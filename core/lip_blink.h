@@ -81,7 +81,9 @@ struct EyeOptions {
   double mid_ratio = 0.5;      // E_mid = E_min + r (E_max - E_min), r in (0, 1)
   double threshold = 0.1;      // delta: closed <= E_min + delta*range, open >= E_max - delta*range
   std::optional<double> min;   // E_min; default the clip's minimum (0 if the curves are flat)
-  std::optional<double> max;   // E_max; default the clip's maximum
+  // E_max: given, every blink's open drawing (the paper); default the clip's maximum, which
+  // then only scales delta, and each blink opens to the input's own level (BlinkLevels).
+  std::optional<double> max;
   bool linked = true;          // one blink timing for all eye curves
   AutoBlinkOptions auto_blink;
   double fps = 30.0;           // frames per second, for the auto-blink intervals
@@ -96,20 +98,33 @@ struct Blink {
   bool automatic = false; // inserted by auto-blink
 };
 
+// The open drawing's level either side of one blink, on one eye curve (docs/semantics.md,
+// "LipBlink", "Open levels"): E_max when `max` is given; else the input's own level.
+struct BlinkLevels {
+  double before = 0.0;  // the closing phase: the level the eye closes from
+  double after = 0.0;   // where it reopens to: the open frames after, the half drawing's top
+};
+
 struct EyeResult {
   std::vector<std::vector<double>> values;  // per eye curve, per frame
   // Per eye curve (linked: the same list for every curve, computed once on their average).
   std::vector<std::vector<Blink>> blinks;
-  std::vector<double> closed, mid, open;    // per eye curve: the levels used
+  // Per eye curve, per blink (parallel to `blinks`): the open levels painted.
+  std::vector<std::vector<BlinkLevels>> levels;
+  // Per eye curve: E_min (the closed drawing), E_max (given, or the curve's max: the scale of
+  // delta) and E_mid = E_min + r (E_max - E_min). The open and half drawings of a blink are
+  // E_max and E_mid only when `max` is given; else they follow `levels`.
+  std::vector<double> closed, mid, open;
 };
 
 absl::Status ValidateEyeOptions(const EyeOptions& options, int frame_count);
 
 // Eye curves (each one value per frame, same length) with anime blinks: the closing phase
 // snaps to open, closed from C_start through max(C_end, C_start + k - 1), then half-open for k
-// frames, then open; never past the clip or into the next blink. Auto-blinks, when enabled,
-// are drawn from SplitMix64(seed ^ kAutoBlinkStream) so turning them on does not change the
-// mouth's draws.
+// frames, then open; never past the clip or into the next blink. Open is the level the eye
+// closes from (closing phase) and reopens to (after), half between closed and the latter.
+// Auto-blinks, when enabled, are drawn from SplitMix64(seed ^ kAutoBlinkStream) so turning them on
+// does not change the mouth's draws.
 EyeResult ConvertEyes(const std::vector<absl::Span<const double>>& eyes,
                       const EyeOptions& options, uint64_t seed);
 

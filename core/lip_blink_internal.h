@@ -4,6 +4,7 @@
 #define KOMA_CORE_LIP_BLINK_INTERNAL_H_
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -37,11 +38,36 @@ Extent ExtentOf(absl::Span<const double> values);
 absl::Status CheckIntervals(const std::vector<FrameInterval>& intervals, absl::string_view path,
                             int frame_count);
 
-// The blinks of `signal` (docs/semantics.md, "LipBlink"): closed frames are <= closed_at_most, open
-// frames >= open_at_least; one blink per maximal run of closed frames, in time order, with
-// its closing phase, opening span and hold k (paper Eq. 6-7).
+// An eye is held at a level when it stays open at that level (at or above level - delta
+// (level - closed)) for this many frames: longer than any half-open drawing of a blink (k <= 3,
+// paper Eq. 7), so a held level is where the eye settled, not a step of its opening.
+inline constexpr int kHeldFrames = 4;
+
+// The least value that counts as open at `level`: level - delta (level - closed), the paper's
+// E_max - delta range with the level in place of E_max.
+inline double OpenAtLeast(double level, double closed, double delta) {
+  return level - delta * (level - closed);
+}
+
+// The maximal runs of frames at or below closed_at_most, in time order.
+std::vector<FrameInterval> ClosedRuns(absl::Span<const double> signal, double closed_at_most);
+
+// Per closed run (sorted, disjoint, non-empty): the open levels either side of it, read from
+// the signal (docs/semantics.md, "LipBlink", "Open levels"): `before` the level the eye closes
+// from, `after` the level it reopens to. `fixed` (E_max given) sets every level; `fallback` is
+// used only when no frame lies outside the closed runs.
+std::vector<BlinkLevels> OpenLevelsAround(absl::Span<const double> signal,
+                                          const std::vector<FrameInterval>& runs, double closed,
+                                          double delta, std::optional<double> fixed,
+                                          double fallback);
+
+// The blinks of `signal` (docs/semantics.md, "LipBlink"): closed frames are <= closed_at_most;
+// one blink per maximal run of closed frames, in time order, with its closing phase (back to
+// the last frame open at its `before` level), opening span (up to the first frame open at its
+// `after` level) and hold k (paper Eq. 6-7). Levels as OpenLevelsAround; `closed` is E_min.
 std::vector<Blink> DetectBlinks(absl::Span<const double> signal, double closed_at_most,
-                                double open_at_least);
+                                double closed, double delta, std::optional<double> fixed,
+                                double fallback);
 
 // Per blink (sorted, as DetectBlinks returns them): one past the last frame its repaint
 // writes, clipped at the next blink's closing_begin and at frame_count.

@@ -195,6 +195,42 @@ TEST(AutoBlinkTest, InsertedBlinksTouchNeitherDetectedBlinksNorKeepIntervals) {
   }
 }
 
+// An inserted blink's open drawing is the input's level where it goes (docs/semantics.md,
+// "LipBlink", "Open levels"): on an eye open at 1 with one blink (closed at 0) and a brief
+// overshoot to 1.2 (E_max), then squinting at 0.8, each inserted blink is half-open at half
+// the level there and leaves the input as it was around it. Before, every one was half-open
+// at 0.6, half of E_max.
+TEST(AutoBlinkTest, AnInsertedBlinkOpensToTheInputsLevelThere) {
+  std::vector<double> eye(300, 1.0);
+  eye[5] = eye[8] = 0.5;
+  eye[6] = eye[7] = 0.0;
+  eye[20] = 1.1;
+  eye[21] = 1.2;
+  eye[22] = 1.1;
+  eye.insert(eye.end(), 400, 0.8);
+  const EyeResult r = ConvertEyes({eye}, AutoOptions(2, 0.5, 2), 3);
+  ASSERT_GE(r.blinks[0].size(), 6u);
+  ASSERT_EQ(r.levels[0].size(), r.blinks[0].size());
+  EXPECT_FALSE(r.blinks[0][0].automatic);
+  int squinting = 0;
+  for (size_t i = 1; i < r.blinks[0].size(); ++i) {
+    const Blink& b = r.blinks[0][i];
+    ASSERT_TRUE(b.automatic);
+    const int s = b.closed_begin;
+    const double level = eye[s + 4];  // the frame after it: open, 1 or 0.8
+    EXPECT_EQ(r.levels[0][i].before, level);
+    EXPECT_EQ(r.levels[0][i].after, level);
+    EXPECT_EQ(r.values[0][s - 1], eye[s - 1]);
+    EXPECT_EQ(std::vector<double>(r.values[0].begin() + s, r.values[0].begin() + s + 4),
+              (std::vector<double>{0.0, 0.0, level / 2, level / 2}))
+        << "blink at " << s;
+    EXPECT_EQ(r.values[0][s + 4], eye[s + 4]);
+    squinting += level == 0.8;
+  }
+  EXPECT_GE(squinting, 2);
+  EXPECT_LT(squinting, static_cast<int>(r.blinks[0].size()) - 1);
+}
+
 TEST(AutoBlinkTest, SameSeedSameBlinksDifferentSeedsDifferentBlinks) {
   const std::vector<double> flat(3000, 1.0);
   const EyeResult a = ConvertEyes({flat}, AutoOptions(4, 1), 77);

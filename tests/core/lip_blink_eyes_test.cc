@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,8 @@ namespace {
 using ::koma::testing::IsOk;
 using ::koma::testing::StatusIs;
 using ::testing::HasSubstr;
+
+constexpr int kHeld = 4;  // lip_blink_internal::kHeldFrames
 
 // One eye drawn from letters, levels 0 and 1 given (mid 0.5): the output as letters.
 std::string Drawn(const std::string& eye, EyeOptions options = LetterOptions()) {
@@ -194,6 +197,278 @@ TEST(ConvertEyesTest, UnlinkedEyesBlinkEachOnItsOwn) {
   EXPECT_EQ(r.blinks[0][0], (Blink{4, 5, 7, 2, 2, false}));
   EXPECT_EQ(r.blinks[1][0], (Blink{5, 6, 8, 2, 2, false}));
   EXPECT_EQ(Letters(r.values[0]), "OOOOOCCCmmOOOOOO");
+}
+
+// Open levels (docs/semantics.md, "LipBlink", "Open levels"): with E_max unset, a blink's
+// open drawing is the input's own level either side of it, not the curve's maximum.
+
+// A frame-by-frame expectation: the input, each blink painted with its own levels (closing
+// phase at `before`, closed, k frames half between closed and `after`, then `after`).
+std::vector<double> PaintedWith(const std::vector<double>& input, const std::vector<Blink>& blinks,
+                                const std::vector<BlinkLevels>& levels, double closed) {
+  std::vector<double> expected = input;
+  const int frame_count = static_cast<int>(input.size());
+  for (size_t i = 0; i < blinks.size(); ++i) {
+    const Blink& b = blinks[i];
+    const int end = SpanEnd(blinks, i, frame_count);
+    const auto paint = [&](int from, int to, double level) {
+      for (int f = from; f < std::min(to, end); ++f) expected[f] = level;
+    };
+    const int closed_stop = std::max(b.closed_end, b.closed_begin + b.hold - 1) + 1;
+    paint(b.closing_begin, b.closed_begin, levels[i].before);
+    paint(b.closed_begin, closed_stop, closed);
+    paint(closed_stop, closed_stop + b.hold, closed + 0.5 * (levels[i].after - closed));
+    paint(closed_stop + b.hold, end, levels[i].after);
+  }
+  return expected;
+}
+
+std::vector<double> Repeat(double value, int frames) {
+  return std::vector<double>(static_cast<size_t>(frames), value);
+}
+
+std::vector<double> Joined(std::initializer_list<std::vector<double>> parts) {
+  std::vector<double> all;
+  for (const std::vector<double>& p : parts) all.insert(all.end(), p.begin(), p.end());
+  return all;
+}
+
+// Open at 1, then a squint held at 0.8 with a blink inside it, then open again: the blink
+// snaps shut from 0.8, its half-open drawing is 0.4 and it reopens to 0.8. Before, E_max (1)
+// was the open drawing, and since 0.8 never counted as open the whole squint around the blink
+// was painted at 1 (the squint erased).
+TEST(ConvertEyesTest, AHeldSquintReopensToItsOwnLevel) {
+  const std::vector<double> eye = Joined({Repeat(1.0, 10),
+                                          {0.9},
+                                          Repeat(0.8, 10),
+                                          {0.5, 0.2},
+                                          Repeat(0.0, 2),
+                                          {0.3, 0.6},
+                                          Repeat(0.8, 10),
+                                          {0.9},
+                                          Repeat(1.0, 10)});
+  const EyeResult r = ConvertEyes({eye}, EyeOptions(), 1);
+  ASSERT_EQ(r.blinks[0].size(), 1u);
+  EXPECT_EQ(r.blinks[0][0], (Blink{21, 23, 24, 2, 1, false}));  // O_total 1 + 2: k 1
+  ASSERT_EQ(r.levels[0].size(), 1u);
+  EXPECT_EQ(r.levels[0][0].before, 0.8);
+  EXPECT_EQ(r.levels[0][0].after, 0.8);
+  EXPECT_EQ(r.open[0], 1.0);  // E_max still scales delta
+  std::vector<double> expected = eye;
+  expected[21] = expected[22] = 0.8;  // the closing phase snaps shut from 0.8
+  expected[25] = 0.4;                 // half of 0.8
+  expected[26] = 0.8;                 // and open at 0.8
+  EXPECT_EQ(r.values[0], expected);
+  // A curve held at 0.8 throughout reopens to 0.8 as well.
+  const std::vector<double> held =
+      Joined({Repeat(0.8, 8), {0.4}, Repeat(0.0, 2), {0.2, 0.5}, Repeat(0.8, 8)});
+  const EyeResult h = ConvertEyes({held}, EyeOptions(), 1);
+  ASSERT_EQ(h.blinks[0].size(), 1u);
+  EXPECT_EQ(h.values[0],
+            (Joined({Repeat(0.8, 8), {0.8}, Repeat(0.0, 2), {0.4, 0.8}, Repeat(0.8, 8)})));
+}
+
+// E_max given: every open drawing is E_max, as the paper (the squint above painted at 1).
+TEST(ConvertEyesTest, AGivenMaxIsEveryOpenDrawing) {
+  const std::vector<double> eye = Joined({Repeat(1.0, 10),
+                                          {0.9},
+                                          Repeat(0.8, 10),
+                                          {0.5, 0.2},
+                                          Repeat(0.0, 2),
+                                          {0.3, 0.6},
+                                          Repeat(0.8, 10),
+                                          {0.9},
+                                          Repeat(1.0, 10)});
+  EyeOptions options;
+  options.max = 1.0;
+  const EyeResult r = ConvertEyes({eye}, options, 1);
+  ASSERT_EQ(r.blinks[0].size(), 1u);
+  EXPECT_EQ(r.blinks[0][0].closing_begin, 11);  // back to the last frame at or above 0.9
+  EXPECT_EQ(r.levels[0][0].before, 1.0);
+  EXPECT_EQ(r.levels[0][0].after, 1.0);
+  for (int f = 11; f < 23; ++f) EXPECT_EQ(r.values[0][f], 1.0) << f;
+}
+
+// Haru's m04 (issue 40): the eyes keyed at 1 between blinks, with a brief 1.2 overshoot. E_max
+// is 1.2, so before, 1 never counted as open: every closing phase reached back to the previous
+// blink or frame 0 and every opening span ran to the next one, all painted 1.2 (wide-eyed the
+// whole clip). Now the eyes are drawn at 1 between blinks, both linked eyes keyed a little
+// differently (the right at 0.97, closing a frame later) each at its own level; only the
+// overshoot's own frames show 1.2, as keyed.
+TEST(ConvertEyesTest, AnOvershootDoesNotOpenTheEyesWide) {
+  const std::vector<double> blink = {0.6, 0.0, 0.0, 0.5};
+  const std::vector<double> left = Joined({Repeat(1.0, 12),
+                                           blink,
+                                           Repeat(1.0, 10),
+                                           {1.1, 1.2, 1.1},
+                                           Repeat(1.0, 10),
+                                           blink,
+                                           Repeat(1.0, 12)});
+  std::vector<double> right = Joined({Repeat(1.0, 13),
+                                      blink,
+                                      Repeat(1.0, 9),
+                                      {1.1, 1.2, 1.1},
+                                      Repeat(1.0, 10),
+                                      blink,
+                                      Repeat(1.0, 12)});
+  right.pop_back();
+  right.insert(right.begin() + 53, 1.0);  // the second blink a frame later too
+  for (double& v : right) v *= 0.97;
+  ASSERT_EQ(left.size(), right.size());
+  for (const bool linked : {true, false}) {
+    EyeOptions options;
+    options.linked = linked;
+    const EyeResult r = ConvertEyes({left, right}, options, 1);
+    for (size_t c = 0; c < 2; ++c) {
+      const std::vector<double>& input = c == 0 ? left : right;
+      const double level = c == 0 ? 1.0 : 0.97;
+      EXPECT_EQ(r.open[c], 1.2 * level) << c;  // E_max: the overshoot
+      ASSERT_EQ(r.blinks[c].size(), 2u) << "linked " << linked << " curve " << c;
+      for (const BlinkLevels& l : r.levels[c]) {
+        EXPECT_EQ(l.before, level);
+        EXPECT_EQ(l.after, level);
+      }
+      EXPECT_EQ(r.values[c], PaintedWith(input, r.blinks[c], r.levels[c], 0.0)) << c;
+      // Outside the blinks' repaints every frame is the input: 1 (0.97), but the overshoot.
+      const std::vector<bool> painted = [&] {
+        std::vector<bool> p(input.size(), false);
+        for (size_t i = 0; i < r.blinks[c].size(); ++i) {
+          for (int f = r.blinks[c][i].closing_begin;
+               f < SpanEnd(r.blinks[c], i, static_cast<int>(input.size())); ++f) {
+            p[f] = true;
+          }
+        }
+        return p;
+      }();
+      int wide = 0;
+      for (size_t f = 0; f < input.size(); ++f) {
+        if (painted[f]) {
+          EXPECT_LE(r.values[c][f], level) << f;
+        } else {
+          EXPECT_EQ(r.values[c][f], input[f]) << f;
+          wide += r.values[c][f] > level;
+        }
+      }
+      EXPECT_EQ(wide, 3) << c;  // 1.1, 1.2, 1.1: the overshoot as keyed, nothing more
+    }
+  }
+}
+
+// An eye that reopens into its overshoot (0 -> 1.2 -> 1): the open drawing after the blink is
+// the top it opens to, so the repaint joins the input there without a dip, and the eye then
+// settles to 1 as keyed; the next blink closes from 1.
+TEST(ConvertEyesTest, AnEyeThatOpensIntoAnOvershootReopensToItsTop) {
+  const std::vector<double> eye = Joined({Repeat(1.0, 8),
+                                          {0.5},
+                                          Repeat(0.0, 2),
+                                          {0.6},
+                                          {1.2, 1.15, 1.05},
+                                          Repeat(1.0, 10),
+                                          {0.5},
+                                          Repeat(0.0, 2),
+                                          {0.5},
+                                          Repeat(1.0, 6)});
+  const EyeResult r = ConvertEyes({eye}, EyeOptions(), 1);
+  ASSERT_EQ(r.blinks[0].size(), 2u);
+  EXPECT_EQ(r.levels[0][0].before, 1.0);
+  EXPECT_EQ(r.levels[0][0].after, 1.2);
+  EXPECT_EQ(r.levels[0][1].before, 1.0);
+  EXPECT_EQ(r.levels[0][1].after, 1.0);
+  EXPECT_EQ(r.values[0], PaintedWith(eye, r.blinks[0], r.levels[0], 0.0));
+  EXPECT_EQ(r.values[0][11], 0.6);  // the half-open drawing: half of 1.2
+  EXPECT_EQ(r.values[0][12], 1.2);  // then the input: the overshoot, settling to 1
+  EXPECT_EQ(r.values[0][15], 1.0);
+}
+
+// A frame that only passes between two closings (a double blink) is not a level: both sides
+// read against the level the eye was open at, as the paper reads them against E_max, so the
+// frames between are the first blink's opening span and the second has no closing phase.
+TEST(ConvertEyesTest, AHalfOpenFrameBetweenTwoClosingsIsNotALevel) {
+  const std::vector<double> eye = Eye("OOOOhCChhCCOOOO");
+  const EyeResult r = ConvertEyes({eye}, EyeOptions(), 1);
+  ASSERT_EQ(r.blinks[0].size(), 2u);
+  EXPECT_EQ(r.blinks[0][0], (Blink{4, 5, 6, 2, 1, false}));
+  EXPECT_EQ(r.blinks[0][1], (Blink{9, 9, 10, 0, 1, false}));
+  EXPECT_EQ(r.levels[0][0].after, 1.0);
+  EXPECT_EQ(r.levels[0][1].before, 1.0);
+  EXPECT_EQ(Letters(r.values[0]), "OOOOOCCmOCCmOOO");
+  EXPECT_EQ(Letters(r.values[0]), Drawn("OOOOhCChhCCOOOO"));  // the same as with E_max given
+}
+
+// Random eyes whose open stretches are each held at a level of their own in [0.55, 1.25], some
+// with a brief overshoot inside, separated by blinks with strictly monotone closing and opening
+// ramps: every blink closes from the level before it and reopens to the level after it, with
+// the closing phase and opening span the ramps, and every other frame is the input. Linked
+// with a second eye keyed at 0.9 of the first, each eye at its own levels.
+TEST(ConvertEyesTest, RandomHeldLevelsAreEachBlinksOpenDrawings) {
+  for (uint64_t trial = 0; trial < 300; ++trial) {
+    SplitMix64 rng(trial);
+    std::vector<double> eye;
+    std::vector<double> stretch_levels;
+    struct Expected {
+      int closing_begin, closed_begin, closed_end, open_span;
+    };
+    std::vector<Expected> expected;
+    const auto level = [&] { return 0.55 + 0.7 * rng.Unit(); };
+    const auto hold_at = [&](double l) {
+      const int n = rng.Int(8, 30);
+      const int overshoot_at =
+          n >= 2 * kHeld + 4 && rng.OneIn(2) ? rng.Int(kHeld, n - kHeld - 3) : -1;
+      for (int i = 0; i < n; ++i) {
+        const bool over = overshoot_at >= 0 && i >= overshoot_at && i < overshoot_at + 3;
+        eye.push_back(over ? l + 0.05 + 0.2 * rng.Unit() : l);
+      }
+      stretch_levels.push_back(l);
+    };
+    // A ramp of `n` values strictly between 0.3 and 0.85 of the way to `l`, rising or falling:
+    // never closed (at most 0.1 of a range below 1.5) nor open at `l` (0.9 l).
+    const auto ramp = [&](double l, int n, bool rising) {
+      std::vector<double> r;
+      for (int i = 0; i < n; ++i) r.push_back(l * (0.3 + 0.55 * (i + rng.Unit()) / n));
+      if (!rising) std::reverse(r.begin(), r.end());
+      eye.insert(eye.end(), r.begin(), r.end());
+    };
+    double l = level();
+    hold_at(l);
+    for (int blinks = rng.Int(1, 6); blinks > 0; --blinks) {
+      Expected e;
+      e.closing_begin = static_cast<int>(eye.size());
+      ramp(l, rng.Int(0, 3), false);
+      e.closed_begin = static_cast<int>(eye.size());
+      for (int i = rng.Int(1, 6); i > 0; --i) eye.push_back(i % 2 ? 0.0 : 0.01 * rng.Unit());
+      e.closed_end = static_cast<int>(eye.size()) - 1;
+      l = level();
+      const int opening = rng.Int(0, 6);
+      ramp(l, opening, true);
+      e.open_span = opening;
+      hold_at(l);
+      expected.push_back(e);
+    }
+    std::vector<double> right = eye;
+    for (double& v : right) v *= 0.9;
+    for (const bool linked : {true, false}) {
+      EyeOptions options;
+      options.linked = linked;
+      const EyeResult r = ConvertEyes({eye, right}, options, trial);
+      for (size_t c = 0; c < 2; ++c) {
+        const double scale = c == 0 ? 1.0 : 0.9;
+        const std::vector<double>& input = c == 0 ? eye : right;
+        const std::vector<Blink>& blinks = r.blinks[c];
+        ASSERT_EQ(blinks.size(), expected.size()) << "trial " << trial;
+        for (size_t i = 0; i < blinks.size(); ++i) {
+          const Expected& e = expected[i];
+          EXPECT_EQ(blinks[i].closing_begin, e.closing_begin)
+              << "trial " << trial << " blink " << i;
+          EXPECT_EQ(blinks[i].closed_begin, e.closed_begin) << "trial " << trial;
+          EXPECT_EQ(blinks[i].closed_end, e.closed_end) << "trial " << trial;
+          EXPECT_EQ(blinks[i].open_span, e.open_span) << "trial " << trial << " blink " << i;
+          EXPECT_EQ(r.levels[c][i].before, stretch_levels[i] * scale) << "trial " << trial;
+          EXPECT_EQ(r.levels[c][i].after, stretch_levels[i + 1] * scale) << "trial " << trial;
+        }
+        ASSERT_EQ(r.values[c], PaintedWith(input, blinks, r.levels[c], 0.0)) << "trial " << trial;
+      }
+    }
+  }
 }
 
 TEST(ConvertEyesTest, NoCurvesNoResult) {

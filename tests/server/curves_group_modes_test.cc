@@ -286,6 +286,109 @@ TEST(CurvesGroupModesTest, LipBlinkGroupHoldsTheGroupsDrawingsOutsideRepaints) {
   EXPECT_GT(held_differs, 0);  // the motions do ease outside LipBlink's repaints
 }
 
+// Eyes keyed at 1 between blinks with a brief overshoot to 1.2, as Haru's m04 (issue 40), then a
+// squint held at 0.8 with a blink inside it; the right eye at 0.97 of the left and a frame
+// later. 30 fps, 6 s. Before, E_max (1.2) was every blink's open drawing and 1 never counted as
+// open, so the eyes were drawn at 1.2 nearly the whole clip and the squint around its blink at
+// 1.2 too (docs/semantics.md, "LipBlink", "Open levels").
+v1::CurveSet WideEyedMotion() {
+  std::vector<double> left(30, 1.0);
+  const auto add = [&left](std::vector<double> part) {
+    left.insert(left.end(), part.begin(), part.end());
+  };
+  add({0.6, 0.2, 0.0, 0.0, 0.3, 0.7});  // blink A, frames 30-35
+  add(std::vector<double>(24, 1.0));
+  add({1.05, 1.12, 1.18, 1.2, 1.2, 1.18, 1.12, 1.05});  // the overshoot, frames 60-67
+  add(std::vector<double>(22, 1.0));
+  add({0.96, 0.92, 0.88, 0.84});        // into the squint, frames 90-93
+  add(std::vector<double>(16, 0.8));    // held from 94
+  add({0.5, 0.2, 0.0, 0.0, 0.3, 0.6});  // blink B, frames 110-115
+  add(std::vector<double>(24, 0.8));
+  add({0.84, 0.88, 0.92, 0.96});  // out of it, frames 140-143
+  add(std::vector<double>(36, 1.0));
+  v1::CurveSet set;
+  set.set_fps(30.0);
+  set.set_frame_count(static_cast<int>(left.size()));
+  v1::Curve* mouth = set.add_curves();
+  mouth->set_id("ParamMouthOpenY");
+  for (size_t f = 0; f < left.size(); ++f) mouth->add_samples(0.0);
+  for (int eye = 0; eye < 2; ++eye) {
+    v1::Curve* curve = set.add_curves();
+    curve->set_id(eye == 0 ? "ParamEyeLOpen" : "ParamEyeROpen");
+    for (size_t f = 0; f < left.size(); ++f) {
+      curve->add_samples(eye == 0 ? left[f] : 0.97 * left[f == 0 ? 0 : f - 1]);
+    }
+  }
+  v1::Curve* angle = set.add_curves();
+  angle->set_id("ParamAngleX");
+  for (size_t f = 0; f < left.size(); ++f) angle->add_samples(0.1 * static_cast<double>(f));
+  return set;
+}
+
+// The LipBlink RPC and a GROUP_LIP_BLINK face group of RetimeCurves (the default grouping) on
+// the 24 fps grid, on threes: the eyes are drawn at their level, 1 (0.97), wherever the input
+// is; only the frames around the overshoot show more. Inside the squint the blink closes from
+// 0.8, is half-open at 0.4 and reopens to 0.8. The group shows LipBlink's values wherever
+// LipBlink repaints.
+TEST(CurvesGroupModesTest, EyesReopenToTheAnimatorsLevelOnTheRpcAndInTheFaceGroup) {
+  InProcessServer server;
+  const v1::CurveSet set = WideEyedMotion();
+  v1::RetimeCurvesRequest request;
+  *request.mutable_curves() = set;
+  const v1::RetimeCurvesResponse response = Retime(server, request);
+  const std::set<std::string> face = GroupIds(response, "face");
+  ASSERT_EQ(face.size(), 3u);
+  v1::MouthSettings mouth;
+  mouth.set_frames_per_shape(3);
+  const v1::LipBlinkResponse lip =
+      LipBlinkOn(server, set, face, mouth, v1::EyeSettings(), std::nullopt, 24.0);
+  const std::optional<FilmGrid> grid = FilmGrid::Make(30.0, 24.0);
+  ASSERT_EQ(lip.eyes_size(), 2);
+  for (int e = 0; e < 2; ++e) {
+    const v1::EyeTrack& track = lip.eyes(e);
+    const double scale = e == 0 ? 1.0 : 0.97;
+    EXPECT_EQ(track.blinks_size(), 2) << track.id();
+    EXPECT_EQ(track.open_level(), 1.2 * scale) << track.id();  // E_max, the scale of delta
+    const v1::ConvertedCurve* rpc = nullptr;
+    for (const v1::ConvertedCurve& c : lip.curves()) {
+      if (c.id() == track.id()) rpc = &c;
+    }
+    ASSERT_NE(rpc, nullptr);
+    const v1::RetimedCurve& group = CurveOf(response, track.id());
+    const int frames = rpc->values_size();
+    ASSERT_EQ(group.values_size(), frames);
+    const std::vector<bool> repainted = RepaintedFrames(lip, track.id(), grid, frames);
+    // The RPC: the input outside the blinks' repaints, so above the level only on the
+    // overshoot's own frames (60-67, the right eye's 61-68), and within the squint at most 0.8.
+    int at_level = 0, half_of_squint = 0, group_wide = 0;
+    for (int k = 0; k < frames; ++k) {
+      const double v = rpc->values(k);
+      if (k < 60 || k > 68) {
+        EXPECT_LE(v, scale) << track.id() << " frame " << k;
+      }
+      if (k >= 95 && k <= 139) {
+        EXPECT_LE(v, 0.8 * scale) << track.id() << " frame " << k;
+      }
+      at_level += v == scale;
+      half_of_squint += v == 0.5 * (0.8 * scale);
+      // The group: LipBlink's values where LipBlink repaints (the blinks, at the squint's
+      // level inside it); elsewhere the input held on the group's drawings, so wide only
+      // while a drawing of the overshoot is held.
+      if (repainted[k]) {
+        EXPECT_EQ(group.values(k), v) << track.id() << " frame " << k;
+        if (k >= 95 && k <= 139) {
+          EXPECT_LE(group.values(k), 0.8 * scale) << track.id() << " frame " << k;
+        }
+      }
+      group_wide += group.values(k) > scale;
+    }
+    EXPECT_GT(at_level, frames / 2) << track.id();  // before: 1.2 nearly everywhere
+    EXPECT_GT(half_of_squint, 0) << track.id();
+    EXPECT_GT(group_wide, 0) << track.id();
+    EXPECT_LE(group_wide, 16) << track.id();
+  }
+}
+
 // GROUP_KEEP: the curves come back as they came in (the input at every frame, no steps,
 // timing -1), the group has no timing, and a file answer keeps their keyframes untouched.
 TEST(CurvesGroupModesTest, KeepGroupIsTheInput) {
