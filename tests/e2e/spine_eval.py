@@ -7,7 +7,10 @@ curves (absent or "linear": linear; "stepped"; a Bezier: 3.7 `curve: [cx1, cy1, 
 `curve: cx1, c2, c3, c4` normalised to the segment, 4.x `curve: [cx1, cy1, cx2, cy2, ...]`
 absolute per value), the setup pose before a timeline's first key, the last value after it;
 key times within Spine's 4-decimal rounding of a frame taken as that frame, as koma documents
-(docs/formats.md). Beziers with a handle outside their segment are not evaluated here.
+(docs/formats.md). A Bezier with a handle outside its segment is played as the Spine runtimes
+are observed to play it (docs/formats.md): sampled at u = 0, 0.1, ..., 1, and for a time the
+first sample at or after it interpolated from the sample before; the key's own time shows the
+key.
 
 check(before, after, animations): for every bone value of every animation retimed, at every
 grid time g / 24 s, the output's value equals what the drawing shown on grid frame g must show
@@ -67,7 +70,12 @@ class Timeline:
                     # absolute handles clamped into the keys' times as read
                     handles = (min(max(cx1, t0), t1), cy1, min(max(cx2, t0), t1), cy2)
                 if not in_span:
-                    raise ValueError("a handle outside its segment: not evaluated here")
+                    if major == 3:
+                        raw = handles
+                    else:
+                        raw = (cx1, cy1, cx2, cy2)
+                    self.beziers.append(("played", _played_samples(t0, v0, raw, t1, v1)))
+                    continue
                 self.beziers.append(handles)
 
     def keys(self):
@@ -86,6 +94,13 @@ class Timeline:
             return v0
         if kind == "linear":
             return v0 + (v1 - v0) * (t - t0) / (t1 - t0)
+        if kind[0] == "played":
+            samples = kind[1]
+            if t <= t0:
+                return v0
+            k = next(k for k in range(1, len(samples)) if samples[k][0] >= t)
+            (xa, ya), (xb, yb) = samples[k - 1], samples[k]
+            return ya + (yb - ya) * (t - xa) / (xb - xa) if xb > xa else yb
         cx1, cy1, cx2, cy2 = kind
 
         def cubic(p0, p1, p2, p3, u):
@@ -100,6 +115,19 @@ class Timeline:
             else:
                 hi = mid
         return cubic(v0, cy1, cy2, v1, (lo + hi) / 2)
+
+
+def _played_samples(t0, v0, handles, t1, v1):
+    """The points (time, value) at u = 0, 0.1, ..., 1 of the Bezier from (t0, v0) through the
+    handles to (t1, v1); the last is the next key itself."""
+    cx1, cy1, cx2, cy2 = handles
+
+    def cubic(p0, p1, p2, p3, u):
+        w = 1 - u
+        return w * w * w * p0 + 3 * w * w * u * p1 + 3 * w * u * u * p2 + u * u * u * p3
+
+    points = [(cubic(t0, cx1, cx2, t1, k / 10), cubic(v0, cy1, cy2, v1, k / 10)) for k in range(10)]
+    return points + [(t1, v1)]
 
 
 def bone_values(doc):
