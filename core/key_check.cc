@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace koma {
 namespace {
@@ -41,11 +42,20 @@ KeyCheck CheckKeys(const CurveSet& input, const std::vector<const std::vector<Cu
   for (size_t c = 0; c < input.curves.size(); ++c) {
     const Curve& curve = input.curves[c];
     const std::vector<CurvePoint>* out = c < stepped.size() ? stepped[c] : nullptr;
-    if (curve.dense() || out == nullptr || out->empty() || curve.segments.empty()) continue;
-    std::vector<CurvePoint> points = {curve.start};  // the keyframes (no inserted points)
-    for (const CurveSegment& s : curve.segments) {
-      if (!s.inserted) points.push_back(s.end);
+    if (out == nullptr || out->empty()) continue;
+    // The keys: a dense curve's samples, else the keyframes (no inserted points).
+    std::vector<CurvePoint> points;
+    if (curve.dense()) {
+      for (size_t f = 0; f < curve.samples.size(); ++f) {
+        points.push_back({static_cast<double>(f), curve.samples[f]});
+      }
+    } else {
+      points.push_back(curve.start);
+      for (const CurveSegment& s : curve.segments) {
+        if (!s.inserted) points.push_back(s.end);
+      }
     }
+    if (points.size() < 2) continue;
     double low = points[0].value, high = points[0].value;
     for (const CurvePoint& p : points) {
       low = std::min(low, p.value);
@@ -56,6 +66,11 @@ KeyCheck CheckKeys(const CurveSet& input, const std::vector<const std::vector<Cu
     CurveKeyCheck result;
     result.id = curve.id;
     const auto miss = [&](double drawn, double key) { return std::fabs(drawn - key) / range; };
+    // What the input shows at key i's time (an inverse-stepped segment shows the value it
+    // steps to from its first point on).
+    const auto shown = [&](size_t i) {
+      return EvaluateCurve(curve, points[i].frame, input.beziers_restricted);
+    };
     // The timing frame nearest a source time (ties to the earlier), within the clip.
     const auto frame_of = [&](double time) {
       const double g = std::ceil(time / step - 0.5 - 1e-9);
@@ -72,7 +87,7 @@ KeyCheck CheckKeys(const CurveSet& input, const std::vector<const std::vector<Cu
       double best = HUGE_VAL;
       for (int k = std::max(0, g - options.window); k <= std::min(last_frame, g + options.window);
            ++k) {
-        best = std::min(best, miss(SteppedAt(*out, k * step), points[i].value));
+        best = std::min(best, miss(SteppedAt(*out, k * step), shown(i)));
       }
       if (best > options.tolerance) {
         ++result.extremes_missed;
@@ -82,8 +97,8 @@ KeyCheck CheckKeys(const CurveSet& input, const std::vector<const std::vector<Cu
         }
       }
     }
-    result.first_missed = miss(out->front().value, points.front().value) > options.tolerance;
-    result.last_missed = miss(out->back().value, points.back().value) > options.tolerance;
+    result.first_missed = miss(out->front().value, shown(0)) > options.tolerance;
+    result.last_missed = miss(out->back().value, shown(points.size() - 1)) > options.tolerance;
     double previous = SteppedAt(*out, 0.0);
     result.drawings = 1;
     for (int k = 1; k <= last_frame; ++k) {

@@ -2,8 +2,9 @@
 // well a retimed motion keeps the keys the animator set, measured from the input curves and the
 // stepped curves koma wrote, independently of how koma chose them.
 //
-// For every moving curve (its keyframe values are not all equal):
-//  - each keyframe that is a local extreme of the keyframe values (a turn, or the edge of a
+// For every moving curve (its keys' values are not all equal; the keys are its keyframes, or a
+// dense curve's samples):
+//  - each key that is a local extreme of the keys' values (a turn, or the edge of a
 //    run of equal values) is *missed* when no drawing within `window` frames of it (on the
 //    frames the timing is counted in: the grid's, or the source's) shows its value to within
 //    `tolerance` of the curve's range (the range of its keyframe values);
@@ -54,8 +55,8 @@ struct KeyCheck {
 
 // `stepped[c]`: curve c of `input` as retimed, stepped keyframes (a point per drawing, its value
 // held until the next point's time: RetimedCurve::steps, or the stepped curve of the response);
-// null or empty for a curve not to check (kept as it came, or drawn by LipBlink). Dense input
-// curves are not checked (they have no keys). Requires a valid `input`.
+// null or empty for a curve not to check (kept as it came, or drawn by LipBlink). A dense
+// curve's keys are its samples. Requires a valid `input`.
 KeyCheck CheckKeys(const CurveSet& input, const std::vector<const std::vector<CurvePoint>*>& stepped,
                    const KeyCheckOptions& options = {});
 

@@ -22,20 +22,31 @@ bool Beats(const KeyDrawing& b, const KeyDrawing& a) {
 
 std::vector<KeyDrawing> KeysToDraw(const Curve& curve) {
   std::vector<KeyDrawing> keys;
-  if (curve.dense() || curve.segments.empty()) return keys;
-  // The keyframes: the start (point 0), then each segment's end that a reader did not insert
-  // (point s + 1 for segment s). Inserted points shape the curve but are no keys.
-  std::vector<size_t> key_points = {0};
-  for (size_t s = 0; s < curve.segments.size(); ++s) {
-    if (!curve.segments[s].inserted) key_points.push_back(s + 1);
+  // A dense curve's keys are its samples (a CSV's per-frame values: a peak is a sample); a
+  // keyframe curve's are its start (point 0) and each segment's end that a reader did not
+  // insert (point s + 1 for segment s): inserted points shape the curve but are no keys.
+  std::vector<CurvePoint> dense_points;
+  std::vector<size_t> key_points;
+  if (curve.dense()) {
+    for (size_t f = 0; f < curve.samples.size(); ++f) {
+      dense_points.push_back({static_cast<double>(f), curve.samples[f]});
+      key_points.push_back(f);
+    }
+  } else if (!curve.segments.empty()) {
+    key_points.push_back(0);
+    for (size_t s = 0; s < curve.segments.size(); ++s) {
+      if (!curve.segments[s].inserted) key_points.push_back(s + 1);
+    }
   }
-  const auto point = [&curve](size_t p) -> const CurvePoint& {
+  if (key_points.size() < 2) return keys;
+  const auto point = [&](size_t p) -> const CurvePoint& {
+    if (curve.dense()) return dense_points[p];
     return p == 0 ? curve.start : curve.segments[p - 1].end;
   };
   const size_t n = key_points.size();
   const auto value_of = [&](size_t i) { return point(key_points[i]).value; };
   bool moves = false;
-  for (size_t i = 1; i < n && !moves; ++i) moves = value_of(i) != curve.start.value;
+  for (size_t i = 1; i < n && !moves; ++i) moves = value_of(i) != value_of(0);
   if (!moves) return keys;  // every drawing shows the one value: nothing to place
   for (size_t i = 0; i < n; ++i) {
     const size_t p = key_points[i];
@@ -46,8 +57,8 @@ std::vector<KeyDrawing> KeysToDraw(const Curve& curve) {
     key.frame = point(p).frame;
     // What the curve shows at the key's time: its value, but where an inverse-stepped segment
     // starts the value it steps to, which that segment shows from the key on.
-    const bool inverse =
-        p < curve.segments.size() && curve.segments[p].type == SegmentType::kInverseStepped;
+    const bool inverse = !curve.dense() && p < curve.segments.size() &&
+                         curve.segments[p].type == SegmentType::kInverseStepped;
     key.value = inverse ? curve.segments[p].end.value : point(p).value;
     key.swing = std::max(std::fabs(in), std::fabs(out));
     if (i + 1 == n) {

@@ -41,14 +41,13 @@ struct KeyDrawing {
   bool drawn = true;
 };
 
-// The keyframes of a keyframe curve (its start and every segment end not `inserted`) that
-// must be drawn, in time order: the first and the last
-// point, and every point whose value is a local extreme of the points' values. A point is an
-// extreme when the value turns there (rises then falls, or falls then rises) or a run of equal
-// values starts or ends there (a hold the animator keyed); a point inside a flat run or on a
-// monotone stretch is not. `drawing` is left 0. Empty for a dense curve (it has no keyframes)
-// and for a curve whose keyframes all have one value (a Bezier's handles aside, nothing moves:
-// every drawing shows that value).
+// The keys of a curve that must be drawn, in time order. A keyframe curve's keys are its start
+// and every segment end not `inserted`; a dense curve's (a CSV's per-frame values) its samples.
+// Drawn: the first and the last key, and every key whose value is a local extreme of the keys'
+// values: the value turns there (rises then falls, or falls then rises) or a run of equal
+// values starts or ends there (a hold the animator keyed); a key inside a flat run or on a
+// monotone stretch is not. `drawing` is left 0. Empty for a curve whose keys all have one value
+// (a Bezier's handles aside, nothing moves: every drawing shows that value).
 std::vector<KeyDrawing> KeysToDraw(const Curve& curve);
 
 // The source time each drawing shows of one curve, and its keys placed on the drawings.

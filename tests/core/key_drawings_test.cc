@@ -67,10 +67,14 @@ TEST(KeysToDrawTest, InsertedPointsAreNoKeys) {
   EXPECT_EQ(KeyPoses(options, set), (std::vector<int>{0, 10, 20}));
 }
 
-TEST(KeysToDrawTest, DenseAndSinglePointCurvesHaveNone) {
+// A dense curve (a CSV's per-frame values): its samples are its keys, so its peak is drawn.
+TEST(KeysToDrawTest, ADenseCurvesSamplesAreItsKeys) {
   Curve dense;
-  dense.samples = {0, 1, 2};
-  EXPECT_TRUE(KeysToDraw(dense).empty());
+  dense.samples = {0, 1, 3, 2, 2, 2, 1};
+  EXPECT_EQ(Frames(KeysToDraw(dense)), (std::vector<double>{0, 2, 3, 5, 6}));
+}
+
+TEST(KeysToDrawTest, SinglePointAndFlatCurvesHaveNone) {
   Curve point;
   point.start = {0, 1};
   EXPECT_TRUE(KeysToDraw(point).empty());
@@ -221,8 +225,14 @@ struct NaiveKey {
 std::vector<double> NaiveValues(const Curve& curve, const DrawingTiming& timing,
                                 const std::optional<FilmGrid>& grid, bool restricted,
                                 std::vector<int>* carried_out) {
-  std::vector<CurvePoint> p = {curve.start};
-  for (const CurveSegment& s : curve.segments) p.push_back(s.end);
+  // The keys: a dense curve's samples, else the start and every segment end.
+  std::vector<CurvePoint> p;
+  if (curve.dense()) {
+    for (size_t f = 0; f < curve.samples.size(); ++f) p.push_back({double(f), curve.samples[f]});
+  } else {
+    p.push_back(curve.start);
+    for (const CurveSegment& s : curve.segments) p.push_back(s.end);
+  }
   std::vector<NaiveKey> keys;
   const bool flat = std::all_of(p.begin(), p.end(),
                                 [&p](const CurvePoint& q) { return q.value == p[0].value; });
@@ -232,7 +242,8 @@ std::vector<double> NaiveValues(const Curve& curve, const DrawingTiming& timing,
     const int rank = i + 1 == p.size() ? 2 : i == 0 ? 1 : 0;
     const bool extreme = (in * out < 0) || ((in == 0) != (out == 0));
     // The value shown at the key: an inverse-stepped segment shows the next point's from there.
-    const double shown = i + 1 < p.size() && curve.segments[i].type == SegmentType::kInverseStepped
+    const double shown = !curve.dense() && i + 1 < p.size() &&
+                                 curve.segments[i].type == SegmentType::kInverseStepped
                              ? p[i + 1].value
                              : p[i].value;
     if (rank > 0 || extreme) keys.push_back({p[i].frame, shown, std::max(std::fabs(in), std::fabs(out)), rank});
@@ -318,6 +329,11 @@ TEST(KeyDrawingsPropertyTest, RetimeCurvesMatchesTheNaiveRule) {
     const int curves = rng.Int(1, 6);
     for (int c = 0; c < curves; ++c) {
       set.curves.push_back(RandomCurve(rng, "c" + std::to_string(c), set.frame_count));
+      if (rng.Int(0, 7) == 0) {  // a CSV's curve: a sample per frame, quarter steps
+        Curve& dense = set.curves.back();
+        dense.samples.resize(static_cast<size_t>(set.frame_count));
+        for (double& v : dense.samples) v = std::round(rng.Unit() * 8.0) / 4.0;
+      }
     }
     ASSERT_TRUE(ValidateCurveSet(set).ok()) << round;
     KomaUchiOptions options;
