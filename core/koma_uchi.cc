@@ -67,7 +67,7 @@ void AppendSegment(int key, int next_key, double key_time, double next_key_time,
 
 // `keys`: the key poses on the frames the holds are counted in (grid frames with a grid);
 // `key_times`: the same key poses' own times in source frames.
-DrawingTiming BuildTiming(const std::vector<int>& keys, const std::vector<int>& key_times,
+DrawingTiming BuildTiming(const std::vector<int>& keys, const std::vector<double>& key_times,
                           const std::vector<SegmentParams>& params, int frames_per_drawing,
                           bool merged_poses) {
   const int frame_count = keys.back() + 1;
@@ -130,6 +130,40 @@ uint64_t CurveTimesHash(const Curve& curve) {
     }
   }
   return hash;
+}
+
+// The key poses' own times in source frames, for `pose_frames` (the key poses in source
+// frames). On a grid, with the poses made from the keyframes: the earliest keyframe time of the
+// group's curves that rounds to the pose's frame (a key at 3.75 frames, an exact grid time,
+// shows 3.75, not 4: so a stepped answer read back and retimed shows its own drawings), the
+// clip's first and last frame as they are. Otherwise (named key poses, or no grid) the frames.
+std::vector<double> PoseTimes(const CurveSet& set, const std::vector<int>& members,
+                              const KomaUchiOptions& options, bool on_grid,
+                              const std::vector<int>& pose_frames) {
+  std::vector<double> times(pose_frames.begin(), pose_frames.end());
+  if (!on_grid || !options.key_frames.empty()) return times;
+  const int last = set.frame_count - 1;
+  std::vector<double> earliest(static_cast<size_t>(set.frame_count), HUGE_VAL);
+  const auto note = [&](double t) {
+    if (!std::isfinite(t)) return;
+    const double f = std::clamp(std::round(t), 0.0, static_cast<double>(last));
+    double& e = earliest[static_cast<size_t>(f)];
+    e = std::min(e, std::clamp(t, 0.0, static_cast<double>(last)));
+  };
+  for (int c : members) {
+    const Curve& curve = set.curves[static_cast<size_t>(c)];
+    if (curve.dense()) continue;
+    note(curve.start.frame);
+    for (const CurveSegment& segment : curve.segments) {
+      if (!segment.inserted) note(segment.end.frame);
+    }
+  }
+  for (size_t x = 0; x < pose_frames.size(); ++x) {
+    const int f = pose_frames[x];
+    if (f == 0 || f == last) continue;  // the clip's ends
+    if (std::isfinite(earliest[static_cast<size_t>(f)])) times[x] = earliest[static_cast<size_t>(f)];
+  }
+  return times;
 }
 
 std::map<int, int> HoldHistogram(const DrawingTiming& timing) {
@@ -360,7 +394,10 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
   const std::vector<SegmentParams> defaults = DefaultSegmentParams(options, keys.size() - 1);
   const int first_timing = static_cast<int>(result.timings.size());
   group.timing = first_timing;
-  result.timings.push_back(BuildTiming(keys, group.key_frames, defaults, options.frames_per_drawing, merged_poses));
+  const std::vector<double> pose_times =
+      PoseTimes(set, members, options, grid.has_value(), group.key_frames);
+  result.timings.push_back(
+      BuildTiming(keys, pose_times, defaults, options.frames_per_drawing, merged_poses));
   // Each distinct per-curve n (ascending) of the group's curves gets a timing with that n in
   // every segment (the segments' tame and tsume still apply), unless that is the group's first
   // timing itself: n is the default and no segment override changes it.
@@ -382,7 +419,7 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
       continue;
     }
     timing_of_n[n] = static_cast<int>(result.timings.size());
-    result.timings.push_back(BuildTiming(keys, group.key_frames, params, n, merged_poses));
+    result.timings.push_back(BuildTiming(keys, pose_times, params, n, merged_poses));
   }
   std::map<int, std::map<int, int>> histograms;  // per timing index; on grid frames with a grid
   for (size_t t = static_cast<size_t>(first_timing); t < result.timings.size(); ++t) {

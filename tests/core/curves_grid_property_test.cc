@@ -213,19 +213,45 @@ Clip RandomClip(SplitMix64& rng, const Rate& r, int max_grid_frames) {
 // The tau a grid drawing must have: the reference's tau (grid frames, no grid) at the same
 // fraction of its segment between the key poses' grid frames `grid_keys`, mapped between the
 // key poses' own source frames `source_keys`; the last drawing shows the clip's last frame.
-double WantTau(const std::vector<int>& grid_keys, const std::vector<int>& source_keys, int start,
+double WantTau(const std::vector<int>& grid_keys, const std::vector<double>& source_keys, int start,
                double ref_tau) {
   const size_t x = static_cast<size_t>(
       std::upper_bound(grid_keys.begin(), grid_keys.end(), start) - grid_keys.begin() - 1);
-  if (x + 1 >= grid_keys.size()) return source_keys.back();
+  if (x + 1 >= grid_keys.size()) return source_keys.back();  // the clip's last frame
   const double fraction = (ref_tau - grid_keys[x]) / (grid_keys[x + 1] - grid_keys[x]);
   return source_keys[x] + (source_keys[x + 1] - source_keys[x]) * fraction;
+}
+
+// The key poses' own times (docs/semantics.md): with the poses made from the keyframes, the
+// earliest keyframe time of any curve that rounds to the pose's frame (not the clip's ends);
+// named poses: their frames.
+std::vector<double> PoseTimes(const Clip& clip, const std::vector<int>& frames) {
+  std::vector<double> times(frames.begin(), frames.end());
+  if (!clip.options.key_frames.empty()) return times;
+  const int last = clip.source.frame_count - 1;
+  for (size_t x = 0; x < frames.size(); ++x) {
+    if (frames[x] == 0 || frames[x] == last) continue;
+    double earliest = HUGE_VAL;
+    for (const Curve& c : clip.source.curves) {
+      if (c.dense()) continue;
+      std::vector<double> keys = {c.start.frame};
+      for (const CurveSegment& s : c.segments) keys.push_back(s.end.frame);
+      for (double t : keys) {
+        const double clamped = std::clamp(t, 0.0, static_cast<double>(last));
+        if (std::clamp(std::round(t), 0.0, static_cast<double>(last)) == frames[x]) {
+          earliest = std::min(earliest, clamped);
+        }
+      }
+    }
+    if (earliest < HUGE_VAL) times[x] = earliest;
+  }
+  return times;
 }
 
 std::string CompareTiming(const Rate& r, const Clip& clip, const KomaUchiResult& got_result,
                           const DrawingTiming& got, const DrawingTiming& want) {
   const std::vector<int>& grid_keys = got_result.key_grid_frames;
-  const std::vector<int>& source_keys = got_result.key_frames;
+  const std::vector<double> source_keys = PoseTimes(clip, got_result.key_frames);
   const int n = clip.source.frame_count;
   const int last_grid = clip.grid_frames - 1;
   std::ostringstream why;

@@ -80,7 +80,7 @@ for fps in 30 60; do
       --server "$target" >"$work/summary.txt" || fail "koma curves $m failed"
     check_runs "$m" "$work/three.motion3.json" 3 --lipblink || fail "$m on threes"
     head -1 "$work/sheet.csv" | grep -qx \
-      'output_frame,drawing,source_frame,time_s,face_drawing,face_source_frame,hair_drawing,hair_source_frame' \
+      'output_frame,drawing,source_frame,time_s,face_drawing,face_source_frame,hair_drawing,hair_source_frame,keys' \
       || fail "sheet: not one track per group: $(head -1 "$work/sheet.csv")"
     # On twos, and the hair on twos while the rest is on threes.
     "$client_bin" curves "$m" -o "$work/two.motion3.json" --on 2 --server "$target" >/dev/null \
@@ -157,7 +157,7 @@ grep -q '"mode":"lipblink"' "$work/talk.html" || fail "report: no group mode"
 "$client_bin" curves "$talk" -o "$work/talk_keep.motion3.json" --group-mode face=keep \
   --timing "$work/talk_keep.csv" --server "$target" >"$work/keep.txt" || fail "--group-mode keep"
 grep -q "face (3 curves, kept as they are)" "$work/keep.txt" || fail "summary: $(cat "$work/keep.txt")"
-head -1 "$work/talk_keep.csv" | grep -qx 'output_frame,drawing,source_frame,time_s' \
+head -1 "$work/talk_keep.csv" | grep -qx 'output_frame,drawing,source_frame,time_s,keys' \
   || fail "a kept group has a sheet track: $(head -1 "$work/talk_keep.csv")"
 python3 - "$talk" "$work/talk_keep.motion3.json" <<'PY' || fail "kept face changed"
 import json, sys

