@@ -15,6 +15,7 @@
 #include "core/koma_uchi.h"
 #include "formats/spine.h"
 #include "formats/spine_played_bezier.h"
+#include "tests/formats/spine_test_util.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma::formats {
@@ -86,15 +87,6 @@ std::vector<double> EndFrames(const Curve& curve) {
   std::vector<double> frames{curve.start.frame};
   for (const CurveSegment& s : curve.segments) frames.push_back(s.end.frame);
   return frames;
-}
-
-const Curve& CurveNamed(const SpineAnimation& animation, const std::string& id) {
-  for (const Curve& curve : animation.curves.curves) {
-    if (curve.id == id) return curve;
-  }
-  ADD_FAILURE() << "no curve " << id;
-  static const Curve kNone;
-  return kNone;
 }
 
 SpineFile Parse(const std::string& text) {

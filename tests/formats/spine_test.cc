@@ -11,6 +11,7 @@
 #include "core/curves.h"
 #include "formats/spine.h"
 #include "tests/formats/test_files.h"
+#include "tests/formats/spine_test_util.h"
 #include "tests/testing/status_matchers.h"
 
 namespace koma::formats {
@@ -33,15 +34,6 @@ std::vector<std::string> Ids(const SpineAnimation& animation) {
   std::vector<std::string> ids;
   for (const Curve& curve : animation.curves.curves) ids.push_back(curve.id);
   return ids;
-}
-
-const Curve& CurveNamed(const SpineAnimation& animation, const std::string& id) {
-  for (const Curve& curve : animation.curves.curves) {
-    if (curve.id == id) return curve;
-  }
-  ADD_FAILURE() << "no curve " << id;
-  static const Curve kNone;
-  return kNone;
 }
 
 double At(const Curve& curve, double seconds, double fps = 30.0) {
