@@ -189,10 +189,10 @@ absl::StatusOr<TimingGroupFlag> ParseTimingGroup(const std::string& text) {
       // LipBlink's settings of a lipblink group (the server refuses them in other modes).
       if (absl::StartsWith(setting, "mouth=") || absl::StartsWith(setting, "eyes=")) {
         const size_t eq = setting.find('=');
-        std::vector<std::string>& ids = setting[0] == 'm' ? out.mouth_ids : out.eye_ids;
+        std::vector<std::string>& drawn = setting[0] == 'm' ? out.mouth_ids : out.eye_ids;
         for (absl::string_view id : absl::StrSplit(setting.substr(eq + 1), '/')) {
           if (id.empty()) return absl::InvalidArgumentError(usage);
-          ids.emplace_back(id);
+          drawn.emplace_back(id);
         }
         continue;
       }
