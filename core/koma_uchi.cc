@@ -203,9 +203,20 @@ int DrawingOfKey(const DrawingTiming& timing, const std::optional<FilmGrid>& gri
 // where the curve's own keys are drawn (core/key_drawings.h): a drawing that carries a key
 // shows its value exactly, one clamped onto a carried key shows that key. The times shown are
 // non-decreasing, so the cursor only walks forward.
+// Per drawing of `timing`, its tau in source frames (the same for every curve of the timing).
+std::vector<double> DrawingTaus(const DrawingTiming& timing) {
+  if (!timing.drawing_time.empty()) return timing.drawing_tau;  // on a grid: kept per drawing
+  std::vector<double> tau;
+  tau.reserve(timing.drawing_start.size());
+  for (int start : timing.drawing_start) tau.push_back(timing.source_frame[static_cast<size_t>(start)]);
+  return tau;
+}
+
+// `tau`: DrawingTaus(timing).
 RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const DrawingTiming& timing,
-                       const std::optional<FilmGrid>& grid, int timing_index,
-                       const std::map<int, int>& histogram, SharedParameters& shared) {
+                       const std::vector<double>& tau, const std::optional<FilmGrid>& grid,
+                       int timing_index, const std::map<int, int>& histogram,
+                       SharedParameters& shared) {
   RetimedCurve out;
   out.timing = timing_index;
   out.hold_histogram = histogram;
@@ -215,10 +226,6 @@ RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const Drawin
   out.values.resize(frame_count);
   out.steps.reserve(drawings);
   const bool on_grid = !timing.drawing_time.empty();
-  std::vector<double> tau(drawings);
-  for (size_t d = 0; d < drawings; ++d) {
-    tau[d] = on_grid ? timing.drawing_tau[d] : timing.source_frame[static_cast<size_t>(starts[d])];
-  }
   std::vector<KeyDrawing> keys = KeysToDraw(curve);
   for (KeyDrawing& key : keys) key.drawing = DrawingOfKey(timing, grid, key.frame);
   CurveDrawingTimes placed = PlaceKeysOnDrawings(std::move(keys), tau);
@@ -422,9 +429,11 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
     result.timings.push_back(BuildTiming(keys, pose_times, params, n, merged_poses));
   }
   std::map<int, std::map<int, int>> histograms;  // per timing index; on grid frames with a grid
+  std::map<int, std::vector<double>> taus;        // per timing index: DrawingTaus
   for (size_t t = static_cast<size_t>(first_timing); t < result.timings.size(); ++t) {
     histograms[static_cast<int>(t)] = HoldHistogram(result.timings[t]);
     if (grid) result.timings[t] = ExpandToSource(result.timings[t], *grid, set.frame_count);
+    taus[static_cast<int>(t)] = DrawingTaus(result.timings[t]);
   }
   // Curves with the same times on the same timing share their Bezier parameters at the
   // drawings' taus: solved once (bisection, ~55 cubic evaluations each) for all of them, since
@@ -454,8 +463,8 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
         parameters = &same_hash.back().second;
       }
     }
-    result.curves[c] = RetimeOne(curve, set.beziers_restricted, result.timings[t], grid, t,
-                                 histograms[t], *parameters);
+    result.curves[c] = RetimeOne(curve, set.beziers_restricted, result.timings[t], taus[t], grid,
+                                 t, histograms[t], *parameters);
   }
   return group;
 }

@@ -233,20 +233,18 @@ std::vector<double> Joined(std::initializer_list<std::vector<double>> parts) {
   return all;
 }
 
+// Open at 1, a squint held at 0.8 with a blink inside it (closed at frames 23-24), open again.
+std::vector<double> SquintWithABlink() {
+  return Joined({Repeat(1.0, 10), {0.9}, Repeat(0.8, 10), {0.5, 0.2}, Repeat(0.0, 2), {0.3, 0.6},
+                 Repeat(0.8, 10), {0.9}, Repeat(1.0, 10)});
+}
+
 // Open at 1, then a squint held at 0.8 with a blink inside it, then open again: the blink
 // snaps shut from 0.8, its half-open drawing is 0.4 and it reopens to 0.8. Before, E_max (1)
 // was the open drawing, and since 0.8 never counted as open the whole squint around the blink
 // was painted at 1 (the squint erased).
 TEST(ConvertEyesTest, AHeldSquintReopensToItsOwnLevel) {
-  const std::vector<double> eye = Joined({Repeat(1.0, 10),
-                                          {0.9},
-                                          Repeat(0.8, 10),
-                                          {0.5, 0.2},
-                                          Repeat(0.0, 2),
-                                          {0.3, 0.6},
-                                          Repeat(0.8, 10),
-                                          {0.9},
-                                          Repeat(1.0, 10)});
+  const std::vector<double> eye = SquintWithABlink();
   const EyeResult r = ConvertEyes({eye}, EyeOptions(), 1);
   ASSERT_EQ(r.blinks[0].size(), 1u);
   EXPECT_EQ(r.blinks[0][0], (Blink{21, 23, 24, 2, 1, false}));  // O_total 1 + 2: k 1
@@ -270,15 +268,7 @@ TEST(ConvertEyesTest, AHeldSquintReopensToItsOwnLevel) {
 
 // E_max given: every open drawing is E_max, as the paper (the squint above painted at 1).
 TEST(ConvertEyesTest, AGivenMaxIsEveryOpenDrawing) {
-  const std::vector<double> eye = Joined({Repeat(1.0, 10),
-                                          {0.9},
-                                          Repeat(0.8, 10),
-                                          {0.5, 0.2},
-                                          Repeat(0.0, 2),
-                                          {0.3, 0.6},
-                                          Repeat(0.8, 10),
-                                          {0.9},
-                                          Repeat(1.0, 10)});
+  const std::vector<double> eye = SquintWithABlink();
   EyeOptions options;
   options.max = 1.0;
   const EyeResult r = ConvertEyes({eye}, options, 1);
