@@ -18,11 +18,13 @@ case "$kind" in
   *) echo "sanitizer-build.sh: unknown kind '$kind' (asan or tsan)" >&2; exit 2 ;;
 esac
 "$root/scripts/install-deps.sh"
-launcher=()
-if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+setup=()
+if command -v ccache >/dev/null; then setup=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+# A new build folder uses Ninja (an existing one keeps its generator).
+if [ ! -f "$build/CMakeCache.txt" ] && command -v ninja >/dev/null; then setup+=(-G Ninja); fi
 cmake -S "$root" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
   "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -gline-tables-only" -DKOMA_BUILD_BENCH=OFF \
-  "${launcher[@]}" "${flags[@]}" >/dev/null
+  "${setup[@]}" "${flags[@]}" >/dev/null
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done
 cmake --build "$build" -j"$(nproc)" "${targets[@]}"
