@@ -8,6 +8,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "core/skeleton.h"
@@ -30,9 +31,16 @@ namespace koma::formats {
 // for: a missing or misplaced keyword, unbalanced braces, a malformed or non-finite number,
 // a CHANNELS count outside 0..6, a repeated channel, OFFSET or CHANNELS line, a duplicate
 // joint name, a joint or End Site without OFFSET, an End Site with channels or children, a
-// negative or malformed frame count, a frame time that is not > 0, and too few or too many
-// motion values. Frames in messages count from 0. The result passes ValidateSkeleton.
-absl::StatusOr<SkeletalClip> ParseBvh(std::string_view text);
+// negative or malformed frame count, a frame time that is not > 0, too few motion values,
+// and values after the last frame that are not whole frames. Frames in messages count from
+// 0. The result passes ValidateSkeleton.
+//
+// Read with a warning (appended to `warnings` when given, "line L: ..."): more whole frames
+// after the "Frames:" count than it says, as some exporters write (assimp's Boxing_Toes test
+// file: "Frames: 3069" and 3,070 rows). Blender's importer reads them all, so koma does; the
+// clip's frame_count is the frames read. A partial frame after them is still an error.
+absl::StatusOr<SkeletalClip> ParseBvh(std::string_view text,
+                                      std::vector<std::string>* warnings = nullptr);
 
 // Writes `clip` in the common layout: tab indentation, "ROOT"/"JOINT"/"End Site" blocks with
 // braces on their own lines, "OFFSET x y z", "CHANNELS n ..." (also for n = 0), "MOTION",

@@ -34,7 +34,8 @@ struct OpenBlock {
 
 class BvhParser {
  public:
-  explicit BvhParser(std::string_view text) : lexer_(text), text_(text) {}
+  BvhParser(std::string_view text, std::vector<std::string>* warnings)
+      : lexer_(text), text_(text), warnings_(warnings) {}
 
   absl::StatusOr<SkeletalClip> Parse() {
     KOMA_RETURN_IF_ERROR(ParseHierarchy());
@@ -82,6 +83,7 @@ class BvhParser {
   // The next token as a non-negative decimal integer that fits an int.
   absl::StatusOr<int> ReadCount(std::string_view what) {
     const BvhToken token = lexer_.Next();
+    count_line_ = token.line;
     int value = 0;
     const char* end = token.text.data() + token.text.size();
     const auto [ptr, ec] = std::from_chars(token.text.data(), end, value);
@@ -220,6 +222,7 @@ class BvhParser {
   absl::Status ParseMotionHeader() {
     KOMA_RETURN_IF_ERROR(Expect("Frames:", " after \"MOTION\""));
     KOMA_ASSIGN_OR_RETURN(clip_.frame_count, ReadCount("Frames"));
+    frames_line_ = count_line_;
     KOMA_RETURN_IF_ERROR(Expect("Frame", " after the frame count"));
     KOMA_RETURN_IF_ERROR(Expect("Time:", " after \"Frame\""));
     const BvhToken token = lexer_.Next();
@@ -249,13 +252,43 @@ class BvhParser {
       clip_.values.push_back(*value);
       last_line = token.line;
     }
-    const BvhToken extra = lexer_.Next();
-    if (!extra.text.empty()) {
-      return Error(extra, absl::StrCat("unexpected ", DescribeToken(extra),
-                                       " after the last frame (expected ", clip_.frame_count,
-                                       " frames x ", channels, " values = ", total, ")"));
+    return ParseExtraFrames(channels, total);
+  }
+
+  // Whole frames after the `Frames:` count (some exporters count one frame less than they
+  // write; Blender's importer reads them all): read too, with a warning naming both counts.
+  // Anything else after the last frame is the error it always was, at the word that is not a
+  // number or at the start of the frame left incomplete.
+  absl::Status ParseExtraFrames(int64_t channels, int64_t total) {
+    BvhToken token = lexer_.Next();
+    if (token.text.empty()) return absl::OkStatus();
+    if (channels == 0) return UnexpectedAfterFrames(token, channels, total);
+    const int first_line = token.line;
+    BvhToken frame_start = token;  // first value of the frame being read
+    int64_t extra = 0;             // values read after the counted frames
+    for (; !token.text.empty(); token = lexer_.Next(), ++extra) {
+      if (extra % channels == 0) frame_start = token;
+      const absl::StatusOr<double> value = ParseDouble(token.text);
+      if (!value.ok()) return UnexpectedAfterFrames(token, channels, total);
+      clip_.values.push_back(*value);
     }
+    const int64_t frames = clip_.frame_count + extra / channels;
+    if (extra % channels != 0 || frames > INT32_MAX) {
+      return UnexpectedAfterFrames(frame_start, channels, total);
+    }
+    if (warnings_ != nullptr) {
+      warnings_->push_back(absl::StrCat("line ", first_line, ": \"Frames: ", clip_.frame_count,
+                                        "\" (line ", frames_line_, ") but ", frames,
+                                        " frames follow; read all ", frames, ", as Blender does"));
+    }
+    clip_.frame_count = static_cast<int>(frames);
     return absl::OkStatus();
+  }
+
+  absl::Status UnexpectedAfterFrames(const BvhToken& token, int64_t channels, int64_t total) const {
+    return Error(token, absl::StrCat("unexpected ", DescribeToken(token),
+                                     " after the last frame (expected ", clip_.frame_count,
+                                     " frames x ", channels, " values = ", total, ")"));
   }
 
   // The file ended after `read` of the frame_count x `channels` values; `line` is where the last
@@ -290,6 +323,9 @@ class BvhParser {
 
   BvhLexer lexer_;
   std::string_view text_;    // all of the input (the lexer's tokens point into it)
+  std::vector<std::string>* warnings_;  // where a rule was bent; nullptr: not wanted
+  int count_line_ = 0;       // line of the count ReadCount read last
+  int frames_line_ = 0;      // line of the "Frames:" count
   int frame_time_line_ = 0;  // line of the "Frame Time:" value
   SkeletalClip clip_;
   std::vector<OpenBlock> open_;
@@ -298,10 +334,10 @@ class BvhParser {
 
 }  // namespace
 
-absl::StatusOr<SkeletalClip> ParseBvh(std::string_view text) {
+absl::StatusOr<SkeletalClip> ParseBvh(std::string_view text, std::vector<std::string>* warnings) {
   // A UTF-8 byte order mark is skipped (line numbers are unchanged); UTF-16 is refused.
   KOMA_ASSIGN_OR_RETURN(text, SkipUtf8Bom(text));
-  return BvhParser(text).Parse();
+  return BvhParser(text, warnings).Parse();
 }
 
 }  // namespace koma::formats

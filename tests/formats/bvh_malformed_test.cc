@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "formats/bvh.h"
 #include "tests/testing/replace_once.h"
@@ -138,14 +139,48 @@ TEST(ParseBvhMalformedTest, ReportsLineAndToken) {
       {"extra value", Edit("5 6 7 8", "5 6 7 8 9"),
        "line 20: unexpected \"9\" after the last frame (expected 2 frames x 4 "
        "values = 8)"},
-      {"extra line", Edit("5 6 7 8\n", "5 6 7 8\n\n9 10 11 12\n"),
+      {"extra partial frame", Edit("5 6 7 8\n", "5 6 7 8\n\n9 10 11\n"),
        "line 22: unexpected \"9\" after the last frame"},
+      {"whole frame, then a partial one", Edit("5 6 7 8\n", "5 6 7 8\n9 10 11 12\n13\n"),
+       "line 22: unexpected \"13\" after the last frame"},
+      {"whole frame, then a word", Edit("5 6 7 8\n", "5 6 7 8\n9 10 11 12\nEND\n"),
+       "line 22: unexpected \"END\" after the last frame"},
   };
   for (const MalformedCase& c : kCases) {
     EXPECT_THAT(ParseBvh(c.text),
                 StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr(c.message)))
         << c.name;
   }
+}
+
+// More whole frames than "Frames:" says, as some exporters write them (assimp's Boxing_Toes:
+// "Frames: 3069" and 3,070 rows): read them all, as Blender's importer does, with a warning
+// naming both counts and the lines.
+TEST(ParseBvhMalformedTest, ReadsWholeFramesAfterTheCountWithAWarning) {
+  std::vector<std::string> warnings;
+  const absl::StatusOr<SkeletalClip> one_more =
+      ParseBvh(Edit("5 6 7 8\n", "5 6 7 8\n9 10 11 12\n"), &warnings);
+  ASSERT_THAT(one_more.status(), IsOk());
+  EXPECT_EQ(one_more->frame_count, 3);
+  EXPECT_EQ(one_more->values,
+            (std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12}));
+  EXPECT_THAT(warnings, ::testing::ElementsAre(
+                            "line 21: \"Frames: 2\" (line 17) but 3 frames follow; read all 3, "
+                            "as Blender does"));
+
+  warnings.clear();
+  const absl::StatusOr<SkeletalClip> wrapped =
+      ParseBvh(Edit("5 6 7 8\n", "5 6 7 8\n9 10\n11 12 13 14 15\n16\n"), &warnings);
+  ASSERT_THAT(wrapped.status(), IsOk());
+  EXPECT_EQ(wrapped->frame_count, 4);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("but 4 frames follow"));
+
+  // A file that keeps the count warns of nothing; without a list the warning is dropped.
+  warnings.clear();
+  ASSERT_THAT(ParseBvh(kValid, &warnings).status(), IsOk());
+  EXPECT_THAT(warnings, ::testing::IsEmpty());
+  EXPECT_EQ(ParseBvh(Edit("5 6 7 8\n", "5 6 7 8\n9 10 11 12\n"))->frame_count, 3);
 }
 
 // A huge or binary token is quoted escaped and cut to 40 bytes.
