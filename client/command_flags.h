@@ -20,13 +20,8 @@
 
 namespace koma::client {
 
-// --preset NAME of skeletal, curves and lipblink: common settings as flags.
-//   twos    drawings held 2 frames (skeletal --max-hold 2, curves/lipblink --on 2)
-//   threes  held 3 frames (--max-hold 3, --on 3)
-//   snappy  more omissions and bunching near the keys (skeletal --omit 6 --max-hold 3;
-//           curves --on 3 --tame 1.5 --tsume 2; lipblink --on 2)
-//   subtle  fewer omissions, shorter holds (skeletal --omit 2 --max-hold 2; curves --on 2;
-//           lipblink --on 3 --mode follow)
+// --preset NAME of skeletal, curves and lipblink: common settings as flags (twos, threes,
+// snappy, subtle, paper; the table in docs/usage.md, "Presets and studio defaults").
 const std::vector<std::string>& PresetNames();
 // The flags of preset `name` for `command`; nullptr for an unknown name.
 const std::vector<std::string>* PresetFlags(const std::string& command, const std::string& name);

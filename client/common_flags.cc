@@ -7,7 +7,7 @@
 namespace koma::client {
 
 const std::vector<std::string>& PresetNames() {
-  static const std::vector<std::string> names{"twos", "threes", "snappy", "subtle"};
+  static const std::vector<std::string> names{"twos", "threes", "snappy", "subtle", "paper"};
   return names;
 }
 
@@ -18,17 +18,22 @@ const std::vector<std::string>* PresetFlags(const std::string& command, const st
        {{"twos", {"--drawings-per-second", "12"}},
         {"threes", {"--drawings-per-second", "8"}},
         {"snappy", {"--omissions-per-second", "1.5", "--drawings-per-second", "8"}},
-        {"subtle", {"--omissions-per-second", "0.5", "--drawings-per-second", "12"}}}},
+        {"subtle", {"--omissions-per-second", "0.5", "--drawings-per-second", "12"}},
+        // Naming a count turns the anime defaults off: the paper's 4 omissions, N / 3 holds
+        // and on threes (docs/semantics.md, "Defaults: anime timing").
+        {"paper", {"--max-hold", "3"}}}},
       {"curves",
        {{"twos", {"--on", "2"}},
         {"threes", {"--on", "3"}},
         {"snappy", {"--on", "3", "--tame", "1.5", "--tsume", "2"}},
-        {"subtle", {"--on", "2"}}}},
+        {"subtle", {"--on", "2"}},
+        {"paper", {}}}},
       {"lipblink",
        {{"twos", {"--on", "2"}},
         {"threes", {"--on", "3"}},
         {"snappy", {"--on", "2"}},
-        {"subtle", {"--on", "3", "--mode", "follow"}}}},
+        {"subtle", {"--on", "3", "--mode", "follow"}},
+        {"paper", {}}}},
   };
   const auto by_command = presets.find(command);
   if (by_command == presets.end()) return nullptr;
@@ -39,7 +44,8 @@ const std::vector<std::string>* PresetFlags(const std::string& command, const st
 void AddPresetFlag(CLI::App* cmd) {
   cmd->add_option_function<std::string>(
          "--preset", [](const std::string&) {},
-         "common settings: twos, threes, snappy (more omissions, bunching near keys), subtle; "
+         "common settings: twos, threes, snappy (more omissions, bunching near keys), subtle, "
+         "paper (skeletal: the paper's counts instead of the anime defaults); "
          "flags given on the line win (docs/usage.md lists what each sets)")
       ->type_name(absl::StrJoin(PresetNames(), "|"));
 }

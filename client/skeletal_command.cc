@@ -91,12 +91,14 @@ absl::StatusOr<SkeletalInput> ParseSkeletalText(const std::string& path, std::st
         InputName(path), " is a glTF file: `koma skeletal IN.glb -o OUT.glb` retimes it whole "
         "(this step reads BVH only)"));
   }
-  absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(*text);
+  std::vector<std::string> warnings;
+  absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(*text, &warnings);
   if (!clip.ok()) {
     return absl::InvalidArgumentError(
         absl::StrCat(InputName(path), " (BVH): ", clip.status().message()));
   }
-  return SkeletalInput{*std::move(clip), *std::move(text)};
+  for (std::string& warning : warnings) warning.insert(0, InputName(path) + " (BVH): ");
+  return SkeletalInput{*std::move(clip), *std::move(text), std::move(warnings)};
 }
 
 absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path) {
@@ -262,6 +264,10 @@ int RunSkeletal(const SkeletalArgs& args) {
       code >= 0) {
     return code;
   }
+  // The file's warnings as this client read it (with --send-file the server read the same
+  // text and found the same, named after its field): one wording in summary, JSON and report.
+  response.clear_warnings();
+  for (const std::string& warning : input->warnings) response.add_warnings(warning);
   if (absl::Status s = WriteSkeletalOutputs(args, *clip, response); !s.ok()) return out.Failure(s);
   if (!args.report.empty()) {
     if (absl::Status s = report::WriteSkeletalReport(args.report, *request, response, args.input);

@@ -61,6 +61,8 @@ absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path);
 struct SkeletalInput {
   SkeletalClip clip;
   std::string text;
+  // Where the file bent a rule and was read anyway ("take.bvh (BVH): line 3075: ...").
+  std::vector<std::string> warnings;
 };
 absl::StatusOr<SkeletalInput> ReadSkeletalFile(const std::string& path);
 // The same on text already read from `path` (a glTF file is refused: RunSkeletalGltf's).

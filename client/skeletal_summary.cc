@@ -82,6 +82,34 @@ std::string DuplicateFates(const v1::RetimeSkeletalResponse& response) {
   return fates.empty() ? "" : absl::StrCat(" (", absl::StrJoin(fates, "; "), ")");
 }
 
+// "8 drawings and 1 omission a second": the rates the server used (0: none).
+std::string RatesText(const v1::RetimeSkeletalResponse& response) {
+  std::vector<std::string> parts;
+  if (response.drawings_per_second() > 0) {
+    parts.push_back(absl::StrFormat("%g drawings", response.drawings_per_second()));
+  }
+  if (response.omissions_per_second() > 0) {
+    parts.push_back(absl::StrFormat("%g omission%s", response.omissions_per_second(),
+                                    response.omissions_per_second() == 1 ? "" : "s"));
+  }
+  return absl::StrCat(absl::StrJoin(parts, " and "), " a second");
+}
+
+bool AskedForCounts(const SkeletalArgs& args) {
+  return args.omissions || args.holds || args.max_hold;
+}
+bool AskedForRates(const SkeletalArgs& args) {
+  return args.omissions_per_second || args.drawings_per_second;
+}
+
+// Drawings a second of the output: its runs of one drawing over its length (output frames of
+// out_ms milliseconds each).
+double DrawingsPerSecond(const v1::RetimeSkeletalResponse& response, double out_ms) {
+  const int frames = response.source_frames_size();
+  if (frames == 0 || out_ms <= 0) return 0.0;
+  return static_cast<double>(RunLengths(response).size()) / (frames * out_ms / 1000.0);
+}
+
 // Seconds per output frame: the motion's when returned, else what it would have been.
 double OutputFrameTime(const SkeletalArgs& args, const SkeletalClip& clip,
                        const v1::RetimeSkeletalResponse& response) {
@@ -108,6 +136,9 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
       absl::StrFormat("%s: %d frames, %zu joints, %.4g fps -> %s (%d frames)\n",
                       InputName(args.input), clip.frame_count, clip.skeleton.joints.size(),
                       1.0 / clip.frame_time, written, response.source_frames_size());
+  for (const std::string& warning : response.warnings()) {
+    absl::StrAppend(&text, "  warning    ", warning, "\n");
+  }
   absl::StrAppendFormat(&text, "  omitted    %3d inbetweens; source frames gone: %s\n",
                         response.omissions_applied(), Ranges(deleted));
   const bool grid = response.timing_fps() > 0;
@@ -130,6 +161,16 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
                         "max_hold %d %s\n",
                         longest, unit, longest_ms, response.omissions_requested(),
                         response.holds_requested(), response.max_hold(), unit);
+  // What the viewer sees, and the rates that asked for it.
+  absl::StrAppendFormat(&text, "  drawings   %zu shown, %.1f a second", RunLengths(response).size(),
+                        DrawingsPerSecond(response, out_ms));
+  if (response.omissions_per_second() > 0 || response.drawings_per_second() > 0) {
+    const bool defaults = !AskedForCounts(args) && !AskedForRates(args);
+    absl::StrAppendFormat(
+        &text, "; asked for %s%s", RatesText(response),
+        defaults ? " (the anime defaults; --preset paper: the paper's counts)" : "");
+  }
+  absl::StrAppend(&text, "\n");
   if (response.timing_fps() > 0 && response.source_frames_size() > 0) {
     // What the grid did, in the units a viewer sees.
     std::vector<int> runs = RunLengths(response);
@@ -191,6 +232,13 @@ nlohmann::json SkeletalSummaryJson(const SkeletalArgs& args, const SkeletalClip&
   j["duplicate_output_frames"] = OutputFramesOfKind(response, v1::DUPLICATE);
   j["held_output_frames"] = OutputFramesOfKind(response, v1::HELD);
   j["cut_frames"] = std::vector<int>(response.cut_frames().begin(), response.cut_frames().end());
+  j["omissions_per_second"] = response.omissions_per_second();
+  j["drawings_per_second"] = response.drawings_per_second();
+  const std::vector<int> runs = RunLengths(response);
+  j["drawings_shown"] = runs.size();
+  j["drawings_shown_per_second"] =
+      DrawingsPerSecond(response, 1000.0 * OutputFrameTime(args, clip, response));
+  j["warnings"] = std::vector<std::string>(response.warnings().begin(), response.warnings().end());
   return j;
 }
 

@@ -171,11 +171,14 @@ absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
     return HandleRetimeSkeletalGltf(request, limits, response, described);
   }
   KOMA_RETURN_IF_ERROR(CheckFileSize(request.bvh_text(), "bvh_text", limits));
-  absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(request.bvh_text());
+  std::vector<std::string> warnings;
+  absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(request.bvh_text(), &warnings);
   if (!clip.ok()) return InField(clip.status(), "bvh_text");
+  for (std::string& warning : warnings) warning.insert(0, "bvh_text: ");
   if (described != nullptr) {
     described->frames = clip->frame_count;
     described->joints = static_cast<int>(clip->skeleton.joints.size());
+    described->warnings = warnings;
   }
   {
     v1::RetimeSkeletalRequest decoded;
@@ -187,6 +190,7 @@ absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
     KOMA_RETURN_IF_ERROR(ReserveDecoded(decoded, request.bvh_text().size(), /*bvh=*/true, limits));
     KOMA_RETURN_IF_ERROR(HandleRetimeSkeletal(decoded, limits, response));
   }  // `decoded` freed before the retimed clip and its text are built
+  for (std::string& warning : warnings) response->add_warnings(std::move(warning));
   if (!response->has_motion()) return absl::OkStatus();  // return_motion false
   // The CLI's steps exactly: the retimed clip from the response, on the parsed skeleton.
   absl::StatusOr<SkeletalClip> retimed = convert::ClipFromResponse(*response, clip->skeleton);

@@ -66,17 +66,18 @@ absl::Status ConfigureLogging(absl::string_view level, absl::string_view format)
 }
 
 namespace {
-spdlog::level::level_enum RpcLineLevel(grpc::StatusCode code) {
-  return code == grpc::StatusCode::INTERNAL ? spdlog::level::err : spdlog::level::info;
+spdlog::level::level_enum RpcLineLevel(const RpcRecord& r) {
+  if (r.code == grpc::StatusCode::INTERNAL) return spdlog::level::err;
+  return r.warnings.empty() ? spdlog::level::info : spdlog::level::warn;
 }
 }  // namespace
 
-bool RpcLineLogged(grpc::StatusCode code) {
-  return spdlog::default_logger_raw()->should_log(RpcLineLevel(code));
+bool RpcLineLogged(const RpcRecord& record) {
+  return spdlog::default_logger_raw()->should_log(RpcLineLevel(record));
 }
 
 void LogRpc(const RpcRecord& r) {
-  const spdlog::level::level_enum level = RpcLineLevel(r.code);
+  const spdlog::level::level_enum level = RpcLineLevel(r);
   // Nothing is formatted for a line the level filters out, and only the chosen format is
   // built: this runs once per call.
   if (!spdlog::default_logger_raw()->should_log(level)) return;
@@ -90,6 +91,7 @@ void LogRpc(const RpcRecord& r) {
                              {"bytes_out", r.bytes_out}, {"code", code},
                              {"latency_ms", r.latency_ms}};
     if (r.code != grpc::StatusCode::OK) fields["error"] = r.error;
+    if (!r.warnings.empty()) fields["warnings"] = r.warnings;
     Emit(level, std::move(fields), "");
     return;
   }
@@ -98,6 +100,7 @@ void LogRpc(const RpcRecord& r) {
                                      r.method, r.request_id, r.peer, r.frames, r.joints,
                                      r.curves, r.bytes_in, r.bytes_out, code, r.latency_ms);
   if (r.code != grpc::StatusCode::OK) absl::StrAppend(&text, " error=\"", r.error, "\"");
+  for (const std::string& warning : r.warnings) absl::StrAppend(&text, " warning=\"", warning, "\"");
   Emit(level, {}, std::move(text));
 }
 

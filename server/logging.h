@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
@@ -33,11 +34,13 @@ struct RpcRecord {
   grpc::StatusCode code = grpc::StatusCode::OK;
   std::string error;        // status message when not OK
   double latency_ms = 0.0;  // from the handler's start to Finish
+  // Where the request's file bent a rule and was read anyway: the line is then a warning.
+  std::vector<std::string> warnings;
 };
 void LogRpc(const RpcRecord& record);
-// Whether LogRpc writes a line for a call that ended with `code` at the configured level:
-// what is only needed for the line (the peer's address) is looked up only then.
-bool RpcLineLogged(grpc::StatusCode code);
+// Whether LogRpc writes a line for `record` at the configured level: what is only needed for
+// the line (the peer's address) is looked up only then.
+bool RpcLineLogged(const RpcRecord& record);
 
 // Lifecycle messages (listening, shutting down): info level, or warn when `warning`.
 void LogEvent(absl::string_view message, bool warning = false);

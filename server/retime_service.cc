@@ -59,7 +59,7 @@ void FinishAndLog(grpc::CallbackServerContext* context, grpc::ServerUnaryReactor
   record.latency_ms = MillisecondsSince(start);
   // The peer's address is a string gRPC builds on request: only for a line that is written
   // (at the default level every call's; at warn, only an INTERNAL error's).
-  if (RpcLineLogged(record.code)) {
+  if (RpcLineLogged(record)) {
     record.peer = context->peer();
     LogRpc(record);
   }
@@ -141,6 +141,7 @@ void DescribeRequest(const v1::LipBlinkRequest& request, RpcRecord& record) {
 void DescribeAnswer(const SkeletalAnswer& answer, RpcRecord& record) {
   record.frames = answer.frames;
   record.joints = answer.joints;
+  record.warnings = answer.warnings;
 }
 void DescribeAnswer(const CurvesAnswer& answer, RpcRecord& record) {
   record.frames = answer.set.frame_count;

@@ -121,11 +121,13 @@ struct Retimed {
 };
 
 // The response fields after the motion (14 and up): the cuts (20), what became of the
-// duplicates (50, 51), and the film grid's, empty without one.
+// duplicates (50, 51), the rates used (52, 53), and the film grid's, empty without one.
 void FillTailFields(const Retimed& retimed, v1::RetimeSkeletalResponse* response) {
   response->mutable_cut_frames()->Add(retimed.cuts.begin(), retimed.cuts.end());
   response->set_duplicates_omitted(retimed.map.duplicates_omitted);
   response->set_duplicates_held(retimed.map.duplicates_held);
+  response->set_omissions_per_second(retimed.job.omissions_per_second);
+  response->set_drawings_per_second(retimed.job.drawings_per_second);
   if (!retimed.job.grid) return;
   response->set_timing_fps(retimed.job.grid->timing_fps());
   response->mutable_grid_frames()->Add(retimed.grid_frames.begin(), retimed.grid_frames.end());

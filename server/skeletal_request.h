@@ -5,6 +5,7 @@
 #include <grpcpp/support/slice.h>
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -18,6 +19,12 @@
 #include "server/request_limits.h"
 
 namespace koma::server {
+
+// The anime defaults of a request that names none of the paper's counts (omissions, holds,
+// max_hold): on threes with about one snap a second, scaling with the take's length
+// (docs/semantics.md, "Defaults: anime timing", measured on real takes at 30-120 fps).
+inline constexpr double kDefaultOmissionsPerSecond = 1.0;  // per second of counted time
+inline constexpr double kDefaultDrawingsPerSecond = 8.0;   // on threes on the 24 fps grid
 
 // Everything the core needs, checked. Channel values stay in the request message.
 struct SkeletalJob {
@@ -36,6 +43,9 @@ struct SkeletalJob {
   CutRule cut_rule;
   double drawings_per_frame = 0.0;   // drawings_per_second / counted fps; 0: no rate
   bool holds_per_frame_cap = false;  // drawings_per_second given, holds not
+  // The rates used after the anime defaults, per second of counted time; 0: none.
+  double omissions_per_second = 0.0;
+  double drawings_per_second = 0.0;
 };
 
 // Checks every field and returns INVALID_ARGUMENT, OUT_OF_RANGE or RESOURCE_EXHAUSTED with
@@ -48,6 +58,7 @@ struct SkeletalAnswer {
   grpc::Slice bytes;
   int frames = 0;  // of a file request's clip, for the call's log line and metrics
   int joints = 0;
+  std::vector<std::string> warnings;  // where the file bent a rule, for the log line
 };
 
 // Validates, runs forward kinematics (channel form) and RetimeFast, and encodes the response

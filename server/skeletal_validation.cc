@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "absl/strings/str_cat.h"
@@ -194,29 +195,54 @@ absl::Status CheckRate(double value, absl::string_view field, bool positive) {
                                                  positive ? "> 0" : ">= 0", " (per second)"));
 }
 
+// The rates a request asks for: its own, or with none of the paper's counts named, the anime
+// defaults for those it leaves unset (docs/semantics.md, "Defaults: anime timing").
+struct RequestedRates {
+  std::optional<double> omissions_per_second;
+  std::optional<double> drawings_per_second;
+};
+
+RequestedRates RatesOf(const v1::RetimeSkeletalRequest& request) {
+  RequestedRates rates;
+  if (request.has_omissions_per_second()) {
+    rates.omissions_per_second = request.omissions_per_second();
+  }
+  if (request.has_drawings_per_second()) rates.drawings_per_second = request.drawings_per_second();
+  const bool names_counts =
+      request.has_omissions() || request.has_holds() || request.has_max_hold();
+  if (!names_counts) {
+    if (!rates.omissions_per_second) rates.omissions_per_second = kDefaultOmissionsPerSecond;
+    if (!rates.drawings_per_second) rates.drawings_per_second = kDefaultDrawingsPerSecond;
+  }
+  return rates;
+}
+
 // The counts of frame_count counted frames at counted_fps frames per second (the grid's or the
-// source's): the defaults, the request's counts, or the counts its rates give (docs/semantics.md,
-// "Omission rate", "Drawing rate").
+// source's): the request's counts, the paper's defaults for those it leaves unset, or the counts
+// its rates (or the anime defaults) give (docs/semantics.md, "Omission rate", "Drawing rate").
 absl::StatusOr<RetimeOptions> ConvertRetimeOptions(const v1::RetimeSkeletalRequest& request,
                                                    int frame_count, double counted_fps,
                                                    SkeletalJob* job) {
   RetimeOptions options = DefaultRetimeOptions(frame_count);
-  if (request.has_omissions_per_second()) {
-    if (request.has_omissions()) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "omissions_per_second: ", request.omissions_per_second(), " given with omissions: ",
-          request.omissions(), "; give one of the two"));
-    }
-    KOMA_RETURN_IF_ERROR(CheckRate(request.omissions_per_second(), "omissions_per_second", false));
-    options.omissions = OmissionsForRate(request.omissions_per_second(), frame_count, counted_fps);
+  const RequestedRates rates = RatesOf(request);
+  if (request.has_omissions_per_second() && request.has_omissions()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "omissions_per_second: ", request.omissions_per_second(), " given with omissions: ",
+        request.omissions(), "; give one of the two"));
+  }
+  if (rates.omissions_per_second) {
+    KOMA_RETURN_IF_ERROR(CheckRate(*rates.omissions_per_second, "omissions_per_second", false));
+    options.omissions = OmissionsForRate(*rates.omissions_per_second, frame_count, counted_fps);
+    job->omissions_per_second = *rates.omissions_per_second;
   }
   if (request.has_omissions()) options.omissions = request.omissions();
   if (request.has_holds()) options.holds = request.holds();
   if (request.has_max_hold()) options.max_hold = request.max_hold();
-  if (request.has_drawings_per_second()) {
-    const double rate = request.drawings_per_second();
+  if (rates.drawings_per_second) {
+    const double rate = *rates.drawings_per_second;
     KOMA_RETURN_IF_ERROR(CheckRate(rate, "drawings_per_second", true));
     job->drawings_per_frame = rate / counted_fps;
+    job->drawings_per_second = rate;
     // The hold the rate needs: ceil(fps / rate) counted frames, at least 1, at most the clip.
     if (!request.has_max_hold()) {
       options.max_hold = std::max(1, std::min(CeilOfRate(counted_fps / rate), frame_count));

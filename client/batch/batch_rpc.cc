@@ -90,12 +90,18 @@ SkeletalArgs ArgsFor(const SkeletalArgs& batch_args, const BatchItem& item) {
 
 class SkeletalClipCall final : public SkeletalCall {
  public:
-  SkeletalClipCall(const SkeletalArgs& args, SkeletalClip clip, v1::RetimeSkeletalRequest request)
-      : SkeletalCall(std::move(request)), args_(args), clip_(std::move(clip)) {}
+  SkeletalClipCall(const SkeletalArgs& args, SkeletalInput input, v1::RetimeSkeletalRequest request)
+      : SkeletalCall(std::move(request)),
+        args_(args),
+        clip_(std::move(input.clip)),
+        warnings_(std::move(input.warnings)) {}
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
     const SkeletalArgs args = ArgsFor(args_, item);
+    // The file's warnings as the single-file command words them, for the report.
+    response_.clear_warnings();
+    for (const std::string& warning : warnings_) response_.add_warnings(warning);
     if (absl::Status s = WriteSkeletalOutputs(args, clip_, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
     return report::WriteSkeletalReport(item.report, request_, response_, item.input);
@@ -104,6 +110,7 @@ class SkeletalClipCall final : public SkeletalCall {
  private:
   const SkeletalArgs& args_;
   SkeletalClip clip_;
+  std::vector<std::string> warnings_;
 };
 
 // A glTF file (.glb, .gltf, .vrm, .vrma): sent whole, the server's file written back.
@@ -137,11 +144,12 @@ class SkeletalRpc final : public Rpc {
       if (!request.ok()) return WithPath(item, request.status());
       return std::make_unique<GltfClipCall>(args_, *std::move(request));
     }
-    absl::StatusOr<SkeletalClip> clip = ReadSkeletalInput(item.input);
-    if (!clip.ok()) return clip.status();
-    absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args_, *clip);
+    absl::StatusOr<SkeletalInput> input = ReadSkeletalFile(item.input);
+    if (!input.ok()) return input.status();
+    absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args_, input->clip);
     if (!request.ok()) return WithPath(item, request.status());
-    return std::make_unique<SkeletalClipCall>(args_, *std::move(clip), *std::move(request));
+    std::string().swap(input->text);  // not kept: the batch sends the decoded clip
+    return std::make_unique<SkeletalClipCall>(args_, *std::move(input), *std::move(request));
   }
 
  private:

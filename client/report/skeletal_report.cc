@@ -151,6 +151,12 @@ nlohmann::json SkeletalReportWriter::Data() const {
   options.push_back({"omissions", r.omissions_requested()});
   options.push_back({"holds", r.holds_requested()});
   options.push_back({"max_hold", r.max_hold()});
+  if (r.omissions_per_second() > 0) {
+    options.push_back({"omissions_per_second", r.omissions_per_second()});
+  }
+  if (r.drawings_per_second() > 0) {
+    options.push_back({"drawings_per_second", r.drawings_per_second()});
+  }
   options.push_back({"keep_length", !q.has_keep_length() || q.keep_length()});
   options.push_back({"order", OrderName(q.order())});
   options.push_back({"root_relative", q.root_relative()});
@@ -186,6 +192,10 @@ nlohmann::json SkeletalReportWriter::Data() const {
 
   nlohmann::json data;
   data["header"] = Header("RetimeSkeletal", input_name_, options, counts);
+  if (r.warnings_size() > 0) {
+    data["header"]["warnings"] =
+        std::vector<std::string>(r.warnings().begin(), r.warnings().end());
+  }
   data["fps_in"] = Round6(1.0 / frame_time_in);
   data["frame_time_in"] = frame_time_in;
   data["frames_in"] = q.motion().frame_count();

@@ -23,6 +23,7 @@ import os
 import sys
 
 import koma
+from koma import _presets
 from koma._client import _is_spine
 
 
@@ -186,13 +187,19 @@ def _parser():
 
     p = commands.add_parser("skeletal", help="retime a BVH mocap clip (RetimeSkeletal)")
     _io(p, "BVH file to retime")
-    p.add_argument("--omit", type=int, help="inbetween omissions Nio (default 4)")
-    p.add_argument("--hold", type=int, help="holds Nhf (default frames / 3)")
+    p.add_argument("--preset", choices=sorted(_presets.SKELETAL),
+                   help="common settings, as koma --preset; paper: the paper's counts "
+                        "instead of the anime defaults")
+    p.add_argument("--omit", type=int, help="inbetween omissions Nio (with a count set: "
+                                            "default 4)")
+    p.add_argument("--hold", type=int, help="holds Nhf (with a count set: default frames / 3)")
     p.add_argument("--max-hold", type=int, help="longest run of one drawing (default 3)")
     p.add_argument("--omissions-per-second", type=float,
-                   help="omission rate per second of the clip, instead of --omit")
+                   help="omission rate per second of the clip, instead of --omit (default 1 "
+                        "unless a count is set)")
     p.add_argument("--drawings-per-second", type=float,
-                   help="drawing rate: 12 on twos, 8 on threes (24 fps grid)")
+                   help="drawing rate: 12 on twos, 8 on threes (24 fps grid; default 8 "
+                        "unless a count is set)")
     p.add_argument("--cut-neighbour-ratio", type=float,
                    help="cuts: isolated jump ratio to its neighbours (default 20; 0: no cuts)")
     p.add_argument("--cut-median-ratio", type=float,
@@ -368,7 +375,7 @@ def _run(args):
     with _client(args) as client:
         if args.command == "skeletal":
             result = client.retime_skeletal(
-                args.input, omissions=args.omit, holds=args.hold, max_hold=args.max_hold,
+                args.input, preset=args.preset, omissions=args.omit, holds=args.hold, max_hold=args.max_hold,
                 keep_length=not args.no_keep_length,
                 order="HOLD_THEN_OMIT" if args.hold_first else "OMIT_THEN_HOLD",
                 root_relative=args.root_relative, timing_fps=args.timing_fps,

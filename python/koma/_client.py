@@ -4,7 +4,7 @@ import os
 
 import grpc
 
-from koma import _health_pb2, _options
+from koma import _health_pb2, _options, _presets
 from koma._errors import KomaError
 from koma._results import CurvesResult, LipBlinkResult, SkeletalResult
 from koma.v1 import motion_pb2, retime_pb2, retime_pb2_grpc
@@ -193,13 +193,19 @@ class Client:
         except grpc.RpcError as error:
             raise KomaError.from_rpc_error(error) from None
 
-    def retime_skeletal(self, source, **options):
+    def retime_skeletal(self, source, preset=None, **options):
         """Inbetween omission and holds on a skeletal clip (RetimeSkeletal).
+
+        With no options the server's anime defaults apply: on threes (8 drawings a second)
+        with one omission a second of the take; preset="paper" (or any of omissions, holds,
+        max_hold) asks for the paper's counts instead (docs/semantics.md).
 
         Args:
             source: a BVH or glTF file's path (str or path-like; .glb, .gltf, .vrm and .vrma
                 are glTF), a BVH's text (str containing a newline or starting with
                 "HIERARCHY"), a file's bytes (glTF by its content), or a koma.Positions clip.
+            preset: "twos", "threes", "snappy", "subtle" or "paper", as `koma skeletal
+                --preset` (docs/usage.md); options given beside it win.
             **options: RetimeSkeletalRequest fields: omissions (steps, int), holds (steps,
                 int), max_hold (frames, int), keep_length (bool), order ("OMIT_THEN_HOLD" or
                 "HOLD_THEN_OMIT"), joint_weights (list of float), root_relative (bool),
@@ -219,6 +225,7 @@ class Client:
             with Positions, .response.motion holds the retimed positions.
         """
         request = retime_pb2.RetimeSkeletalRequest()
+        options = _presets.apply(_presets.SKELETAL, preset, options)
         _options.fill(request, options, skip=("motion", "bvh_text", "gltf"))
         path = None
         if isinstance(source, Positions):
@@ -258,7 +265,8 @@ class Client:
         request.motion3_json = data
         return path, lambda: float(json.loads(data)["Meta"]["Fps"])
 
-    def retime_curves(self, source, format=None, csv_fps=None, animation=None, **options):
+    def retime_curves(self, source, format=None, csv_fps=None, animation=None, preset=None,
+                      **options):
         """Koma-uchi on twos/threes with tame/tsume spacing (RetimeCurves).
 
         Args:
@@ -270,6 +278,8 @@ class Client:
             animation: a Spine skeleton's animation to retime (its bone timelines are the
                 curves, "torso/rotate", "torso/translate.x", ...); may be left out when the
                 skeleton has one animation with bone keys.
+            preset: "twos", "threes", "snappy", "subtle" or "paper", as `koma curves
+                --preset` (docs/usage.md); options given beside it win.
             **options: RetimeCurvesRequest fields: key_frames (frames, list of int),
                 frames_per_drawing (1 on ones, 2 on twos, 3 on threes), tame and tsume
                 (strengths >= 1), curve_overrides (list of {"curve_id", "frames_per_drawing"}),
@@ -289,6 +299,7 @@ class Client:
             `--animation` naming the one animation).
         """
         request = retime_pb2.RetimeCurvesRequest()
+        options = _presets.apply(_presets.CURVES, preset, options)
         _options.fill(request, options,
                       skip=("curves", "motion3_json", "csv_text", "csv_fps", "spine_json",
                             "spine_animation"))
@@ -299,7 +310,7 @@ class Client:
 
     def lip_blink(self, source=None, format=None, csv_fps=None, audio=None, rhubarb_cues=None,
                   animation=None, mouth_slot=None, mouth_attachments=None, eye_slots=None,
-                  eye_attachments=None, **options):
+                  eye_attachments=None, preset=None, **options):
         """Three-drawing mouth flaps and anime blinks (LipBlink).
 
         Args:
@@ -318,6 +329,8 @@ class Client:
                 attachments (default SLOT_closed, SLOT_mid, SLOT_open), the eye slots (list)
                 and their open, half, closed attachments (default SLOT_open, SLOT_half,
                 SLOT_closed). mouth.speech then counts the skeleton's frames (skeleton.fps).
+            preset: "twos", "threes", "snappy", "subtle" or "paper", as `koma lipblink
+                --preset` (docs/usage.md); options given beside it win.
             **options: LipBlinkRequest fields: mouth (dict: ids, mode "MOUTH_RANDOM" or
                 "MOUTH_FOLLOW", frames_per_shape (frames), mid_ratio, min, max, speech as
                 [(begin, end)] frames), eyes (dict: ids, mid_ratio, threshold, min, max,
@@ -334,6 +347,7 @@ class Client:
             with a voice also .voice (the analysis) and .rhubarb_json / .rhubarb_tsv.
         """
         request = retime_pb2.LipBlinkRequest()
+        options = _presets.apply(_presets.LIP_BLINK, preset, options)
         _options.fill(request, options, skip=("curves", "motion3_json", "csv_text", "csv_fps",
                                               "audio", "rhubarb_cues", "spine_json", "spine"))
         if audio is not None and rhubarb_cues is not None:

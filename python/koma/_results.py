@@ -61,8 +61,8 @@ class SkeletalResult(_Result):
         timing: the timing map as a dict {output frame: source frame}.
         counts: dict with frames (output frames), omissions_applied, duplicates_applied,
             duplicates_skipped, duplicates_omitted and duplicates_held (duplicates a later
-            omission removed or a later hold held over), holds_applied, omissions_requested, holds_requested, max_hold
-            (counts in grid frames when timing_fps > 0).
+            omission removed or a later hold held over), holds_applied, omissions_requested,
+            holds_requested, max_hold (counts in grid frames when timing_fps > 0).
         deleted_frames, hidden_frames: source frames no longer shown (omitted / held over).
         input_ssd: per input frame (grid frame with a grid) the squared distance to the one
             before, in squared length units.
@@ -72,6 +72,10 @@ class SkeletalResult(_Result):
         cut_frames: per cut (an isolated jump such as a T-pose first frame), the source frame
             starting the shot after it; [] for a clip of one shot.
         frame_time: seconds per output frame (with a decoded motion or a file), else None.
+        omissions_per_second, drawings_per_second: the rates the server used (the options',
+            or with no count given the anime defaults 1 and 8); 0 where none applied.
+        warnings: where the file bent a rule and was read anyway, one sentence each
+            ("bvh_text: line 3075: ..."); [] for a file that keeps every rule.
         response: the koma.v1.RetimeSkeletalResponse message itself.
     """
 
@@ -96,6 +100,9 @@ class SkeletalResult(_Result):
         self.grid_source_frames = list(response.grid_source_frames)
         self.cut_frames = list(response.cut_frames)
         self.frame_time = response.motion.frame_time if response.HasField("motion") else None
+        self.omissions_per_second = response.omissions_per_second
+        self.drawings_per_second = response.drawings_per_second
+        self.warnings = list(response.warnings)
         self.counts = {
             "frames": len(self.source_frames),
             "omissions_applied": response.omissions_applied,

@@ -157,7 +157,7 @@ MISUSE = [
      'koma health: server list: must be all IPv4 (127.0.0.1:p,127.0.0.1:q) or all bracketed IPv6 '
      '([::1]:p,[::1]:q); for names use dns:///name:port, got "127.0.0.1:1,localhost:2"'),
     (["skeletal", BVH, "-o", "{W}/o.bvh", "--preset", "fast"], 2,
-     'koma skeletal: --preset: "fast" is not one of twos, threes, snappy, subtle'),
+     'koma skeletal: --preset: "fast" is not one of twos, threes, snappy, subtle, paper'),
     (["--config", "{W}/typo.toml", "skeletal", BVH, "-o", "{W}/o.bvh"], 2,
      "koma: --config {W}/typo.toml: [skeletal] omisions: unknown option; did you mean omissions?"),
     (["--config", "{W}/section.toml", "skeletal", BVH, "-o", "{W}/o.bvh"], 2,
@@ -250,8 +250,9 @@ def bvh_frames(path):
     raise ValueError(path)
 
 
-# skeletal
-s, human = summary(["skeletal", BVH, "-o", w("s.bvh"), "--timing", w("s.csv"), "--timing-fps", "0"])
+# skeletal, the paper's counts (--preset paper; the anime defaults are e2e.real_takes')
+s, human = summary(["skeletal", BVH, "-o", w("s.bvh"), "--timing", w("s.csv"), "--timing-fps", "0",
+                    "--preset", "paper"])
 check("omitted" in human, "the human summary goes to stderr with --json")
 rows = read_csv(w("s.csv"))
 check(s["command"] == "skeletal" and s["status"] == "ok", s)
@@ -292,7 +293,8 @@ lines = open(BVH).read().split("\n")
 motion_at = lines.index("MOTION")
 body = [l for l in lines[motion_at + 3:] if l.strip()]
 open(w("rotated.bvh"), "w").write("\n".join(lines[:motion_at + 3] + body[3:] + body[:3]) + "\n")
-r, human = summary(["skeletal", w("rotated.bvh"), "-o", w("r.bvh"), "--timing", w("r.csv")])
+r, human = summary(["skeletal", w("rotated.bvh"), "-o", w("r.bvh"), "--timing", w("r.csv"),
+                    "--preset", "paper"])
 check(r["duplicates_applied"] == 4 and r["duplicates_held"] == 4 and r["duplicates_omitted"] == 0
       and r["duplicate_output_frames"] == [], r)
 check("duplicated   4 frames to keep the length (4 later held over, now HELD); DUPLICATE at "
@@ -302,7 +304,8 @@ check(r["duplicates_applied"] == sum(x["kind"] == "DUPLICATE" for x in r_rows)
       + r["duplicates_held"] + r["duplicates_omitted"], "rotated duplicates add up")
 
 # --timing-only: no BVH, the same sheet.
-t, _ = summary(["skeletal", BVH, "--timing-only", "--timing", w("t.csv"), "--timing-fps", "0"])
+t, _ = summary(["skeletal", BVH, "--timing-only", "--timing", w("t.csv"), "--timing-fps", "0",
+                "--preset", "paper"])
 check(t["outputs"] == {"timing": w("t.csv")}, t["outputs"])
 check(open(w("t.csv")).read() == open(w("s.csv")).read(), "--timing-only sheet differs")
 check({k: v for k, v in t.items() if k != "outputs"} == {k: v for k, v in s.items() if k != "outputs"},
@@ -371,9 +374,12 @@ check(settings(base + ["--server", target, "--preset", "snappy", "--omit", "6"],
       == (6, 1), "flags over preset")
 check(settings(base + ["--server", target, "--preset", "snappy", "--max-hold", "2"], env=env)
       == (8, 2), "flags over preset and config")
-check(settings(base + ["--preset=twos", "--server", target]) == (4, 2), "twos")
-check(settings(base + ["--preset=threes", "--server", target]) == (4, 3), "threes")
+# twos and threes keep the default omission rate, 1 a second (5.4 s: 5).
+check(settings(base + ["--preset=twos", "--server", target]) == (5, 2), "twos")
+check(settings(base + ["--preset=threes", "--server", target]) == (5, 3), "threes")
 check(settings(base + ["--preset=subtle", "--server", target]) == (3, 2), "subtle")
+check(settings(base + ["--preset=paper", "--server", target]) == (4, 3), "paper")
+check(settings(base + ["--server", target]) == (5, 3), "no flags: the anime defaults")
 
 # koma batch reads the same file: its [skeletal] section is `koma batch skeletal`'s, flags on
 # the line win, and each output is the single command's with those values.

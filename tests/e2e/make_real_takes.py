@@ -5,6 +5,9 @@
   two_takes.bvh  frames 0-44, then the whole take backwards and 80 units along x (a jump)
   glitch.bvh     frame 37 replaced by a T-pose
   long.bvh       the take forwards and backwards (no jump at the turns) for 1200 frames
+  take_60.bvh, take_120.bvh, long_120.bvh
+                 the take and the long take resampled to 60 and 120 fps (linear in every
+                 channel, rotations the short way round), as a suit at that rate records
 
 Usage: make_real_takes.py IN.bvh OUT_DIR
 """
@@ -63,6 +66,34 @@ def main(source, folder):
         long_take += frames[1:] if forwards else list(reversed(frames))[1:]
         forwards = not forwards
     write(f"{folder}/long.bvh", head, frame_time, long_take[:1200])
+    rotation_set = set(rotations)
+    source_fps = round(1 / float(frame_time.split(":")[1]))
+    for fps in (60, 120):
+        name = f"Frame Time: {1 / fps:.7f}"
+        write(f"{folder}/take_{fps}.bvh", head, name,
+              resampled(frames, rotation_set, source_fps, fps))
+    write(f"{folder}/long_120.bvh", head, f"Frame Time: {1 / 120:.7f}",
+          resampled(long_take[:1200], rotation_set, source_fps, 120))
+
+
+def resampled(frames, rotations, source_fps, fps):
+    """The frames at `fps`, linear in every channel (a rotation the short way round)."""
+    count = (len(frames) - 1) * fps // source_fps + 1
+    out = []
+    for i in range(count):
+        at = i * source_fps / fps
+        a = min(int(at), len(frames) - 1)
+        b = min(a + 1, len(frames) - 1)
+        u = at - a
+        row = []
+        for c, (x, y) in enumerate(zip(frames[a], frames[b])):
+            x, y = float(x), float(y)
+            d = y - x
+            if c in rotations:
+                d = (d + 180.0) % 360.0 - 180.0
+            row.append(f"{x + u * d:.6f}")
+        out.append(row)
+    return out
 
 
 if __name__ == "__main__":

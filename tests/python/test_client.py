@@ -28,9 +28,9 @@ def test_path_text_bytes_and_pathlike_give_the_same_answer(client):
     assert client.retime_skeletal(text.encode()).output_bytes == by_path.output_bytes
     assert client.retime_skeletal(pathlib.Path(PITCH)).output_bytes == by_path.output_bytes
     assert by_path.counts["frames"] == 130
-    assert by_path.counts["omissions_applied"] == 4  # the README's figures
-    assert by_path.counts["holds_applied"] == 43
-    assert by_path.deleted_frames == [75, 76, 77, 78]
+    assert by_path.counts["omissions_applied"] == 5  # the README's figures
+    assert by_path.counts["holds_applied"] == 459
+    assert by_path.deleted_frames == [75, 76, 77, 78, 79]
     assert by_path.kinds[0] == "ORIGINAL" and set(by_path.kinds) <= {"ORIGINAL", "DUPLICATE",
                                                                      "HELD"}
 
@@ -380,6 +380,55 @@ def test_real_take_cuts_rates_and_presets(client, server, tmp_path):
     run_cli("skeletal", source_path("samples", "pitch.bvh"), "-o", str(cli_out), "--preset",
             "threes", "--server", server.address)
     assert out.read_bytes() == cli_out.read_bytes()
+
+
+def grid_runs(result):
+    """Sorted runs of one drawing in a TIMING_RATE answer (one output frame per grid frame)."""
+    runs = []
+    for t, frame in enumerate(result.source_frames):
+        if t == 0 or frame != result.source_frames[t - 1]:
+            runs.append(0)
+        runs[-1] += 1
+    return sorted(runs)
+
+
+def test_defaults_are_anime_timing_and_presets_match_the_cli(client, server, tmp_path):
+    """Issue 41 from Python: with no options a real take (2.5 s to 40 s, 30 and 120 fps) comes
+    out on threes with omissions that scale with it; every named preset answers byte for byte
+    what `koma skeletal --preset NAME` writes, "paper" the paper's counts."""
+    from conftest import run_cli
+    sys.path.insert(0, source_path("tests", "e2e"))
+    import make_real_takes  # tests/e2e/make_real_takes.py
+    make_real_takes.main(source_path("tests", "testdata", "bvh_test1.bvh"), str(tmp_path))
+    for name in ("long.bvh", "take_120.bvh", "long_120.bvh"):
+        take = client.retime_skeletal(str(tmp_path / name), output_rate="TIMING_RATE",
+                                      return_motion=False)
+        runs = grid_runs(take)
+        seconds = len(take.source_frames) / 24
+        assert runs[(len(runs) - 1) // 2] >= 2, (name, runs)
+        assert 7.5 <= len(runs) / seconds <= 12.5, (name, len(runs) / seconds)
+        assert take.counts["omissions_applied"] >= 0.5 * seconds, (name, take.counts)
+        assert take.drawings_per_second == 8 and take.omissions_per_second == 1
+    pitch = source_path("samples", "pitch.bvh")
+    for preset in ("twos", "threes", "snappy", "subtle", "paper"):
+        cli_out = tmp_path / f"{preset}_cli.bvh"
+        run_cli("skeletal", pitch, "-o", str(cli_out), "--preset", preset, "--server",
+                server.address)
+        assert client.retime_skeletal(pitch, preset=preset).output == cli_out.read_text(), preset
+    paper = client.retime_skeletal(pitch, preset="paper")
+    assert paper.counts["omissions_requested"] == 4 and paper.counts["holds_requested"] == 43
+    assert paper.drawings_per_second == 0 and paper.omissions_per_second == 0
+    # A BVH with one more row than its Frames: line says: read whole, with the server's warning.
+    text = open(pitch).read()
+    last_row = text.rstrip("\n").rsplit("\n", 1)[1]
+    extra = client.retime_skeletal(text + last_row + "\n")
+    assert extra.warnings and "but 131 frames follow" in extra.warnings[0], extra.warnings
+    assert extra.warnings[0].startswith("bvh_text: line 260: ") and len(extra.source_frames) == 131
+    # Options beside a preset win; a count replaces the preset's omission rate, as on the line.
+    snappy = client.retime_skeletal(pitch, preset="snappy", omissions=6)
+    assert snappy.counts["omissions_requested"] == 6
+    with pytest.raises(ValueError, match="preset: 'fours' is not one of"):
+        client.retime_skeletal(pitch, preset="fours")
 
 
 WAVE = source_path("samples", "wave.glb")

@@ -32,7 +32,8 @@ std::unique_ptr<KomaServer> StartInProcess(int worker_threads, int max_message_b
 TEST(RetimeServiceTest, RetimesAndCopiesSourceFramesVerbatim) {
   auto server = StartInProcess(2);
   auto stub = v1::Retime::NewStub(server->InProcessChannel());
-  const v1::RetimeSkeletalRequest request = koma::testing::MakeSkeletalRequest(30);
+  v1::RetimeSkeletalRequest request = koma::testing::MakeSkeletalRequest(30);
+  request.set_max_hold(3);  // a count named: the paper's defaults for the others
   v1::RetimeSkeletalResponse response;
   ASSERT_TRUE(CallRpc(*stub, request, &response).ok());
 

@@ -17,6 +17,7 @@
 #include "koma/v1/retime.grpc.pb.h"
 #include "tests/formats/test_files.h"
 #include "tests/server/in_process_server.h"
+#include "tests/server/real_takes.h"
 
 namespace koma::server {
 namespace {
@@ -25,84 +26,13 @@ using ::koma::testing::CallRpc;
 using ::koma::testing::InProcessServer;
 using ::testing::ElementsAre;
 using ::testing::IsEmpty;
+using namespace ::koma::testing::real_takes;  // NOLINT: the takes' helpers, named as before
 
-SkeletalClip ReadClip(const std::string& path) {
-  absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(formats::ReadTestFile(path));
-  EXPECT_TRUE(clip.ok()) << path << ": " << clip.status();
-  return clip.ok() ? *clip : SkeletalClip{};
-}
-
-SkeletalClip Test1() { return ReadClip(KOMA_TESTDATA_DIR "/bvh_test1.bvh"); }
-
-// Every clean clip the project has: the real captures and the samples.
-std::vector<std::string> CleanClipPaths() {
-  return {KOMA_TESTDATA_DIR "/bvh_test1.bvh", KOMA_TESTDATA_DIR "/bvh_test2.bvh",
-          KOMA_TESTDATA_DIR "/bvh_test3.bvh", KOMA_SAMPLES_DIR "/pitch.bvh",
-          KOMA_SAMPLES_DIR "/mocap_120fps.bvh"};
-}
-
-int PerFrame(const SkeletalClip& clip) { return ChannelCount(clip.skeleton); }
-
-// Frames [first, first + count) of `clip`.
-SkeletalClip Frames(const SkeletalClip& clip, int first, int count) {
-  SkeletalClip out = clip;
-  const int n = PerFrame(clip);
-  out.values.assign(clip.values.begin() + first * n, clip.values.begin() + (first + count) * n);
-  out.frame_count = count;
-  return out;
-}
-
-SkeletalClip Concat(const SkeletalClip& a, const SkeletalClip& b) {
-  SkeletalClip out = a;
-  out.values.insert(out.values.end(), b.values.begin(), b.values.end());
-  out.frame_count = a.frame_count + b.frame_count;
-  return out;
-}
-
-// The clip's frames in reverse order.
-SkeletalClip Reversed(const SkeletalClip& clip) {
-  SkeletalClip out = clip;
-  const int n = PerFrame(clip);
-  for (int f = 0; f < clip.frame_count; ++f) {
-    std::copy_n(clip.values.begin() + (clip.frame_count - 1 - f) * n, n, out.values.begin() + f * n);
-  }
-  return out;
-}
-
-// Indices (within a frame) of the channels of `kind`.
-std::vector<int> ChannelsWhere(const SkeletalClip& clip, bool rotation) {
-  std::vector<int> out;
-  int c = 0;
-  for (const Joint& joint : clip.skeleton.joints) {
-    for (ChannelKind kind : joint.channels) {
-      const bool is_rotation = kind == ChannelKind::kXRotation || kind == ChannelKind::kYRotation ||
-                               kind == ChannelKind::kZRotation;
-      if (is_rotation == rotation) out.push_back(c);
-      ++c;
-    }
-  }
-  return out;
-}
-
-// A T-pose (every rotation 0: the BVH's bind pose) standing where frame `at` stands.
-SkeletalClip TPoseAt(const SkeletalClip& clip, int at) {
-  SkeletalClip pose = Frames(clip, at, 1);
-  for (int c : ChannelsWhere(clip, true)) pose.values[c] = 0.0;
-  return pose;
-}
-
-// The clip moved by `dx` along x (its root's position channels): another take, elsewhere.
-SkeletalClip Moved(const SkeletalClip& clip, double dx) {
-  SkeletalClip out = clip;
-  const int n = PerFrame(clip);
-  const int x = ChannelsWhere(clip, false).front();  // the root's Xposition
-  for (int f = 0; f < clip.frame_count; ++f) out.values[f * n + x] += dx;
-  return out;
-}
-
-v1::RetimeSkeletalRequest RequestOf(const SkeletalClip& clip) {
-  v1::RetimeSkeletalRequest request;
-  *request.mutable_motion() = convert::ToProto(clip);
+// The request of the paper's algorithm (a count named: max_hold 3), whose counts the shots share
+// (the anime defaults are rates, tested in skeletal_defaults_test.cc).
+v1::RetimeSkeletalRequest PaperRequestOf(const SkeletalClip& clip) {
+  v1::RetimeSkeletalRequest request = RequestOf(clip);
+  request.set_max_hold(3);
   return request;
 }
 
@@ -197,7 +127,7 @@ TEST_F(SkeletalCutsTest, CleanClipsHaveNoCutsAndTheSameBytes) {
 TEST_F(SkeletalCutsTest, CalibrationFrameFirstIsACutAndComesOutAsItWentIn) {
   const SkeletalClip walk = Test1();
   const SkeletalClip clip = Concat(TPoseAt(walk, 0), walk);
-  const v1::RetimeSkeletalResponse r = Call(RequestOf(clip));
+  const v1::RetimeSkeletalResponse r = Call(PaperRequestOf(clip));
   EXPECT_THAT(r.cut_frames(), ElementsAre(1));
   ASSERT_EQ(r.source_frames_size(), clip.frame_count);
   EXPECT_EQ(r.source_frames(0), 0);
@@ -230,12 +160,12 @@ TEST_F(SkeletalCutsTest, TwoTakesAreRetimedAloneWithTheCountsSplitByLength) {
   const SkeletalClip a = Frames(full, 0, 45);
   const SkeletalClip b = Moved(Reversed(full), 80.0);
   const SkeletalClip clip = Concat(a, b);
-  for (const bool defaults : {true, false}) {
-    v1::RetimeSkeletalRequest request = RequestOf(clip);
+  for (const bool papers_defaults : {true, false}) {
+    v1::RetimeSkeletalRequest request = PaperRequestOf(clip);
     const int grid = GridFramesOf(clip.frame_count);
     int omissions = std::min(4, grid - 3);
     int holds = grid / 3;
-    if (!defaults) {
+    if (!papers_defaults) {
       request.set_omissions(omissions = 9);
       request.set_holds(holds = 50);
     }
@@ -258,7 +188,7 @@ TEST_F(SkeletalCutsTest, GlitchFrameIsALoneShotThatPassesThrough) {
   const SkeletalClip glitch = TPoseAt(full, g);
   const int n = PerFrame(clip);
   std::copy(glitch.values.begin(), glitch.values.end(), clip.values.begin() + g * n);
-  const v1::RetimeSkeletalResponse r = Call(RequestOf(clip));
+  const v1::RetimeSkeletalResponse r = Call(PaperRequestOf(clip));
   ASSERT_THAT(r.cut_frames(), ElementsAre(g, g + 1));
   EXPECT_EQ(r.source_frames(g), g);
   EXPECT_EQ(std::count(r.source_frames().begin(), r.source_frames().end(), g), 1);
@@ -279,19 +209,16 @@ TEST_F(SkeletalCutsTest, FortySecondTakeHasNoCutsAndTheRateScalesTheOmissions) {
   SkeletalClip take = full;
   while (take.frame_count < 1200) take = Concat(take, (take.frame_count / 74) % 2 ? back : Frames(full, 1, 74));
   take = Frames(take, 0, 1200);
+  EXPECT_EQ(Call(PaperRequestOf(take)).omissions_applied(), 4);  // the paper's count, per clip
   v1::RetimeSkeletalRequest request = RequestOf(take);
-  const v1::RetimeSkeletalResponse defaults = Call(request);
-  EXPECT_THAT(defaults.cut_frames(), IsEmpty());
-  EXPECT_EQ(defaults.omissions_applied(), 4);  // the paper's count, per clip
-  request.set_omissions_per_second(1.0);
+  request.set_omissions_per_second(1.0);  // the default rate, named
   const v1::RetimeSkeletalResponse rate = Call(request);
+  EXPECT_THAT(rate.cut_frames(), IsEmpty());
   EXPECT_EQ(rate.grid_source_frames_size(), 960);
   EXPECT_EQ(rate.omissions_requested(), 40);  // 960 grid frames = 40 s
   EXPECT_EQ(rate.omissions_applied(), 40);
   // The same rate on the 2.5 s take: 60 grid frames, 2.5 -> 3.
-  v1::RetimeSkeletalRequest short_request = RequestOf(full);
-  short_request.set_omissions_per_second(1.0);
-  EXPECT_EQ(Call(short_request).omissions_requested(), 3);
+  EXPECT_EQ(Call(RequestOf(full)).omissions_requested(), 3);
   // Counted in source frames: 1200 frames at 30 fps are 40 s too.
   request.set_timing_fps(0);
   EXPECT_EQ(Call(request).omissions_requested(), 40);
@@ -308,17 +235,6 @@ TEST_F(SkeletalCutsTest, CutsCanBeTurnedOffAndTuned) {
   request.clear_cut_neighbour_ratio();
   request.set_cut_median_ratio(1e12);
   EXPECT_THAT(Call(request).cut_frames(), IsEmpty());
-}
-
-// Runs of one drawing on the grid (TIMING_RATE: one output frame per grid frame).
-std::vector<int> GridRuns(const v1::RetimeSkeletalResponse& r) {
-  std::vector<int> runs;
-  for (int t = 0; t < r.source_frames_size(); ++t) {
-    if (t == 0 || r.source_frames(t) != r.source_frames(t - 1)) runs.push_back(0);
-    ++runs.back();
-  }
-  std::sort(runs.begin(), runs.end());
-  return runs;
 }
 
 TEST_F(SkeletalCutsTest, DrawingRatesGiveMedianHoldsOfTwoAndThreeOnEveryRealClip) {

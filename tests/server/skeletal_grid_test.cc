@@ -153,14 +153,15 @@ std::string Answer(InProcessServer& server, const v1::RetimeSkeletalRequest& req
 
 TEST(SkeletalGridTest, OneHundredTwentyFpsIsTimedOnTheGridAndKeepsItsRate) {
   InProcessServer server(InProcessServer::Config(2, 20'000'000));
-  const v1::RetimeSkeletalRequest request = MakeRequestAt(120.0, 121);  // one second
+  v1::RetimeSkeletalRequest request = MakeRequestAt(120.0, 121);  // one second
+  request.set_max_hold(3);  // a count named: the paper's defaults for the others
   v1::RetimeSkeletalResponse response;
   Answer(server, request, &response);
 
   EXPECT_EQ(response.timing_fps(), 24.0);
   ASSERT_EQ(response.grid_source_frames_size(), 25);  // grid frames 0 .. 24
   for (int g = 0; g < 25; ++g) EXPECT_EQ(response.grid_source_frames(g), 5 * g) << g;
-  // Defaults and counts on the grid's 25 frames.
+  // The paper's defaults and counts on the grid's 25 frames.
   EXPECT_EQ(response.omissions_requested(), 4);
   EXPECT_EQ(response.holds_requested(), 8);  // 25 / 3
   EXPECT_EQ(response.max_hold(), 3);
@@ -227,6 +228,7 @@ TEST(SkeletalGridTest, TimingFpsZeroOrTheSourceRateCountsInSourceFrames) {
   InProcessServer server(InProcessServer::Config(1, 20'000'000));
   v1::RetimeSkeletalRequest request = MakeRequestAt(120.0, 121);
   request.set_timing_fps(0);
+  request.set_max_hold(3);  // the paper's counts, of source frames here
   v1::RetimeSkeletalResponse response;
   const std::string no_grid = Answer(server, request, &response);
   EXPECT_EQ(response.timing_fps(), 0.0);

@@ -41,6 +41,11 @@ function renderHeader(h) {
   const facts = (rows) => el('dl', {class: 'facts'}, ...rows.flatMap(([k, v]) =>
     [el('dt', {}, k), el('dd', {}, String(v))]));
   header.append(facts([['input', h.input]]));
+  // Where the input file bent a rule and was read anyway (a BVH with more frames than its
+  // Frames: line): said before anything else.
+  for (const warning of h.warnings || []) {
+    header.append(el('p', {class: 'warning'}, 'Warning: ' + warning));
+  }
   header.append(el('h3', {}, 'Options'), facts(h.options));
   header.append(el('h3', {}, 'Counts'), facts(h.counts));
 }

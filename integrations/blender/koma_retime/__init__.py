@@ -66,28 +66,32 @@ class KomaSettings(bpy.types.PropertyGroup):
     omissions: bpy.props.IntProperty(
         name="Omissions", default=-1, min=-1,
         description="Inbetween omission steps (the fastest frames go); -1: the server's "
-                    "default, min(4, frames - 3)")
+                    "default (one a second of the action; with a count set, the paper's 4)")
     holds: bpy.props.IntProperty(
         name="Holds", default=-1, min=-1,
         description="Hold steps (the stillest frames repeat their predecessor); -1: the "
-                    "server's default, frames / 3")
+                    "server's default (as the drawing rate needs; with a count set, frames / 3)")
     max_hold: bpy.props.IntProperty(
         name="Max hold", default=0, min=0,
         description="Longest run of one drawing, in frames; 0: the server's default (3, or "
                     "the hold the drawing rate needs)")
     preset: bpy.props.EnumProperty(
-        name="Preset", default="PAPER",
-        items=[("PAPER", "Paper", "The paper's defaults: 4 omissions, frames / 3 holds"),
+        name="Preset", default="ANIME",
+        items=[("ANIME", "Anime (default)",
+                "The server's defaults: on threes (8 drawings a second) with one omission a "
+                "second of the action"),
+               ("PAPER", "Paper", "The paper's counts: 4 omissions, frames / 3 holds, on threes"),
                ("TWOS", "On twos", "12 drawings a second: a median hold of 2 grid frames"),
                ("THREES", "On threes", "8 drawings a second: a median hold of 3 grid frames")],
-        description="Timing preset, as koma --preset (a drawing rate set below wins)")
+        description="Timing preset, as koma --preset (values set below win)")
     omissions_per_second: bpy.props.FloatProperty(
         name="Omissions / s", default=0.0, min=0.0,
         description="Omission rate per second of the action, so long takes snap as often as "
-                    "short ones; 0: use Omissions")
+                    "short ones; 0: use Omissions (or the server's default)")
     drawings_per_second: bpy.props.FloatProperty(
         name="Drawings / s", default=0.0, min=0.0,
-        description="Drawing rate (12 on twos, 8 on threes); 0: the preset's, or none")
+        description="Drawing rate (12 on twos, 8 on threes); 0: the preset's, or the "
+                    "server's default")
     timing_fps: bpy.props.FloatProperty(
         name="Timing rate", default=24.0, min=0.0, max=1000.0,
         description="Film grid the drawings are counted on, frames per second (0: the "
@@ -138,6 +142,9 @@ def write_anime_action(source, start, source_frames):
 
 # Drawings a second of the panel's presets (koma --preset twos / threes).
 PRESET_DRAWINGS_PER_SECOND = {"TWOS": 12.0, "THREES": 8.0}
+# The paper's longest hold: naming a count asks the server for the paper's algorithm
+# (koma --preset paper).
+PAPER_MAX_HOLD = 3
 
 
 def request_options(settings):
@@ -145,6 +152,8 @@ def request_options(settings):
     options = {"timing_fps": settings.timing_fps, "return_motion": False}
     if settings.max_hold > 0:
         options["max_hold"] = settings.max_hold
+    elif settings.preset == "PAPER":
+        options["max_hold"] = PAPER_MAX_HOLD
     if settings.omissions_per_second > 0:
         options["omissions_per_second"] = settings.omissions_per_second
     elif settings.omissions >= 0:

@@ -8,8 +8,9 @@ itself is not on Blender's path), builds an armature with a keyed action (an arm
 travels), runs the add-on's operator, and checks the new action "<name>.anime": every output
 frame keyed, CONSTANT interpolation, each key the source pose the timing map names; the map
 is the one koma answers for the same bone positions sampled here independently. Once at
-24 fps (no grid) and once for a 120 fps action on the 24 fps film grid. Then a wrong server
-address: the operator cancels with koma's error and writes nothing.
+24 fps (no grid), once for a 120 fps action on the 24 fps film grid (the paper's counts, then
+on threes), and once with the panel's defaults (the server's anime timing). Then a wrong
+server address: the operator cancels with koma's error and writes nothing.
 """
 import os
 import sys
@@ -87,6 +88,34 @@ def main():
         assert result == {"FINISHED"}, result
         check_anime_action(obj120, source120, expected_threes)
         print(f"on threes: {len(grid_runs)} drawings on the grid, {expected_threes.counts}")
+
+        # The panel as a new scene has it: the server's anime defaults (docs/semantics.md,
+        # "Defaults: anime timing"), on a 5 s take at 30 fps: on threes or so, and snaps that
+        # scale with the take (at least one every two seconds).
+        settings = bpy.context.scene.koma
+        for name in settings.bl_rna.properties.keys():
+            if name != "rna_type":
+                settings.property_unset(name)
+        settings.server = address
+        obj30 = make_armature("take30", 150, 30)
+        source30 = obj30.animation_data.action
+        on_grid = expected_source_frames(obj30, address, timing_fps=24.0,
+                                         output_rate="TIMING_RATE", return_motion=False)
+        runs = []
+        for t, frame in enumerate(on_grid.source_frames):
+            if t == 0 or frame != on_grid.source_frames[t - 1]:
+                runs.append(0)
+            runs[-1] += 1
+        seconds = len(on_grid.source_frames) / 24.0
+        runs.sort()
+        assert runs[(len(runs) - 1) // 2] >= 2, runs
+        assert 7.5 <= len(runs) / seconds <= 12.5, (len(runs), seconds)
+        assert on_grid.counts["omissions_applied"] >= 0.5 * seconds, on_grid.counts
+        expected_default = expected_source_frames(obj30, address, return_motion=False)
+        result = run_operator({})
+        assert result == {"FINISHED"}, result
+        check_anime_action(obj30, source30, expected_default)
+        print(f"defaults: {len(runs)} drawings in {seconds:.2f} s, {expected_default.counts}")
 
         # No server there: the operator reports koma's error and changes nothing.
         actions_before = len(bpy.data.actions)
