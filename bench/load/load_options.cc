@@ -34,6 +34,10 @@ void AddRequestOptions(CLI::App& app, LoadOptions* o) {
   app.add_option("--form", o->form, "synthetic skeletal form: channels or positions")
       ->check(CLI::IsMember({"channels", "positions"}));
   app.add_option("--seed", o->seed, "seed of the synthetic data (SplitMix64)");
+  app.add_option("--max-hold", o->max_hold,
+                 "skeletal: the request's max_hold (3: the paper's algorithm, as servers before "
+                 "the anime defaults answer a request without counts)")
+      ->check(CLI::Range(1, 1000));
   app.add_option("--fps", o->csv_fps, "frames per second of a .csv input")
       ->check(CLI::PositiveNumber);
 }

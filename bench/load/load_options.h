@@ -20,6 +20,9 @@ struct LoadOptions {
   std::string form = "channels";  // skeletal synthesis: "channels" (BVH, FK on the server)
                                   // or "positions" (world positions)
   uint64_t seed = 1;              // SplitMix64 seed of the synthetic data
+  // skeletal: the request's max_hold (naming a count asks for the paper's algorithm, the same
+  // work on servers from before the anime defaults); unset: the server's defaults.
+  std::optional<int> max_hold;
   double csv_fps = 30.0;          // frames per second of a .csv input
   // Load shape.
   int concurrency = 1;     // closed loop: outstanding calls

@@ -83,6 +83,7 @@ absl::StatusOr<LoadRequest> FromFile(const LoadOptions& o) {
     }
     v1::RetimeSkeletalRequest message;
     *message.mutable_motion() = client::ToProto(*clip);
+    if (o.max_hold) message.set_max_hold(*o.max_hold);
     request.bytes = message.SerializeAsString();
     request.description = absl::StrCat(o.input, " (", clip->frame_count, " frames x ",
                                        clip->skeleton.joints.size(), " joints)");
@@ -187,8 +188,10 @@ absl::StatusOr<LoadRequest> BuildLoadRequest(const LoadOptions& o) {
   LoadRequest request;
   if (o.rpc == "skeletal") {
     request.method = absl::StrCat(kService, "RetimeSkeletal");
-    request.bytes =
-        SyntheticSkeletal(o.frames, o.joints, o.form == "positions", o.seed).SerializeAsString();
+    v1::RetimeSkeletalRequest message =
+        SyntheticSkeletal(o.frames, o.joints, o.form == "positions", o.seed);
+    if (o.max_hold) message.set_max_hold(*o.max_hold);
+    request.bytes = message.SerializeAsString();
     request.description =
         absl::StrCat("synthetic ", o.frames, " frames x ", o.joints, " joints (", o.form, ")");
   } else if (o.rpc == "curves") {
