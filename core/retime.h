@@ -80,6 +80,15 @@ TimingMap RetimeNaive(const FrameDistance& distance, const RetimeOptions& option
 TimingMap RetimeFast(const FrameDistance& distance, const RetimeOptions& options,
                      std::vector<double>* input_ssd = nullptr);
 
+// The input's per-frame SSD as RetimeFast computes it: bit for bit distance.InputSsd(), by the
+// faster pass for the clip's size.
+std::vector<double> RetimeInputSsd(const FrameDistance& distance);
+// RetimeFast given that SSD (RetimeInputSsd(distance), which a caller may have needed first:
+// the server's cut search): used instead of computed again, and moved to *input_ssd when that
+// is not null. Same answer as RetimeFast, bit for bit.
+TimingMap RetimeFastWithInputSsd(const FrameDistance& distance, const RetimeOptions& options,
+                                 std::vector<double> ssd, std::vector<double>* input_ssd);
+
 }  // namespace koma
 
 #endif  // KOMA_CORE_RETIME_H_

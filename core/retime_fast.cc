@@ -81,10 +81,12 @@ struct Run {
 
 class FastRetimer {
  public:
-  // Stores the input's per-frame SSD in `input_ssd` if not null. Tables for step B from
-  // `table_min_frames` frames on (kTableMinFrames but in tests).
+  // Stores the input's per-frame SSD in `input_ssd` if not null; `known_ssd`, when not null,
+  // holds it already (RetimeInputSsd's) and is moved from instead of computed. Tables for
+  // step B from `table_min_frames` frames on (kTableMinFrames but in tests).
   FastRetimer(const FrameDistance& distance, const RetimeOptions& options,
-              std::vector<double>* input_ssd, int table_min_frames);
+              std::vector<double>* input_ssd, int table_min_frames,
+              std::vector<double>* known_ssd);
 
   void RunOmissions(TimingMap& map);
   void RunHolds(TimingMap& map);
@@ -203,7 +205,8 @@ class FastRetimer {
 };
 
 FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& options,
-                         std::vector<double>* input_ssd, int table_min_frames)
+                         std::vector<double>* input_ssd, int table_min_frames,
+                         std::vector<double>* known_ssd)
     : distance_(distance),
       options_(options),
       runs_(distance.frame_count()),
@@ -224,9 +227,8 @@ FastRetimer::FastRetimer(const FrameDistance& distance, const RetimeOptions& opt
     for (int32_t v = 1; v < n; ++v) runs_[v].head_ssd = ssd[v];
     if (input_ssd != nullptr) input_ssd->assign(ssd.begin(), ssd.end());
   } else {
-    // Below kTableMinFrames the clip fits the caches (see InputSsdOfSmallClip).
     std::vector<double> ssd =
-        n < kTableMinFrames ? distance_.InputSsdOfSmallClip() : distance_.InputSsd();
+        known_ssd != nullptr ? std::move(*known_ssd) : RetimeInputSsd(distance_);
     for (int32_t v = 1; v < n; ++v) runs_[v].head_ssd = ssd[v];
     if (input_ssd != nullptr) *input_ssd = std::move(ssd);
   }
@@ -413,8 +415,9 @@ void FastRetimer::Finish(TimingMap& map) const {
 TimingMap retime_internal::RetimeFastWithTablesFrom(const FrameDistance& distance,
                                                     const RetimeOptions& options,
                                                     std::vector<double>* input_ssd,
-                                                    int table_min_frames) {
-  FastRetimer retimer(distance, options, input_ssd, table_min_frames);
+                                                    int table_min_frames,
+                                                    std::vector<double>* known_ssd) {
+  FastRetimer retimer(distance, options, input_ssd, table_min_frames, known_ssd);
   TimingMap map;
   for (Step step : retime_internal::StepsInOrder(options.order)) {
     if (step == Step::kOmit) retimer.RunOmissions(map);
@@ -426,7 +429,20 @@ TimingMap retime_internal::RetimeFastWithTablesFrom(const FrameDistance& distanc
 
 TimingMap RetimeFast(const FrameDistance& distance, const RetimeOptions& options,
                      std::vector<double>* input_ssd) {
-  return retime_internal::RetimeFastWithTablesFrom(distance, options, input_ssd, kTableMinFrames);
+  return retime_internal::RetimeFastWithTablesFrom(distance, options, input_ssd, kTableMinFrames,
+                                                   nullptr);
+}
+
+std::vector<double> RetimeInputSsd(const FrameDistance& distance) {
+  // Below kTableMinFrames the clip fits the caches (see InputSsdOfSmallClip).
+  return distance.frame_count() < kTableMinFrames ? distance.InputSsdOfSmallClip()
+                                                  : distance.InputSsd();
+}
+
+TimingMap RetimeFastWithInputSsd(const FrameDistance& distance, const RetimeOptions& options,
+                                 std::vector<double> ssd, std::vector<double>* input_ssd) {
+  return retime_internal::RetimeFastWithTablesFrom(distance, options, input_ssd, kTableMinFrames,
+                                                   &ssd);
 }
 
 }  // namespace koma

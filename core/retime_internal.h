@@ -27,8 +27,10 @@ void FillGoneFrames(const std::vector<Step>& gone_in, TimingMap& map);
 // RetimeFast with the clip length from which it reads step B's unlink distances from tables
 // (kTableMinFrames, in core/retime_fast.cc), so tests can take that path on clips small
 // enough for RetimeNaive.
+// `known_ssd`: as RetimeFastWithInputSsd's `ssd` (nullptr: computed).
 TimingMap RetimeFastWithTablesFrom(const FrameDistance& distance, const RetimeOptions& options,
-                                   std::vector<double>* input_ssd, int table_min_frames);
+                                   std::vector<double>* input_ssd, int table_min_frames,
+                                   std::vector<double>* known_ssd = nullptr);
 
 }  // namespace koma::retime_internal
 

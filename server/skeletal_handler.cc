@@ -189,6 +189,15 @@ absl::Status RetimeByShots(absl::Span<const double> positions, Retimed& out) {
   return absl::OkStatus();
 }
 
+// A distance step's failure (the inputs are finite by now; what fails is their size after FK or
+// the transforms), named as the motion's.
+template <typename T>
+absl::StatusOr<T> InMotion(absl::StatusOr<T> result) {
+  if (result.ok()) return result;
+  return absl::Status(result.status().code(),
+                      absl::StrCat("motion: ", result.status().message()));
+}
+
 // Validates, runs forward kinematics (channel form) and RetimeFast.
 absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
                                const RequestLimits& limits) {
@@ -203,36 +212,51 @@ absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
       const absl::Span<const double> positions,
       WorldPositions(request.motion(), job, limits.threads_per_call, computed_positions));
   const int joints = static_cast<int>(job.skeleton.joints.size());
-  if (job.cut_rule.neighbour_ratio != 0.0) {
-    absl::StatusOr<std::vector<double>> source_ssd =
-        SourceSsd(positions, job.frame_count, joints, job.distance_options);
-    if (!source_ssd.ok()) {
-      return absl::Status(source_ssd.status().code(),
-                          absl::StrCat("motion: ", source_ssd.status().message()));
+  const bool find_cuts = job.cut_rule.neighbour_ratio != 0.0;
+  if (!job.grid) {
+    // Counted in source frames: one distance over the source serves the cut search and, when
+    // there is no cut, the retiming, which takes the SSD the search measured (the same bits
+    // RetimeFast would compute) instead of measuring it again.
+    // With cuts the distance (a copy, with a transform) is freed before the shots make theirs.
+    {
+      KOMA_ASSIGN_OR_RETURN(
+          const FrameDistance distance,
+          InMotion(FrameDistance::CreateView(positions, job.frame_count, joints,
+                                             job.distance_options)));
+      if (!find_cuts) {
+        out.map = RetimeFast(distance, job.retime_options, &out.input_ssd);
+        return out;
+      }
+      std::vector<double> source_ssd = RetimeInputSsd(distance);
+      out.cuts = FindCuts(source_ssd, job.cut_rule);
+      if (out.cuts.empty()) {
+        out.map = RetimeFastWithInputSsd(distance, job.retime_options, std::move(source_ssd),
+                                         &out.input_ssd);
+        return out;
+      }
     }
-    out.cuts = FindCuts(*source_ssd, job.cut_rule);
+    KOMA_RETURN_IF_ERROR(RetimeByShots(positions, out));
+    return out;
+  }
+  if (find_cuts) {
+    // On a film grid the cut search reads the source frames, the retiming the grid's.
+    KOMA_ASSIGN_OR_RETURN(
+        const std::vector<double> source_ssd,
+        InMotion(SourceSsd(positions, job.frame_count, joints, job.distance_options)));
+    out.cuts = FindCuts(source_ssd, job.cut_rule);
   }
   if (!out.cuts.empty()) {
     KOMA_RETURN_IF_ERROR(RetimeByShots(positions, out));
     return out;
   }
   std::vector<double> grid_positions;
-  absl::StatusOr<FrameDistance> distance =
-      job.grid ? GridDistance(positions, out, grid_positions)
-               : FrameDistance::CreateView(positions, job.frame_count, joints,
-                                           job.distance_options);
-  if (!distance.ok()) {
-    // Inputs are finite here; what fails is their size after FK or the transforms.
-    return absl::Status(distance.status().code(),
-                        absl::StrCat("motion: ", distance.status().message()));
-  }
-  out.map = RetimeFast(*distance, job.retime_options, &out.input_ssd);
-  if (job.grid) {
-    GridRetimed expanded = ExpandGridTiming(out.map, out.grid_samples, *job.grid, job.frame_count,
-                                            !job.output_at_timing_rate);
-    out.map = std::move(expanded.map);
-    out.grid_frames = std::move(expanded.grid_frames);
-  }
+  KOMA_ASSIGN_OR_RETURN(const FrameDistance distance,
+                        InMotion(GridDistance(positions, out, grid_positions)));
+  out.map = RetimeFast(distance, job.retime_options, &out.input_ssd);
+  GridRetimed expanded = ExpandGridTiming(out.map, out.grid_samples, *job.grid, job.frame_count,
+                                          !job.output_at_timing_rate);
+  out.map = std::move(expanded.map);
+  out.grid_frames = std::move(expanded.grid_frames);
   return out;
 }
 

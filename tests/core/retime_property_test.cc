@@ -196,10 +196,13 @@ TEST(RetimePropertyTest, NaiveAndFastAgreeOnRandomClips) {
     const TimingMap naive = RetimeNaive(distance, options);
     std::vector<double> input_ssd;
     // Every other clip reads step B's unlink distances from the tables, as clips of
-    // kTableMinFrames and more do (when holds >= N / 4).
+    // kTableMinFrames and more do (when holds >= N / 4); every third of the others is given
+    // its input SSD, as the server's cut search hands it over.
     const TimingMap fast =
-        seed % 2 == 0 ? RetimeFast(distance, options, &input_ssd)
-                      : retime_internal::RetimeFastWithTablesFrom(distance, options, &input_ssd, 0);
+        seed % 2 == 1 ? retime_internal::RetimeFastWithTablesFrom(distance, options, &input_ssd, 0)
+        : seed % 3 == 0
+            ? RetimeFastWithInputSsd(distance, options, RetimeInputSsd(distance), &input_ssd)
+            : RetimeFast(distance, options, &input_ssd);
     const std::vector<double> want_ssd = distance.InputSsd();
     ASSERT_EQ(input_ssd.size(), want_ssd.size());
     ASSERT_EQ(std::memcmp(input_ssd.data(), want_ssd.data(), sizeof(double) * want_ssd.size()), 0)
