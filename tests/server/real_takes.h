@@ -16,6 +16,7 @@
 #include "formats/bvh.h"
 #include "koma/v1/retime.pb.h"
 #include "tests/formats/test_files.h"
+#include "tests/server/in_process_server.h"
 
 namespace koma::testing::real_takes {
 
@@ -150,6 +151,20 @@ inline std::vector<int> GridRuns(const v1::RetimeSkeletalResponse& r) {
   std::sort(runs.begin(), runs.end());
   return runs;
 }
+
+// A test with an in-process server: Call answers a RetimeSkeletal request (a failure fails
+// the test).
+class SkeletalServerTest : public ::testing::Test {
+ protected:
+  v1::RetimeSkeletalResponse Call(const v1::RetimeSkeletalRequest& request) {
+    v1::RetimeSkeletalResponse response;
+    const grpc::Status status = CallRpc(server_.stub(), request, &response);
+    EXPECT_TRUE(status.ok()) << status.error_message();
+    return response;
+  }
+
+  InProcessServer server_;
+};
 
 }  // namespace koma::testing::real_takes
 

@@ -22,8 +22,6 @@
 namespace koma::server {
 namespace {
 
-using ::koma::testing::CallRpc;
-using ::koma::testing::InProcessServer;
 using ::testing::ElementsAre;
 using ::testing::IsEmpty;
 using namespace ::koma::testing::real_takes;  // NOLINT: the takes' helpers, named as before
@@ -36,14 +34,8 @@ v1::RetimeSkeletalRequest PaperRequestOf(const SkeletalClip& clip) {
   return request;
 }
 
-class SkeletalCutsTest : public ::testing::Test {
+class SkeletalCutsTest : public SkeletalServerTest {
  protected:
-  v1::RetimeSkeletalResponse Call(const v1::RetimeSkeletalRequest& request) {
-    v1::RetimeSkeletalResponse response;
-    const grpc::Status status = CallRpc(server_.stub(), request, &response);
-    EXPECT_TRUE(status.ok()) << status.error_message();
-    return response;
-  }
   // The clip retimed alone with these counts (cuts off, so it is the paper's algorithm).
   v1::RetimeSkeletalResponse Alone(const SkeletalClip& clip, int omissions, int holds) {
     v1::RetimeSkeletalRequest request = RequestOf(clip);
@@ -52,8 +44,6 @@ class SkeletalCutsTest : public ::testing::Test {
     request.set_cut_neighbour_ratio(0);
     return Call(request);
   }
-
-  InProcessServer server_;
 };
 
 // The response's timing map (in source frames of the whole clip) equals the shots' own

@@ -19,21 +19,9 @@
 namespace koma::server {
 namespace {
 
-using ::koma::testing::CallRpc;
-using ::koma::testing::InProcessServer;
 using namespace ::koma::testing::real_takes;  // NOLINT: the takes' helpers
 
-class SkeletalDefaultsTest : public ::testing::Test {
- protected:
-  v1::RetimeSkeletalResponse Call(const v1::RetimeSkeletalRequest& request) {
-    v1::RetimeSkeletalResponse response;
-    const grpc::Status status = CallRpc(server_.stub(), request, &response);
-    EXPECT_TRUE(status.ok()) << status.error_message();
-    return response;
-  }
-
-  InProcessServer server_;
-};
+using SkeletalDefaultsTest = SkeletalServerTest;
 
 struct Take {
   std::string name;
