@@ -24,16 +24,17 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
   AddXdtsFlag(cmd, &args.xdts);
   AddWholeNumber(cmd, "--omit,--omissions", &args.omissions, 0, INT32_MAX,
                  "Nio, inbetween omissions (nakanashi): frames removed where the motion is "
-                 "fastest (default min(4, frames - 3))");
+                 "fastest; a count turns the anime defaults off (the paper's: min(4, frames - 3))");
   AddWholeNumber(cmd, "--hold,--holds", &args.holds, 0, INT32_MAX,
                  "Nhf, hold steps (koma-dori): frames that repeat their predecessor where the "
-                 "motion is stillest (default frames / 3)");
+                 "motion is stillest; a count turns the anime defaults off (the paper's: frames / 3)");
   AddNumber(cmd, "--omissions-per-second", &args.omissions_per_second, AtLeast(0),
             "omission rate: omissions per second of the clip (grid time), instead of --omit; "
-            "scales with the take's length (40 s at 1.0: 40)");
+            "scales with the take's length (40 s at 1.0: 40; default 1 unless a count is given)");
   AddNumber(cmd, "--drawings-per-second", &args.drawings_per_second, Above(0),
             "drawing rate: holds until the clip shows this many drawings a second (12 on "
-            "twos, 8 on threes at 24 fps); --max-hold defaults to the hold it needs");
+            "twos, 8 on threes at 24 fps; default 8 unless a count is given); --max-hold "
+            "defaults to the hold it needs");
   AddNumber(cmd, "--cut-neighbour-ratio", &args.cut_neighbour_ratio, AtLeast(0),
             "cuts: a jump at least this many times the SSD of the pairs around it splits the "
             "clip into shots retimed separately (default 20; 0: no cuts)");
@@ -41,8 +42,8 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
             "cuts: a jump's SSD must also be above this many times the clip's median "
             "(default 20)");
   AddWholeNumber(cmd, "--max-hold", &args.max_hold, 1, INT32_MAX,
-                 "longest run of one drawing, in frames (grid frames with a film grid; "
-                 "default 3, 'on threes')");
+                 "longest run of one drawing, in frames (grid frames with a film grid; default "
+                 "the drawing rate's, 3 'on threes'); a count: the paper's algorithm");
   cmd->add_flag("--keep-length,!--no-keep-length", args.keep_length,
                 "re-insert a duplicate after each omission so the clip keeps its length "
                 "(default); --no-keep-length: the clip gets shorter by the omissions");
