@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
@@ -20,6 +22,32 @@ namespace {
 
 // Sample frames decoded per block: 4096 frames of up to max_channels floats (1 MB at 64).
 constexpr sf_count_t kBlockFrames = 4096;
+
+uint32_t LittleEndian(std::string_view bytes, size_t at, int width) {
+  uint32_t value = 0;
+  for (int i = width - 1; i >= 0; --i) {
+    value = (value << 8) | static_cast<unsigned char>(bytes[at + static_cast<size_t>(i)]);
+  }
+  return value;
+}
+
+// Why a WAV's fmt chunk makes no recording (0 channels, 0 Hz), which libsndfile reports only
+// as "SF_INFO struct incomplete"; "" when it is not a WAV or its fmt chunk says neither.
+std::string WavFormatProblem(std::string_view bytes) {
+  if (bytes.size() < 12 || bytes.substr(0, 4) != "RIFF" || bytes.substr(8, 4) != "WAVE") return "";
+  for (size_t at = 12; at + 8 <= bytes.size();) {
+    const uint32_t size = LittleEndian(bytes, at + 4, 4);
+    if (bytes.substr(at, 4) == "fmt ") {
+      if (at + 8 + 16 > bytes.size()) return "";  // cut short: libsndfile's words will do
+      const std::string where = absl::StrCat("WAV fmt chunk at byte ", at, ": ");
+      if (LittleEndian(bytes, at + 10, 2) == 0) return where + "0 channels";
+      if (LittleEndian(bytes, at + 12, 4) == 0) return where + "sample rate 0 Hz";
+      return "";
+    }
+    at += 8 + static_cast<size_t>(size) + (size & 1);  // chunks are padded to even sizes
+  }
+  return "";
+}
 
 // Sizes a header states for its samples that the file cannot hold. libsndfile reads what is
 // there and notes the difference in its log ("data : 4294967280 (should be 384000)" for WAV,
@@ -98,6 +126,11 @@ absl::StatusOr<std::unique_ptr<AudioDecoder>> AudioDecoder::Open(std::string_vie
   SF_INFO sf_info{};
   SNDFILE* file = sf_open_virtual(&io, SFM_READ, &sf_info, d->memory_.get());
   if (file == nullptr) {
+    if (const std::string why = WavFormatProblem(bytes); !why.empty()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(why, ": a recording has at least one channel and a sample rate of 1 Hz "
+                            "or more"));
+    }
     return absl::InvalidArgumentError(absl::StrCat(
         "not a recording libsndfile can read (WAV, FLAC, Ogg Vorbis/Opus, MP3, ...): ",
         sf_strerror(nullptr)));

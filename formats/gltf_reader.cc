@@ -28,15 +28,16 @@ absl::Status Invalid(absl::string_view path, absl::string_view message) {
   return absl::InvalidArgumentError(absl::StrCat(path, ": ", message));
 }
 
+// The JSON of a .gltf file or a GLB's JSON chunk; errors in koma's words with the byte offset
+// (formats/json_text.h), an empty file named as such.
 absl::StatusOr<Json> ParseJson(std::string_view text) {
-  KOMA_RETURN_IF_ERROR(CheckJsonDepth(text, kMaxJsonDepth));
-  try {
-    Json json = Json::parse(text.begin(), text.end());
-    if (!json.is_object()) return absl::InvalidArgumentError("the JSON is not an object");
-    return json;
-  } catch (const Json::exception& error) {
-    return absl::InvalidArgumentError(absl::StrCat("invalid JSON: ", error.what()));
+  if (text.empty()) {
+    return absl::InvalidArgumentError(
+        "the file is empty: expected a GLB (starting \"glTF\") or a .gltf's JSON");
   }
+  KOMA_ASSIGN_OR_RETURN(Json json, ParseJsonTextWithin(text, kMaxJsonDepth));
+  if (!json.is_object()) return absl::InvalidArgumentError("the JSON is not an object");
+  return json;
 }
 
 // Refuses what needs files beside this one: buffers and images with a uri that is not data:.
@@ -269,6 +270,13 @@ absl::Status CheckCounts(const Json& json, const tinygltf::Model& model) {
                                     model.animations[a].channels.size()));
     KOMA_RETURN_IF_ERROR(CheckCount(path + ".samplers", JsonSize(animation, "samplers"),
                                     model.animations[a].samplers.size()));
+    // The glTF schema: an animation has at least one channel and one sampler (minItems 1).
+    if (model.animations[a].channels.empty()) {
+      return Invalid(path + ".channels", "empty: a glTF animation has at least one channel");
+    }
+    if (model.animations[a].samplers.empty()) {
+      return Invalid(path + ".samplers", "empty: a glTF animation has at least one sampler");
+    }
   }
   for (size_t s = 0; s < model.skins.size(); ++s) {
     const Json& skin = json["skins"][s];
@@ -340,6 +348,10 @@ absl::Status ReadAnimation(const tinygltf::Model& model, size_t index, int64_t& 
     for (size_t k = 0; k < input.values.size(); ++k) {
       if (!std::isfinite(input.values[k])) {
         return Invalid(path + ".input", absl::StrCat("key ", k, " is not a finite time"));
+      }
+      if (input.values[k] < 0) {  // the Khronos validator's ACCESSOR_ANIMATION_INPUT_NEGATIVE
+        return Invalid(path + ".input", absl::StrCat("key ", k, " is at ", input.values[k],
+                                                     " s: glTF key times are >= 0"));
       }
       if (k > 0 && input.values[k] < input.values[k - 1]) {
         return Invalid(path + ".input",

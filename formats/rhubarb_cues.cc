@@ -7,7 +7,9 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "absl/strings/strip.h"
+#include "core/status_macros.h"
 #include "formats/error_text.h"
+#include "formats/json_text.h"
 #include "formats/number_format.h"
 
 namespace koma::formats {
@@ -53,37 +55,17 @@ absl::Status CheckOrder(const std::vector<MouthCue>& cues, bool tsv) {
   return absl::OkStatus();
 }
 
-bool TooDeep(std::string_view text) {
-  int depth = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '{' || c == '[') {
-      if (++depth > kMaxDepth) return true;
-    } else if (c == '}' || c == ']') {
-      --depth;
-    }
-  }
-  return false;
-}
-
 absl::StatusOr<std::vector<MouthCue>> ParseJson(std::string_view text) {
-  if (TooDeep(text)) return absl::InvalidArgumentError("JSON nested deeper than 32 levels");
-  nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (doc.is_discarded()) return absl::InvalidArgumentError("malformed JSON");
+  // Errors with the byte offset, in koma's words (formats/json_text.h).
+  KOMA_ASSIGN_OR_RETURN(const nlohmann::ordered_json doc, ParseJsonTextWithin(text, kMaxDepth));
   if (!doc.is_object() || !doc.contains("mouthCues") || !doc["mouthCues"].is_array()) {
     return absl::InvalidArgumentError("mouthCues: missing, or not an array");
   }
   std::vector<MouthCue> cues;
-  const nlohmann::json& list = doc["mouthCues"];
+  const nlohmann::ordered_json& list = doc["mouthCues"];
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string where = absl::StrCat("mouthCues[", i, "]");
-    const nlohmann::json& cue = list[i];
+    const nlohmann::ordered_json& cue = list[i];
     if (!cue.is_object()) return Invalid(where, "not an object");
     MouthCue out;
     for (const char* key : {"start", "end"}) {

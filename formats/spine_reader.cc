@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/container/flat_hash_set.h"
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
@@ -18,6 +19,7 @@
 #include "formats/number_format.h"
 #include "formats/spine.h"
 #include "formats/spine_played_bezier.h"
+#include "formats/text_encoding.h"
 
 namespace koma::formats {
 namespace {
@@ -422,17 +424,40 @@ absl::Status ReadVersion(const Json& document, Reader& reader) {
   return absl::OkStatus();
 }
 
+// The bones' names, checked as the Spine runtimes read a skeleton: every name unique (timelines
+// name their bone), and a bone's parent, when it has one, an earlier bone (the editor writes
+// parents first; the runtimes refuse a parent they have not read yet, which also refuses a bone
+// that is its own parent and any cycle).
 absl::StatusOr<absl::flat_hash_set<std::string>> ReadBoneNames(const Json& document) {
   KOMA_ASSIGN_OR_RETURN(const Json* bones, RequireMember(document, "", "bones"));
   KOMA_RETURN_IF_ERROR(RequireArray(*bones, "bones"));
-  absl::flat_hash_set<std::string> names;
+  absl::flat_hash_map<std::string, size_t> index_of;  // name -> its index in bones
   for (size_t i = 0; i < bones->size(); ++i) {
     const std::string path = absl::StrCat("bones[", i, "]");
     KOMA_RETURN_IF_ERROR(RequireObject((*bones)[i], path));
     KOMA_ASSIGN_OR_RETURN(const Json* name, RequireMember((*bones)[i], path, "name"));
     KOMA_ASSIGN_OR_RETURN(std::string text, StringAt(*name, path + ".name"));
-    names.insert(std::move(text));
+    if (const auto earlier = index_of.find(text); earlier != index_of.end()) {
+      return PathError(path + ".name",
+                       absl::StrCat(QuoteForError(text), " is also the name of bones[",
+                                    earlier->second, "]: timelines name their bone, so names "
+                                    "must be unique"));
+    }
+    if (const Json* parent = FindMember((*bones)[i], "parent"); parent != nullptr) {
+      KOMA_ASSIGN_OR_RETURN(const std::string parent_name, StringAt(*parent, path + ".parent"));
+      if (!index_of.contains(parent_name)) {
+        return PathError(
+            path + ".parent",
+            absl::StrCat(QuoteForError(parent_name),
+                         parent_name == text ? " is the bone itself" : " is no earlier bone",
+                         ": a parent comes before its children in bones, as the Spine editor "
+                         "writes them and its runtimes read them"));
+      }
+    }
+    index_of.emplace(std::move(text), i);
   }
+  absl::flat_hash_set<std::string> names;
+  for (auto& [name, index] : index_of) names.insert(name);
   return names;
 }
 
@@ -510,6 +535,8 @@ bool IsSpineJson(std::string_view text) {
 }
 
 absl::StatusOr<SpineFile> ParseSpine(std::string_view text) {
+  // A skeleton saved as UTF-16 or UTF-32 is named so, not taken for a binary .skel.
+  KOMA_ASSIGN_OR_RETURN(text, SkipUtf8Bom(text));
   if (LooksBinary(text)) {
     return absl::InvalidArgumentError(
         "not JSON text: binary Spine .skel files are not read; export the skeleton as JSON "
