@@ -139,6 +139,17 @@ absl::Status HandleRetimeSkeletalGltf(const v1::RetimeSkeletalRequest& request,
     return absl::InvalidArgumentError("gltf: the file has no nodes to measure motion on");
   }
   const bool linear = options.gltf_keys() == v1::GLTF_KEYS_LINEAR;
+  // Each animation's request: the options without the file, copied from `base` (the file is
+  // megabytes; copying it once per animation made a file with many animations quadratic).
+  v1::RetimeSkeletalRequest base;
+  base.CopyFrom(request);
+  base.clear_gltf();
+  base.clear_gltf_animations();
+  base.clear_gltf_retime_none();
+  base.clear_gltf_source_fps();
+  base.clear_gltf_keys();
+  base.clear_gltf_keep_original();
+  base.set_return_motion(false);
   std::vector<formats::GltfAnimationKeys> all_keys;
   const int64_t joints = static_cast<int64_t>(document->joints.size());
   for (int a : picked) {
@@ -157,14 +168,7 @@ absl::Status HandleRetimeSkeletalGltf(const v1::RetimeSkeletalRequest& request,
     }
     const double start = GltfClipStart(clip);
     v1::RetimeSkeletalRequest decoded;
-    decoded.CopyFrom(request);
-    decoded.clear_gltf();
-    decoded.clear_gltf_animations();
-    decoded.clear_gltf_retime_none();
-    decoded.clear_gltf_source_fps();
-    decoded.clear_gltf_keys();
-    decoded.clear_gltf_keep_original();
-    decoded.set_return_motion(false);
+    decoded.CopyFrom(base);
     *decoded.mutable_motion() = convert::GltfMotion(*document, a, fps, frames);
     KOMA_RETURN_IF_ERROR(GrowCallReservation(
         FileOverheadFootprint(static_cast<int64_t>(bytes.size()), /*bvh=*/true) +
