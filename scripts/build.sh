@@ -29,19 +29,21 @@ else
 fi
 configured_type=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
 build_type=${KOMA_BUILD_TYPE:-${configured_type:-RelWithDebInfo}}
-# A new build folder uses Ninja (an existing one keeps the generator it was configured with).
-generator=()
-if [ ! -f "$build/CMakeCache.txt" ] && command -v ninja >/dev/null; then generator=(-G Ninja); fi
+# A new build folder uses Ninja (an existing one keeps the generator it was configured with);
+# compiles go through ccache when it is installed (a rebuild of unchanged files is a cache hit).
+setup=()
+if [ ! -f "$build/CMakeCache.txt" ] && command -v ninja >/dev/null; then setup=(-G Ninja); fi
+if command -v ccache >/dev/null; then setup+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 build_steps() {
   if [ "$programs_only" = 1 ]; then
     local options=()
     if [ ! -f "$build/CMakeCache.txt" ]; then
       options=(-DKOMA_BUILD_TESTS=OFF -DKOMA_BUILD_BENCH=OFF)
     fi
-    cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE="$build_type" "${options[@]}"
+    cmake -S "$root" -B "$build" "${setup[@]}" -DCMAKE_BUILD_TYPE="$build_type" "${options[@]}"
     cmake --build "$build" -j"$(nproc)" --target koma_server koma
   else
-    cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE="$build_type" \
+    cmake -S "$root" -B "$build" "${setup[@]}" -DCMAKE_BUILD_TYPE="$build_type" \
       -DKOMA_BUILD_TESTS=ON -DKOMA_BUILD_BENCH=ON
     cmake --build "$build" -j"$(nproc)"
   fi

@@ -3,10 +3,10 @@
 # calls apt-get when a package is missing, so a second run costs a dpkg query.
 set -euo pipefail
 
-# What building koma_server and koma needs (ninja-build and lld: faster builds and links,
-# scripts/build.sh).
+# What building koma_server and koma needs (ninja-build, lld and ccache: faster builds, links
+# and rebuilds, scripts/build.sh).
 packages=(
-  cmake g++ make ninja-build lld pkg-config
+  cmake g++ make ninja-build lld ccache pkg-config
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libabsl-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev
