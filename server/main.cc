@@ -83,7 +83,8 @@ ABSL_FLAG(int, shutdown_delay_ms, 1000,
           "accepted, so clients and load balancers that watch health move away first");
 ABSL_FLAG(int, shutdown_grace_ms, 10000,
           "on SIGTERM/SIGINT, after --shutdown_delay_ms, how long calls in flight may finish "
-          "before they are cancelled");
+          "before they are cancelled; the process exits at the latest 0.2 s after it, whatever "
+          "is still computing");
 ABSL_FLAG(std::string, metrics_address, "",
           "host:port for Prometheus metrics (plain HTTP GET /metrics); port 0 picks a free port "
           "(see --metrics_port_file); empty = no metrics. Use 0.0.0.0:9464 in a container");
@@ -201,6 +202,22 @@ int Fail(const std::string& message) {
   return 1;
 }
 
+// The grace is a promise to whoever sent the signal (an orchestrator's termination grace, a
+// rolling restart): gRPC cancels the calls still in flight when it ends, but a handler whose
+// work has no cancellation point keeps its worker, and the drain would wait for it. So the
+// process exits kExitMargin after the grace whatever is still computing (a stateless server
+// loses nothing the cancelled calls had not lost already).
+constexpr absl::Duration kExitMargin = absl::Milliseconds(200);
+void ExitAfterTheGrace(absl::Duration grace) {
+  std::thread([grace] {
+    absl::SleepFor(grace + kExitMargin);
+    koma::server::LogEvent(
+        "calls still computing after the grace were cancelled; exiting without them", true);
+    std::fflush(stderr);
+    std::_Exit(0);
+  }).detach();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -269,9 +286,10 @@ int main(int argc, char** argv) {
   // that watch health (koma's own with a server list) get time to move away first.
   (*server)->StopServing();
   absl::SleepFor(absl::Milliseconds(delay_ms));
-  koma::server::LogEvent(
-      absl::StrCat("draining (grace ", absl::GetFlag(FLAGS_shutdown_grace_ms), " ms)"));
-  (*server)->Shutdown(absl::Milliseconds(absl::GetFlag(FLAGS_shutdown_grace_ms)));
+  const int grace_ms = absl::GetFlag(FLAGS_shutdown_grace_ms);
+  koma::server::LogEvent(absl::StrCat("draining (grace ", grace_ms, " ms)"));
+  ExitAfterTheGrace(absl::Milliseconds(grace_ms));
+  (*server)->Shutdown(absl::Milliseconds(grace_ms));
   koma::server::LogEvent("koma_server stopped");
   return 0;
 }
