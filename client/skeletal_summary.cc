@@ -102,12 +102,13 @@ bool AskedForRates(const SkeletalArgs& args) {
   return args.omissions_per_second || args.drawings_per_second;
 }
 
-// Drawings a second of the output: its runs of one drawing over its length (output frames of
-// out_ms milliseconds each).
-double DrawingsPerSecond(const v1::RetimeSkeletalResponse& response, double out_ms) {
+// Drawings a second of the output: its `drawings` (runs of one drawing) over its length
+// (output frames of out_ms milliseconds each).
+double DrawingsPerSecond(size_t drawings, const v1::RetimeSkeletalResponse& response,
+                         double out_ms) {
   const int frames = response.source_frames_size();
   if (frames == 0 || out_ms <= 0) return 0.0;
-  return static_cast<double>(RunLengths(response).size()) / (frames * out_ms / 1000.0);
+  return static_cast<double>(drawings) / (frames * out_ms / 1000.0);
 }
 
 // Seconds per output frame: the motion's when returned, else what it would have been.
@@ -162,8 +163,9 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
                         longest, unit, longest_ms, response.omissions_requested(),
                         response.holds_requested(), response.max_hold(), unit);
   // What the viewer sees, and the rates that asked for it.
-  absl::StrAppendFormat(&text, "  drawings   %zu shown, %.1f a second", RunLengths(response).size(),
-                        DrawingsPerSecond(response, out_ms));
+  const size_t drawings = RunLengths(response).size();
+  absl::StrAppendFormat(&text, "  drawings   %zu shown, %.1f a second", drawings,
+                        DrawingsPerSecond(drawings, response, out_ms));
   if (response.omissions_per_second() > 0 || response.drawings_per_second() > 0) {
     const bool defaults = !AskedForCounts(args) && !AskedForRates(args);
     absl::StrAppendFormat(
@@ -234,10 +236,10 @@ nlohmann::json SkeletalSummaryJson(const SkeletalArgs& args, const SkeletalClip&
   j["cut_frames"] = std::vector<int>(response.cut_frames().begin(), response.cut_frames().end());
   j["omissions_per_second"] = response.omissions_per_second();
   j["drawings_per_second"] = response.drawings_per_second();
-  const std::vector<int> runs = RunLengths(response);
-  j["drawings_shown"] = runs.size();
+  const size_t drawings = RunLengths(response).size();
+  j["drawings_shown"] = drawings;
   j["drawings_shown_per_second"] =
-      DrawingsPerSecond(response, 1000.0 * OutputFrameTime(args, clip, response));
+      DrawingsPerSecond(drawings, response, 1000.0 * OutputFrameTime(args, clip, response));
   j["warnings"] = std::vector<std::string>(response.warnings().begin(), response.warnings().end());
   return j;
 }
