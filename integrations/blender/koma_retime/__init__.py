@@ -140,29 +140,26 @@ def write_anime_action(source, start, source_frames):
     return action
 
 
-# Drawings a second of the panel's presets (koma --preset twos / threes).
-PRESET_DRAWINGS_PER_SECOND = {"TWOS": 12.0, "THREES": 8.0}
-# The paper's longest hold: naming a count asks the server for the paper's algorithm
-# (koma --preset paper).
-PAPER_MAX_HOLD = 3
+# The panel's presets by the koma package's names (koma --preset; its table, koma._presets,
+# says what each sets); ANIME is none: the server's defaults.
+PRESET_NAMES = {"PAPER": "paper", "TWOS": "twos", "THREES": "threes"}
 
 
 def request_options(settings):
-    """The RetimeSkeletal options of the panel's settings (unset ones: the server's defaults)."""
-    options = {"timing_fps": settings.timing_fps, "return_motion": False}
+    """The RetimeSkeletal options of the panel's settings (unset ones: the server's defaults),
+    with `preset` for Client.retime_skeletal (values set here win over it)."""
+    options = {"timing_fps": settings.timing_fps, "return_motion": False,
+               "preset": PRESET_NAMES.get(settings.preset)}
     if settings.max_hold > 0:
         options["max_hold"] = settings.max_hold
-    elif settings.preset == "PAPER":
-        options["max_hold"] = PAPER_MAX_HOLD
     if settings.omissions_per_second > 0:
         options["omissions_per_second"] = settings.omissions_per_second
     elif settings.omissions >= 0:
         options["omissions"] = settings.omissions
     if settings.holds >= 0:
         options["holds"] = settings.holds
-    drawings = settings.drawings_per_second or PRESET_DRAWINGS_PER_SECOND.get(settings.preset)
-    if drawings:
-        options["drawings_per_second"] = drawings
+    if settings.drawings_per_second > 0:
+        options["drawings_per_second"] = settings.drawings_per_second
     return options
 
 
