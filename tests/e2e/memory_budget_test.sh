@@ -2,7 +2,7 @@
 # e2e.fault_memory_budget: 64 concurrent 50 MB RetimeSkeletal requests (65,000 frames x 96
 # channels, 49.9 MB each, one shared buffer on the client) against koma_server with
 # --max_memory_mb=512. Checks: every call is answered OK or RESOURCE_EXHAUSTED (no other code,
-# no crash), at least one completed OK by the server; the server's peak RSS (VmHWM) stays under 512 MiB + 64 MiB of
+# no crash), at least one admitted by the server; the server's peak RSS (VmHWM) stays under 512 MiB + 64 MiB of
 # stated overhead (code, gRPC's threads, malloc's slack); afterwards the budget holds nothing,
 # RSS is back near rest and a small call succeeds. Prints the figures. With
 # KOMA_FAULT_COMPARE=1 it also runs the same load with --max_memory_mb=0 (no budget) and
@@ -36,17 +36,20 @@ echo "budget ${budget_mb} MiB: $count calls: $ok OK, $exhausted RESOURCE_EXHAUST
 [ "$count" = 64 ] || fail "koma_load made $count calls, want 64"
 [ "$((ok + exhausted))" = 64 ] ||
   fail "calls answered other than OK or RESOURCE_EXHAUSTED: $(report "$work/flood.json" errors)"
-# koma's admission must let at least one call through and complete it (its log line says
-# OK). That its 50 MB answer also reaches the client is gRPC's to do: under this flood gRPC's
-# own ResourceQuota (a quarter of the budget) is full of requests being received and can
-# fail the send (seen once in a CI-like run: the server logged OK, the client got
-# RESOURCE_EXHAUSTED). Such a loss is printed, not failed.
+# koma's admission must let at least one call through to its handler. The server logs every
+# call once it has finished: wait until none is in flight, then count the 50 MB calls it did
+# not refuse itself. Whether an admitted call's 50 MB answer also reaches the client is gRPC's
+# to do: under this flood gRPC's own ResourceQuota (a quarter of the budget) is full of
+# requests being received and, to free memory, can close connections, with admitted calls on
+# them (seen in CI-like runs: the server logged the call, the client got RESOURCE_EXHAUSTED).
+# Such a loss is printed, not failed.
+check_released "after the flood"
+admitted=$(grep '"frames":65000' "$work/server.log" | grep -vc 'memory budget (--max_memory_mb' ||
+  true)
 completed=$(grep -c '"code":"OK".*"frames":65000' "$work/server.log" || true)
-[ "$completed" -ge 1 ] || fail "no call succeeded: the budget refused everything"
-if [ "$ok" -lt "$completed" ]; then
-  echo "note: the server completed $completed calls, the client got $ok OK answers (the rest" \
-    "RESOURCE_EXHAUSTED from gRPC's ResourceQuota on the way out)"
-fi
+echo "the server admitted $admitted calls and completed $completed;" \
+  "the client got $ok OK answers"
+[ "$admitted" -ge 1 ] || fail "no call was admitted: the budget refused everything"
 [ "$peak_mb" -le $((budget_mb + overhead_mb)) ] ||
   fail "peak RSS ${peak_mb} MiB is over the budget ${budget_mb} MiB + ${overhead_mb} MiB"
 # koma's own refusals name the budget; gRPC's (its ResourceQuota refusing a stream) arrive as
@@ -56,7 +59,6 @@ koma_refused=$(grep -c '"code":"RESOURCE_EXHAUSTED".*memory budget (--max_memory
 echo "refused by koma's admission (message names --max_memory_mb): $koma_refused;" \
   "by gRPC's ResourceQuota: $((exhausted - koma_refused))"
 
-check_released "after the flood"
 wait_rss_at_most "$server_pid" $((rest_mb + 48)) 10
 check_still_serves "after the flood" "$load_bin" "$pitch"
 stop_server
