@@ -7,6 +7,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
+#include "core/stop_check.h"
 #include "core/target_clones.h"
 #include "core/trig_degrees.h"
 
@@ -79,9 +80,9 @@ KOMA_FK_INLINE bool IsRotation(ChannelKind kind) {
 // position and three rotation channels.
 struct JointPlan {
   int parent = -1;
-  double offset[3] = {};     // x, y, z
-  size_t first_channel = 0;  // the joint's first channel within a frame
-  size_t first_angle = 0;    // its first rotation channel among the angles used
+  double offset[3] = {};       // x, y, z
+  size_t first_channel = 0;    // the joint's first channel within a frame
+  size_t first_angle = 0;      // its first rotation channel among the angles used
   bool with_rotation = false;  // it has children, so its rotation is used
   int position_count = 0;
   size_t position_channel[3] = {};  // within the joint, in channel order
@@ -267,9 +268,12 @@ void FillWorldPositions(const std::vector<Joint>& joints, const double* values, 
   std::vector<double> angles(kLanes * angle_channels.size());
   std::vector<double> sin(angles.size());
   std::vector<double> cos(angles.size());
-  std::vector<double> last_group;  // the last frames, padded with zeros to four
-  const size_t row = 3 * joint_count;  // doubles of positions per frame
+  std::vector<double> last_group;                   // the last frames, padded with zeros to four
+  const size_t row = 3 * joint_count;               // doubles of positions per frame
+  StopPoll stop(/*steps_between_checks=*/1 << 16);  // joint transforms: a check every ~1 ms
   for (int f = 0; f < frame_count; f += kLanes) {
+    // Stopped: the rest stays unfilled; ComputeWorldPositions returns the stop instead.
+    if (stop.Stop(static_cast<int64_t>(kLanes * joint_count))) break;
     const int frames = std::min(kLanes, frame_count - f);
     const double* group = values + static_cast<size_t>(f) * stride;
     if (frames < kLanes) {
@@ -285,8 +289,8 @@ void FillWorldPositions(const std::vector<Joint>& joints, const double* values, 
       // Parents precede children (ValidateSkeleton rule 2), so their transforms are ready.
       const JointPlan& plan = plans[j];
       const size_t angle = kLanes * plan.first_angle;
-      JointTransform(plan, j, group + plan.first_channel, sin.data() + angle,
-                     cos.data() + angle, stride, rotations, translations);
+      JointTransform(plan, j, group + plan.first_channel, sin.data() + angle, cos.data() + angle,
+                     stride, rotations, translations);
     }
     UntransposeRows(translation_storage.data(), row, frames, row,
                     positions + static_cast<size_t>(f) * row);
@@ -318,8 +322,7 @@ absl::StatusOr<LargeArray<double>> ComputeWorldPositions(const Skeleton& skeleto
   positions.reserve(std::max(doubles, capacity_doubles));
   positions.resize(doubles);  // not zeroed (LargeArrayAllocator::construct)
   // Stretches of whole four-frame groups (the lanes), one per task.
-  const int used =
-      std::max(1, std::min(runner.Parallelism(), frame_count / kFramesPerFkThread));
+  const int used = std::max(1, std::min(runner.Parallelism(), frame_count / kFramesPerFkThread));
   const int stretch = (frame_count / used + kLanes - 1) / kLanes * kLanes;
   const int stretches = used == 1 ? 1 : (frame_count + stretch - 1) / stretch;
   runner.Run(stretches, [&](int index) {
@@ -329,6 +332,7 @@ absl::StatusOr<LargeArray<double>> ComputeWorldPositions(const Skeleton& skeleto
                        channel_count,
                        positions.data() + static_cast<size_t>(first) * joints.size() * 3);
   });
+  KOMA_RETURN_IF_ERROR(StopReason());  // a stopped fill left positions unfinished
   return positions;
 }
 

@@ -12,6 +12,7 @@
 #include "core/curve_cursor.h"
 #include "core/film_grid.h"
 #include "core/key_drawings.h"
+#include "core/stop_check.h"
 
 namespace koma {
 namespace {
@@ -161,7 +162,8 @@ std::vector<double> PoseTimes(const CurveSet& set, const std::vector<int>& membe
   for (size_t x = 0; x < pose_frames.size(); ++x) {
     const int f = pose_frames[x];
     if (f == 0 || f == last) continue;  // the clip's ends
-    if (std::isfinite(earliest[static_cast<size_t>(f)])) times[x] = earliest[static_cast<size_t>(f)];
+    if (std::isfinite(earliest[static_cast<size_t>(f)]))
+      times[x] = earliest[static_cast<size_t>(f)];
   }
   return times;
 }
@@ -192,8 +194,7 @@ int DrawingOfKey(const DrawingTiming& timing, const std::optional<FilmGrid>& gri
   if (grid) {
     const std::vector<int>& starts = timing.drawing_start_grid;
     const int g = std::min(grid->NearestGridFrame(frame), starts.back());
-    return static_cast<int>(std::upper_bound(starts.begin(), starts.end(), g) - starts.begin()) -
-           1;
+    return static_cast<int>(std::upper_bound(starts.begin(), starts.end(), g) - starts.begin()) - 1;
   }
   const double last = static_cast<double>(timing.drawing_of_frame.size() - 1);
   return timing.drawing_of_frame[static_cast<size_t>(std::clamp(std::round(frame), 0.0, last))];
@@ -208,7 +209,8 @@ std::vector<double> DrawingTaus(const DrawingTiming& timing) {
   if (!timing.drawing_time.empty()) return timing.drawing_tau;  // on a grid: kept per drawing
   std::vector<double> tau;
   tau.reserve(timing.drawing_start.size());
-  for (int start : timing.drawing_start) tau.push_back(timing.source_frame[static_cast<size_t>(start)]);
+  for (int start : timing.drawing_start)
+    tau.push_back(timing.source_frame[static_cast<size_t>(start)]);
   return tau;
 }
 
@@ -429,7 +431,7 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
     result.timings.push_back(BuildTiming(keys, pose_times, params, n, merged_poses));
   }
   std::map<int, std::map<int, int>> histograms;  // per timing index; on grid frames with a grid
-  std::map<int, std::vector<double>> taus;        // per timing index: DrawingTaus
+  std::map<int, std::vector<double>> taus;       // per timing index: DrawingTaus
   for (size_t t = static_cast<size_t>(first_timing); t < result.timings.size(); ++t) {
     histograms[static_cast<int>(t)] = HoldHistogram(result.timings[t]);
     if (grid) result.timings[t] = ExpandToSource(result.timings[t], *grid, set.frame_count);
@@ -441,16 +443,18 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
   // times (the 50-bone benchmark: 150 curves, one set of times). Per timing and hash of the
   // times: the first curve with those times and its parameters.
   std::map<std::pair<int, uint64_t>, std::vector<std::pair<int, SharedParameters>>> solved;
+  StopPoll stop(/*steps_between_checks=*/1 << 14);  // segments: a check every ~1 ms
   for (int c : members) {
     const Curve& curve = set.curves[c];
+    // Stopped: the rest stay empty; the caller that installed the signal discards the result.
+    if (stop.Stop(static_cast<int64_t>(curve.segments.size()) + 1)) break;
     const auto own = options.curve_frames_per_drawing.find(curve.id);
     const int t =
         own == options.curve_frames_per_drawing.end() ? first_timing : timing_of_n[own->second];
     SharedParameters own_parameters;
     SharedParameters* parameters = &own_parameters;
     if (!curve.dense() && !set.beziers_restricted) {
-      std::vector<std::pair<int, SharedParameters>>& same_hash =
-          solved[{t, CurveTimesHash(curve)}];
+      std::vector<std::pair<int, SharedParameters>>& same_hash = solved[{t, CurveTimesHash(curve)}];
       parameters = nullptr;
       for (auto& [first, shared] : same_hash) {
         if (SameCurveTimes(set.curves[first], curve)) {
@@ -463,8 +467,8 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
         parameters = &same_hash.back().second;
       }
     }
-    result.curves[c] = RetimeOne(curve, set.beziers_restricted, result.timings[t], taus[t], grid,
-                                 t, histograms[t], *parameters);
+    result.curves[c] = RetimeOne(curve, set.beziers_restricted, result.timings[t], taus[t], grid, t,
+                                 histograms[t], *parameters);
   }
   return group;
 }

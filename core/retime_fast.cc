@@ -54,6 +54,7 @@
 #include "core/retime.h"
 #include "core/retime_candidates.h"
 #include "core/retime_internal.h"
+#include "core/stop_check.h"
 
 namespace koma {
 namespace {
@@ -85,8 +86,7 @@ class FastRetimer {
   // holds it already (RetimeInputSsd's) and is moved from instead of computed. Tables for
   // step B from `table_min_frames` frames on (kTableMinFrames but in tests).
   FastRetimer(const FrameDistance& distance, const RetimeOptions& options,
-              std::vector<double>* input_ssd, int table_min_frames,
-              std::vector<double>* known_ssd);
+              std::vector<double>* input_ssd, int table_min_frames, std::vector<double>* known_ssd);
 
   void RunOmissions(TimingMap& map);
   void RunHolds(TimingMap& map);
@@ -193,7 +193,7 @@ class FastRetimer {
   const FrameDistance& distance_;
   const RetimeOptions& options_;
   // The large arrays (core/large_array.h: huge pages in koma_server).
-  LargeArray<Run> runs_;   // indexed by source frame; run 0 is always first
+  LargeArray<Run> runs_;       // indexed by source frame; run 0 is always first
   std::vector<Step> gone_in_;  // per source frame: the step that removed it
   // When holds run (else empty): skip_[v] = dist(v - 1, v + 1), skip2_[v] = dist(v - 1, v + 2).
   LargeArray<double> skip_;
@@ -345,7 +345,9 @@ FrameKind FastRetimer::PopFront(int32_t v, Step step) {
 void FastRetimer::RunOmissions(TimingMap& map) {
   if (options_.omissions <= 0) return;
   StartStep(Step::kOmit);
+  StopPoll stop;  // a stopped call's map is discarded by whoever installed the signal
   for (int i = 0; i < options_.omissions; ++i) {
+    if (stop.Stop()) return;
     const CandidateEntry* best = BestDelete();
     if (best == nullptr || best->ssd == 0.0) return;  // nothing moves: stop step A
     const int32_t v = static_cast<int32_t>(best->run);
@@ -381,7 +383,9 @@ void FastRetimer::RunOmissions(TimingMap& map) {
 void FastRetimer::RunHolds(TimingMap& map) {
   if (options_.holds <= 0) return;
   StartStep(Step::kHold);
+  StopPoll stop;  // a stopped call's map is discarded by whoever installed the signal
   for (int i = 0; i < options_.holds; ++i) {
+    if (stop.Stop()) return;
     if (options_.max_drawings > 0 && live_runs_ <= options_.max_drawings) return;
     const CandidateEntry* best = BestHold();
     if (best == nullptr) return;  // no candidate remains: stop early

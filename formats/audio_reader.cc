@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-
 #include <optional>
 #include <string>
 #include <string_view>
@@ -69,9 +68,9 @@ std::optional<DataClaim> ClaimInLog(SNDFILE* file) {
     DataClaim claim;
     if (!absl::SimpleAtoi(absl::StripAsciiWhitespace(line.substr(colon + 1, should - colon - 1)),
                           &claim.claimed) ||
-        !absl::SimpleAtoi(absl::StripAsciiWhitespace(absl::StripSuffix(
-                              line.substr(should + 11), ")")),
-                          &claim.actual)) {
+        !absl::SimpleAtoi(
+            absl::StripAsciiWhitespace(absl::StripSuffix(line.substr(should + 11), ")")),
+            &claim.actual)) {
       continue;
     }
     if (claim.claimed == 0 || claim.claimed == 0xFFFFFFFF || claim.claimed <= claim.actual) {
@@ -128,12 +127,13 @@ absl::StatusOr<std::unique_ptr<AudioDecoder>> AudioDecoder::Open(std::string_vie
   if (file == nullptr) {
     if (const std::string why = WavFormatProblem(bytes); !why.empty()) {
       return absl::InvalidArgumentError(
-          absl::StrCat(why, ": a recording has at least one channel and a sample rate of 1 Hz "
-                            "or more"));
+          absl::StrCat(why,
+                       ": a recording has at least one channel and a sample rate of 1 Hz "
+                       "or more"));
     }
-    return absl::InvalidArgumentError(absl::StrCat(
-        "not a recording libsndfile can read (WAV, FLAC, Ogg Vorbis/Opus, MP3, ...): ",
-        sf_strerror(nullptr)));
+    return absl::InvalidArgumentError(
+        absl::StrCat("not a recording libsndfile can read (WAV, FLAC, Ogg Vorbis/Opus, MP3, ...): ",
+                     sf_strerror(nullptr)));
   }
   d->file_ = file;
   d->info_.sample_rate = sf_info.samplerate;
@@ -153,17 +153,23 @@ absl::StatusOr<std::unique_ptr<AudioDecoder>> AudioDecoder::Open(std::string_vie
     return absl::InvalidArgumentError(absl::StrCat(sf_info.channels, " channels"));
   }
   if (sf_info.channels > limits.max_channels) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat(sf_info.channels, " channels exceeds the server limit --max_audio_channels=",
-                     limits.max_channels));
+    return absl::ResourceExhaustedError(absl::StrCat(
+        sf_info.channels,
+        " channels exceeds the server limit --max_audio_channels=", limits.max_channels));
   }
   const double claimed_s =
       static_cast<double>(sf_info.frames) / static_cast<double>(sf_info.samplerate);
   if (sf_info.frames != SF_COUNT_MAX && claimed_s > limits.max_seconds) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat("the header claims ", claimed_s, " s (", sf_info.frames, " frames at ",
-                     sf_info.samplerate, " Hz), over the server limit --max_audio_seconds=",
-                     limits.max_seconds));
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "the header claims ", claimed_s, " s (", sf_info.frames, " frames at ", sf_info.samplerate,
+        " Hz), over the server limit --max_audio_seconds=", limits.max_seconds));
+  }
+  if (sf_info.frames != SF_COUNT_MAX && static_cast<double>(sf_info.frames) * sf_info.channels >
+                                            static_cast<double>(limits.max_samples)) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "the header claims ", sf_info.frames, " sample frames x ", sf_info.channels,
+        " channels = ", static_cast<double>(sf_info.frames) * sf_info.channels,
+        " samples to decode, over the server limit --max_audio_samples=", limits.max_samples));
   }
   if (const std::optional<DataClaim> claim = ClaimInLog(file); claim && sf_info.frames > 0) {
     const double claimed_frames = static_cast<double>(sf_info.frames) *
@@ -172,14 +178,13 @@ absl::StatusOr<std::unique_ptr<AudioDecoder>> AudioDecoder::Open(std::string_vie
     const double claimed_seconds = claimed_frames / sf_info.samplerate;
     if (claimed_seconds > limits.max_seconds) {
       return absl::ResourceExhaustedError(absl::StrCat(
-          "the header claims ", claimed_seconds, " s (", claim->claimed,
-          " bytes of samples at ", sf_info.samplerate,
-          " Hz), over the server limit --max_audio_seconds=", limits.max_seconds,
-          "; the file holds ", claim->actual, " bytes"));
+          "the header claims ", claimed_seconds, " s (", claim->claimed, " bytes of samples at ",
+          sf_info.samplerate, " Hz), over the server limit --max_audio_seconds=",
+          limits.max_seconds, "; the file holds ", claim->actual, " bytes"));
     }
-    return absl::InvalidArgumentError(
-        absl::StrCat("truncated: the header claims ", claim->claimed,
-                     " bytes of samples, the file holds ", claim->actual));
+    return absl::InvalidArgumentError(absl::StrCat("truncated: the header claims ", claim->claimed,
+                                                   " bytes of samples, the file holds ",
+                                                   claim->actual));
   }
   d->interleaved_.resize(static_cast<size_t>(kBlockFrames * sf_info.channels));
   d->mono_.resize(static_cast<size_t>(kBlockFrames));
@@ -215,6 +220,11 @@ absl::StatusOr<absl::Span<const float>> AudioDecoder::Next() {
     return absl::ResourceExhaustedError(
         absl::StrCat("more than ", limits_.max_seconds, " s of samples at ", info_.sample_rate,
                      " Hz, over the server limit --max_audio_seconds=", limits_.max_seconds));
+  }
+  if (static_cast<double>(decoded_) * channels > static_cast<double>(limits_.max_samples)) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "more than ", limits_.max_samples, " samples (", decoded_, " frames x ", channels,
+        " channels) decoded, over the server limit --max_audio_samples=", limits_.max_samples));
   }
   return absl::Span<const float>(mono_.data(), static_cast<size_t>(got));
 }

@@ -22,13 +22,17 @@ inline constexpr int kMaxAudioSampleRate = 1'000'000;  // Hz (the film grid's li
 struct AudioLimits {
   double max_seconds = 7200.0;  // longest recording decoded (the header's claim and the samples)
   int max_channels = 64;
+  // Most samples decoded (sample frames x channels): the decoding work, which the rate, the
+  // channels and the seconds only bound one by one. 10^9 is 2 h of 48 kHz stereo (0.69 G)
+  // with room, a few seconds of decoding (docs/reliability.md).
+  int64_t max_samples = 1'000'000'000;
 };
 
 struct AudioInfo {
-  int sample_rate = 0;   // Hz
+  int sample_rate = 0;  // Hz
   int channels = 0;
-  int64_t frames = 0;    // sample frames the header claims (libsndfile's count)
-  std::string format;    // e.g. "WAV (Microsoft) / Signed 16 bit PCM"
+  int64_t frames = 0;  // sample frames the header claims (libsndfile's count)
+  std::string format;  // e.g. "WAV (Microsoft) / Signed 16 bit PCM"
 };
 
 class AudioDecoder {
@@ -36,7 +40,8 @@ class AudioDecoder {
   // Opens `bytes` (kept by reference: it must outlive the decoder). INVALID_ARGUMENT for an
   // empty or unreadable recording (libsndfile's reason), a sample rate outside
   // 1 .. kMaxAudioSampleRate, no channels; RESOURCE_EXHAUSTED for more channels than
-  // limits.max_channels, or a header claiming more than limits.max_seconds.
+  // limits.max_channels, or a header claiming more than limits.max_seconds or
+  // limits.max_samples.
   static absl::StatusOr<std::unique_ptr<AudioDecoder>> Open(std::string_view bytes,
                                                             const AudioLimits& limits);
   ~AudioDecoder();
@@ -48,7 +53,7 @@ class AudioDecoder {
 
   // The next block of mono samples (the channels' mean, full scale +-1); empty at the end.
   // INVALID_ARGUMENT for a decoding error or a sample that is not finite, RESOURCE_EXHAUSTED
-  // past limits.max_seconds.
+  // past limits.max_seconds or limits.max_samples.
   absl::StatusOr<absl::Span<const float>> Next();
 
  private:

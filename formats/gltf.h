@@ -19,9 +19,11 @@
 
 namespace koma::formats {
 
-// Sizes a file may have before it is refused (INVALID_ARGUMENT naming the limit).
+// Sizes a file may have before it is refused, naming the limit: INVALID_ARGUMENT for nodes,
+// RESOURCE_EXHAUSTED for animations and keys (the work they cost).
 struct GltfReadLimits {
-  int64_t max_nodes = 65536;  // nodes[] entries
+  int64_t max_nodes = 65536;      // nodes[] entries
+  int64_t max_animations = 4096;  // animations[] entries
   int64_t max_keys = 20'000'000;  // key times over all animation samplers
 };
 
@@ -57,8 +59,8 @@ absl::StatusOr<GltfDocument> ReadGltf(std::string_view bytes, const GltfReadLimi
 
 // The keys that replace one animation's samplers.
 struct GltfAnimationKeys {
-  int animation = 0;     // index into GltfDocument::animations
-  bool linear = false;   // LINEAR samplers (one key per output frame); else STEP
+  int animation = 0;    // index into GltfDocument::animations
+  bool linear = false;  // LINEAR samplers (one key per output frame); else STEP
   // Key times, seconds, increasing. Written as 32-bit floats rounded down, so a player
   // sampling at exactly a frame's time sees that frame's key, never the one before.
   std::vector<double> times;

@@ -76,16 +76,17 @@ absl::StatusOr<GlbChunks> SplitGlb(std::string_view bytes) {
     return absl::InvalidArgumentError(
         absl::StrCat("GLB header: ", bytes.size(), " bytes, a GLB header needs 12"));
   }
-  if (ReadU32(bytes, 0) != kGlbMagic) return absl::InvalidArgumentError("GLB header: no glTF magic");
+  if (ReadU32(bytes, 0) != kGlbMagic)
+    return absl::InvalidArgumentError("GLB header: no glTF magic");
   if (const uint32_t version = ReadU32(bytes, 4); version != 2) {
     return absl::InvalidArgumentError(
         absl::StrCat("GLB header: version ", version, ", koma reads glTF 2"));
   }
   const uint32_t length = ReadU32(bytes, 8);
   if (length != bytes.size()) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "GLB header: length ", length, " but the file has ", bytes.size(), " bytes",
-        length > bytes.size() ? " (truncated)" : ""));
+    return absl::InvalidArgumentError(absl::StrCat("GLB header: length ", length,
+                                                   " but the file has ", bytes.size(), " bytes",
+                                                   length > bytes.size() ? " (truncated)" : ""));
   }
   GlbChunks chunks;
   size_t at = 12;
@@ -104,8 +105,8 @@ absl::StatusOr<GlbChunks> SplitGlb(std::string_view bytes) {
     }
     at += 8;
     if (chunk_length > bytes.size() - at) {
-      return absl::InvalidArgumentError(absl::StrCat(where, ": ", chunk_length,
-                                                     " bytes declared, ", bytes.size() - at,
+      return absl::InvalidArgumentError(absl::StrCat(where, ": ", chunk_length, " bytes declared, ",
+                                                     bytes.size() - at,
                                                      " left in the file (truncated)"));
     }
     (chunk == 0 ? chunks.json : chunks.bin) = bytes.substr(at, chunk_length);
@@ -140,9 +141,16 @@ std::string JoinGlb(std::string_view json, std::string_view bin) {
 absl::Status CheckGltfJson(const nlohmann::ordered_json& json, const GltfReadLimits& limits) {
   if (const auto nodes = json.find("nodes"); nodes != json.end() && nodes->is_array()) {
     if (static_cast<int64_t>(nodes->size()) > limits.max_nodes) {
-      return Invalid("nodes", absl::StrCat(nodes->size(), " nodes exceeds the limit of ",
-                                           limits.max_nodes));
+      return Invalid("nodes",
+                     absl::StrCat(nodes->size(), " nodes exceeds the limit of ", limits.max_nodes));
     }
+  }
+  if (const auto animations = json.find("animations");
+      animations != json.end() && animations->is_array() &&
+      static_cast<int64_t>(animations->size()) > limits.max_animations) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "animations: ", animations->size(),
+        " animations exceeds the server limit --max_gltf_animations=", limits.max_animations));
   }
   if (const auto views = json.find("bufferViews"); views != json.end() && views->is_array()) {
     for (size_t v = 0; v < views->size(); ++v) {
@@ -176,7 +184,8 @@ absl::StatusOr<AccessorData> ReadAccessor(const tinygltf::Model& model, int inde
   if (components < 1 || components > 4 || size <= 0) {
     return Invalid(at, "not a SCALAR or VEC2..4 accessor of a glTF component type");
   }
-  if (accessor.bufferView < 0 || static_cast<size_t>(accessor.bufferView) >= model.bufferViews.size()) {
+  if (accessor.bufferView < 0 ||
+      static_cast<size_t>(accessor.bufferView) >= model.bufferViews.size()) {
     return Invalid(at, absl::StrCat("bufferView ", accessor.bufferView, " does not exist (",
                                     model.bufferViews.size(), " buffer views)"));
   }
@@ -188,9 +197,10 @@ absl::StatusOr<AccessorData> ReadAccessor(const tinygltf::Model& model, int inde
   }
   const std::vector<unsigned char>& data = model.buffers[static_cast<size_t>(view.buffer)].data;
   if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) {
-    return Invalid(view_path, absl::StrCat("bytes ", view.byteOffset, " .. ",
-                                           view.byteOffset + view.byteLength, " pass the end of buffers[",
-                                           view.buffer, "] (", data.size(), " bytes)"));
+    return Invalid(
+        view_path,
+        absl::StrCat("bytes ", view.byteOffset, " .. ", view.byteOffset + view.byteLength,
+                     " pass the end of buffers[", view.buffer, "] (", data.size(), " bytes)"));
   }
   const size_t element = static_cast<size_t>(components) * static_cast<size_t>(size);
   const size_t stride = view.byteStride == 0 ? element : view.byteStride;
@@ -205,10 +215,10 @@ absl::StatusOr<AccessorData> ReadAccessor(const tinygltf::Model& model, int inde
                       (count - 1) <= (view.byteLength - accessor.byteOffset) / stride &&
                       accessor.byteOffset + (count - 1) * stride + element <= view.byteLength;
     if (!fits) {
-      return Invalid(at, absl::StrCat(count, " ", TypeName(components), " elements from byte ",
-                                      accessor.byteOffset, " with stride ", stride,
-                                      " pass the end of ", view_path, " (", view.byteLength,
-                                      " bytes)"));
+      return Invalid(at,
+                     absl::StrCat(count, " ", TypeName(components), " elements from byte ",
+                                  accessor.byteOffset, " with stride ", stride, " pass the end of ",
+                                  view_path, " (", view.byteLength, " bytes)"));
     }
   }
   const int64_t wanted = static_cast<int64_t>(count) * components;

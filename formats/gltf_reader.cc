@@ -8,9 +8,11 @@
 #include <utility>
 #include <vector>
 
+#include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
+#include "core/stop_check.h"
 #include "formats/error_text.h"
 #include "formats/gltf.h"
 #include "formats/gltf_internal.h"
@@ -40,6 +42,43 @@ absl::StatusOr<Json> ParseJson(std::string_view text) {
   return json;
 }
 
+// What is wrong with a data: URI's payload ("" when nothing is): base64 after ";base64,", of
+// at least `min_bytes` bytes once decoded (a buffer's byteLength; 0 for images). Checked here
+// so that the message names the field and the position, instead of tinygltf's, which quotes
+// the whole URI (megabytes).
+std::string DataUriProblem(const std::string& uri, int64_t min_bytes) {
+  const size_t marker = uri.find(";base64,");
+  if (marker == std::string::npos) {
+    return absl::StrCat("a data: URI of ", uri.size(),
+                        " characters without \";base64,\": glTF embeds data as base64");
+  }
+  const size_t start = marker + 8;
+  const size_t length = uri.size() - start;
+  size_t padding = 0;
+  for (size_t i = start; i < uri.size(); ++i) {
+    const char c = uri[i];
+    const bool base64 = absl::ascii_isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '/';
+    if (c == '=' && i + 2 >= uri.size()) {
+      ++padding;
+    } else if (!base64 || padding > 0) {
+      return absl::StrCat("character ", i - start, " of its base64 data (of ", length,
+                          ") is not base64: ", QuoteForError(std::string(1, c)));
+    }
+  }
+  // Unpadded base64 (which some exporters write) is read as tinygltf reads it; a remainder of
+  // one character cannot be base64 at all.
+  if (length % 4 == 1) {
+    return absl::StrCat("its base64 data is ", length,
+                        " characters, one more than whole bytes (cut short?)");
+  }
+  const int64_t decoded = static_cast<int64_t>((length - padding) * 3 / 4);
+  if (decoded < min_bytes) {
+    return absl::StrCat("its base64 data decodes to ", decoded,
+                        " bytes, fewer than its byteLength ", min_bytes);
+  }
+  return "";
+}
+
 // Refuses what needs files beside this one: buffers and images with a uri that is not data:.
 absl::Status CheckSelfContained(const Json& json, bool binary) {
   for (const char* array : {"buffers", "images"}) {
@@ -64,6 +103,14 @@ absl::Status CheckSelfContained(const Json& json, bool binary) {
                                     " is an external file; koma reads self-contained glTF "
                                     "(a .glb, or a .gltf with embedded data: URIs), since only "
                                     "one file travels"));
+      }
+      const auto length = entry.find("byteLength");
+      const int64_t min_bytes =
+          std::string(array) == "buffers" && length != entry.end() && length->is_number_unsigned()
+              ? length->get<int64_t>()
+              : 0;
+      if (const std::string problem = DataUriProblem(value, min_bytes); !problem.empty()) {
+        return Invalid(absl::StrCat(array, "[", i, "].uri"), problem);
       }
     }
   }
@@ -218,8 +265,7 @@ absl::StatusOr<GltfInterpolation> ParseInterpolation(const std::string& text,
   if (text == "LINEAR") return GltfInterpolation::kLinear;
   if (text == "STEP") return GltfInterpolation::kStep;
   if (text == "CUBICSPLINE") return GltfInterpolation::kCubicSpline;
-  return Invalid(path, absl::StrCat(QuoteForError(text),
-                                    " is not LINEAR, STEP or CUBICSPLINE"));
+  return Invalid(path, absl::StrCat(QuoteForError(text), " is not LINEAR, STEP or CUBICSPLINE"));
 }
 
 absl::StatusOr<GltfPath> ParsePath(const std::string& text, const std::string& path) {
@@ -227,8 +273,8 @@ absl::StatusOr<GltfPath> ParsePath(const std::string& text, const std::string& p
   if (text == "rotation") return GltfPath::kRotation;
   if (text == "scale") return GltfPath::kScale;
   if (text == "weights") return GltfPath::kWeights;
-  return Invalid(path, absl::StrCat(QuoteForError(text),
-                                    " is not translation, rotation, scale or weights"));
+  return Invalid(
+      path, absl::StrCat(QuoteForError(text), " is not translation, rotation, scale or weights"));
 }
 
 // tinygltf skips some malformed entries instead of failing (a channel without "sampler", say),
@@ -252,7 +298,8 @@ absl::Status CheckCounts(const Json& json, const tinygltf::Model& model) {
     const auto it = json.find(key);
     if (it != json.end() && !it->is_array()) return Invalid(key, "not an array");
   }
-  KOMA_RETURN_IF_ERROR(CheckCount("accessors", JsonSize(json, "accessors"), model.accessors.size()));
+  KOMA_RETURN_IF_ERROR(
+      CheckCount("accessors", JsonSize(json, "accessors"), model.accessors.size()));
   KOMA_RETURN_IF_ERROR(
       CheckCount("animations", JsonSize(json, "animations"), model.animations.size()));
   KOMA_RETURN_IF_ERROR(
@@ -264,7 +311,8 @@ absl::Status CheckCounts(const Json& json, const tinygltf::Model& model) {
   KOMA_RETURN_IF_ERROR(CheckCount("skins", JsonSize(json, "skins"), model.skins.size()));
   for (size_t a = 0; a < model.animations.size(); ++a) {
     const Json& animation = json["animations"][a];
-    if (!animation.is_object()) return Invalid(absl::StrCat("animations[", a, "]"), "not an object");
+    if (!animation.is_object())
+      return Invalid(absl::StrCat("animations[", a, "]"), "not an object");
     const std::string path = absl::StrCat("animations[", a, "]");
     KOMA_RETURN_IF_ERROR(CheckCount(path + ".channels", JsonSize(animation, "channels"),
                                     model.animations[a].channels.size()));
@@ -281,8 +329,8 @@ absl::Status CheckCounts(const Json& json, const tinygltf::Model& model) {
   for (size_t s = 0; s < model.skins.size(); ++s) {
     const Json& skin = json["skins"][s];
     if (!skin.is_object()) return Invalid(absl::StrCat("skins[", s, "]"), "not an object");
-    KOMA_RETURN_IF_ERROR(CheckCount(absl::StrCat("skins[", s, "].joints"),
-                                    JsonSize(skin, "joints"), model.skins[s].joints.size()));
+    KOMA_RETURN_IF_ERROR(CheckCount(absl::StrCat("skins[", s, "].joints"), JsonSize(skin, "joints"),
+                                    model.skins[s].joints.size()));
   }
   return absl::OkStatus();
 }
@@ -321,7 +369,7 @@ absl::Status ReadAnimation(const tinygltf::Model& model, size_t index, int64_t& 
                                                          "and scale"));
     }
     const size_t s = static_cast<size_t>(channel.sampler);
-    const int width = parsed.path == GltfPath::kRotation ? 4
+    const int width = parsed.path == GltfPath::kRotation  ? 4
                       : parsed.path == GltfPath::kWeights ? 0
                                                           : 3;
     if (sampler_used[s] && sampler_width[s] != width) {
@@ -384,10 +432,11 @@ absl::Status ReadAnimation(const tinygltf::Model& model, size_t index, int64_t& 
                      absl::StrCat(output.components, " components per element, expected ", width,
                                   width == 4 ? " (VEC4 rotation)" : " (VEC3)"));
     } else if (output.values.size() != per_key * static_cast<size_t>(width)) {
-      return Invalid(path + ".output",
-                     absl::StrCat(output.values.size() / static_cast<size_t>(width),
-                                  " elements for ", parsed.times.size(), " keys, expected ",
-                                  per_key, cubic ? " (in-tangent, value, out-tangent per key)" : ""));
+      return Invalid(
+          path + ".output",
+          absl::StrCat(output.values.size() / static_cast<size_t>(width), " elements for ",
+                       parsed.times.size(), " keys, expected ", per_key,
+                       cubic ? " (in-tangent, value, out-tangent per key)" : ""));
     }
     if (cubic && parsed.times.size() < 2) {
       return Invalid(path, "CUBICSPLINE needs at least 2 keys");
@@ -421,7 +470,9 @@ absl::StatusOr<GltfDocument> ReadGltf(std::string_view bytes, const GltfReadLimi
   KOMA_ASSIGN_OR_RETURN(document.json, ParseJson(json_text));
   KOMA_RETURN_IF_ERROR(CheckGltfJson(document.json, limits));
   KOMA_RETURN_IF_ERROR(CheckSelfContained(document.json, document.binary));
+  KOMA_RETURN_IF_ERROR(StopReason());  // each phase below reads the whole file
   KOMA_ASSIGN_OR_RETURN(const tinygltf::Model model, LoadModel(bytes, document.binary));
+  KOMA_RETURN_IF_ERROR(StopReason());
   KOMA_RETURN_IF_ERROR(CheckCounts(document.json, model));
   document.buffers.reserve(model.buffers.size());
   for (const tinygltf::Buffer& buffer : model.buffers) {
@@ -431,7 +482,9 @@ absl::StatusOr<GltfDocument> ReadGltf(std::string_view bytes, const GltfReadLimi
   KOMA_RETURN_IF_ERROR(FindJoints(model, document));
   int64_t keys_left = limits.max_keys;
   document.animations.resize(model.animations.size());
+  StopPoll stop(/*steps_between_checks=*/64);  // animations
   for (size_t a = 0; a < model.animations.size(); ++a) {
+    if (stop.Stop()) return stop.status();
     KOMA_RETURN_IF_ERROR(ReadAnimation(model, a, keys_left, document.animations[a]));
   }
   return document;

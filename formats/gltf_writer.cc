@@ -4,13 +4,15 @@
 #include <cmath>
 #include <cstring>
 #include <map>
-#include <set>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
+#include "core/status_macros.h"
+#include "core/stop_check.h"
 #include "formats/gltf.h"
 #include "formats/gltf_internal.h"
 
@@ -161,8 +163,7 @@ int64_t ViewBuffer(const Json& view) {
   return it != view.end() && it->is_number_integer() ? it->get<int64_t>() : -1;
 }
 
-void CompactBuffer(int b, const std::vector<bool>& removed_view, Json& views,
-                   std::string& buffer) {
+void CompactBuffer(int b, const std::vector<bool>& removed_view, Json& views, std::string& buffer) {
   struct Range {
     size_t begin, end;
   };
@@ -174,7 +175,8 @@ void CompactBuffer(int b, const std::vector<bool>& removed_view, Json& views,
     const std::optional<size_t> length = ViewBytes(view, "byteLength");
     // A view this writer cannot place: leave the buffer as it was (unused bytes stay).
     if (!offset || !length || *offset > buffer.size()) return;
-    ranges.push_back({*offset, *length > buffer.size() - *offset ? buffer.size() : *offset + *length});
+    ranges.push_back(
+        {*offset, *length > buffer.size() - *offset ? buffer.size() : *offset + *length});
   }
   if (ranges.empty()) return;  // nothing left to keep: the buffer stays as it was
   std::sort(ranges.begin(), ranges.end(),
@@ -314,6 +316,7 @@ absl::StatusOr<std::string> WriteGltf(const GltfDocument& document,
   VisitOtherViewRefs(json, renumber);
   for (Json& accessor : accessors) VisitAccessorViews(accessor, renumber);
 
+  KOMA_RETURN_IF_ERROR(StopReason());  // steps 1 and 2 walk the whole document
   // 3. The new keys: one time accessor per animation, one output accessor per channel, each
   // in its own buffer view at the end of buffer 0.
   if (adds_buffer) {
@@ -347,7 +350,11 @@ absl::StatusOr<std::string> WriteGltf(const GltfDocument& document,
   };
   Json& animations = ArrayMember(json, "animations");
   std::vector<Json> appended;
+  StopPoll stop(/*steps_between_checks=*/4096);  // keys written
   for (const GltfAnimationKeys& k : keys) {
+    if (stop.Stop(static_cast<int64_t>(k.times.size() * (k.values.size() + 1)))) {
+      return stop.status();
+    }
     if (k.animation < 0 || static_cast<size_t>(k.animation) >= animations.size() ||
         static_cast<size_t>(k.animation) >= document.animations.size()) {
       return absl::InternalError(absl::StrCat("glTF writer: no animation ", k.animation));
@@ -366,7 +373,7 @@ absl::StatusOr<std::string> WriteGltf(const GltfDocument& document,
     for (size_t c = 0; c < k.values.size(); ++c) {
       const GltfChannel& channel = source.clip.channels[c];
       const int width = source.clip.samplers[static_cast<size_t>(channel.sampler)].width;
-      const char* type = channel.path == GltfPath::kRotation ? "VEC4"
+      const char* type = channel.path == GltfPath::kRotation  ? "VEC4"
                          : channel.path == GltfPath::kWeights ? "SCALAR"
                                                               : "VEC3";
       if (k.values[c].size() != k.times.size() * static_cast<size_t>(width)) {

@@ -9,6 +9,8 @@
 
 #include "absl/container/flat_hash_map.h"
 #include "absl/strings/str_cat.h"
+#include "core/status_macros.h"
+#include "core/stop_check.h"
 #include "formats/json_fast_read.h"
 
 namespace koma::formats {
@@ -119,6 +121,8 @@ class OrderedDomBuilder {
     return true;
   }
   bool Value(Json&& value) {
+    // False stops the parse (the SAX parsers return false): the call was stopped.
+    if (stop_.Stop()) return false;
     if (depth_ == 0) {
       root_ = std::move(value);
     } else {
@@ -130,6 +134,7 @@ class OrderedDomBuilder {
   Json& root_;
   std::vector<Frame> frames_;  // [0, depth_) open; the rest kept for their capacity
   size_t depth_ = 0;
+  StopPoll stop_{/*steps_between_checks=*/1 << 16};  // values: a check every ~2 ms
 };
 
 }  // namespace
@@ -161,11 +166,16 @@ absl::Status CheckJsonDepth(std::string_view text, int max_depth) {
 
 namespace {
 
-// `parse()`'s document, or nlohmann's error as INVALID_ARGUMENT.
+// Thrown out of a parse the call's stop signal ended (core/stop_check.h).
+struct StoppedParse {};
+
+// `parse()`'s document, nlohmann's error as INVALID_ARGUMENT, or why the call stopped.
 template <typename Parse>
 absl::StatusOr<Json> WithParseStatus(Parse parse) {
   try {
     return parse();
+  } catch (const StoppedParse&) {
+    return StopReason();
   } catch (const Json::parse_error& error) {
     // "parse error at line 3, column 5: syntax error while parsing ..."
     return absl::InvalidArgumentError(
@@ -182,7 +192,9 @@ absl::StatusOr<Json> ParseWithNlohmann(std::string_view text) {
   return WithParseStatus([text] {
     Json document;
     OrderedDomBuilder builder(document);
-    Json::sax_parse(text.begin(), text.end(), &builder);
+    if (!Json::sax_parse(text.begin(), text.end(), &builder)) {
+      throw StoppedParse();  // the builder said stop (its errors throw nlohmann's exceptions)
+    }
     return document;
   });
 }
@@ -198,6 +210,7 @@ absl::StatusOr<Json> ParseJsonText(std::string_view text) {
     OrderedDomBuilder builder(document);
     if (json_fast_read::Read(text, builder)) return document;
   }
+  KOMA_RETURN_IF_ERROR(StopReason());  // the builder stopped the fast read
   return ParseWithNlohmann(text);
 }
 
@@ -208,6 +221,7 @@ absl::StatusOr<Json> ParseJsonTextWithin(std::string_view text, int max_depth) {
     OrderedDomBuilder builder(document);
     if (json_fast_read::Read(text, builder, max_depth)) return document;
   }
+  KOMA_RETURN_IF_ERROR(StopReason());  // the builder stopped the fast read
   if (absl::Status depth = CheckJsonDepth(text, max_depth); !depth.ok()) return depth;
   return ParseWithNlohmann(text);
 }

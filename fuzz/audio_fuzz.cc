@@ -19,6 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
   koma::formats::AudioLimits limits;
   limits.max_seconds = 30;  // the fuzzer's own bound on work per input
+  limits.max_samples = 4'000'000;  // ... in samples: a 1 MHz, 8-channel header is 30 s too
   absl::StatusOr<std::unique_ptr<koma::formats::AudioDecoder>> decoder =
       koma::formats::AudioDecoder::Open(bytes, limits);
   if (!decoder.ok()) {

@@ -19,6 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   koma::formats::GltfReadLimits limits;
   limits.max_nodes = 4096;
   limits.max_keys = 1 << 20;
+  limits.max_animations = 256;
   const absl::StatusOr<koma::formats::GltfDocument> document = koma::formats::ReadGltf(bytes, limits);
   if (!document.ok()) {
     KOMA_FUZZ_CHECK(!document.status().message().empty(), "an error must say what is wrong");

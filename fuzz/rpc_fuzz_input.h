@@ -25,6 +25,8 @@ inline server::RequestLimits SmallLimits() {
   server::RequestLimits limits;
   limits.max_values = 200'000;
   limits.max_joints = 256;
+  limits.max_audio_samples = 4'000'000;
+  limits.max_gltf_animations = 256;
   limits.threads_per_call = 1;
   return limits;
 }

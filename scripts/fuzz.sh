@@ -28,6 +28,7 @@ for t in "${targets[@]}"; do binaries+=("${t}_fuzz"); done
 seeds=$build/fuzz-seeds
 rm -rf "$seeds"
 "$build/fuzz/koma_fuzz_seeds" "$root/tests/testdata" "$root/samples" "$seeds" >/dev/null
+/usr/bin/python3 "$root/fuzz/make_cost_seeds.py" "$seeds"  # the cost cases (issue 42)
 findings=${KOMA_FUZZ_ARTIFACTS:-$build/fuzz-findings}
 mkdir -p "$findings"
 rm -f "$build"/fuzz-*.rc

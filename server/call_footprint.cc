@@ -23,19 +23,89 @@ int64_t CurvesFootprint(const v1::CurveSet& curves, int64_t request_bytes,
   return kFixedBytes + request_bytes + 2 * values * kDouble + frames * kPerFrameBytes;
 }
 
-// File bytes -> memory, upper bounds of the measured ratios (call_footprint.h).
+// Memory per file byte, by format: bench/format_memory.py's measured peak above the idle
+// server, per MB of file (with the decoded request and the answer), rounded up with a quarter
+// to spare; the JSON formats at least 24, what a JSON document of nothing but empty strings
+// or objects costs nlohmann (16 bytes a value, and 40 more for the string or object, per
+// 3 bytes of text). Measured (MiB per MB): BVH 5.0 (whole call), motion3.json 22.6, curve
+// CSV 7.5, Spine JSON 12.1, Rhubarb JSON 16.4, WAV 2.8, a GLB's JSON chunk 58.
 constexpr int64_t kBvhParseFactor = 3;
 constexpr int64_t kBvhOverheadFactor = 2;
-constexpr int64_t kCurveFileFactor = 12;
+constexpr int64_t kMotion3Factor = 28;
+constexpr int64_t kCsvFactor = 10;
+constexpr int64_t kSpineFactor = 24;
+constexpr int64_t kRhubarbFactor = 24;
+constexpr int64_t kAudioFactor = 4;
+// glTF: the bytes (and the buffers copied out of them) 3x, its JSON structure 72x.
+constexpr int64_t kGltfBytesFactor = 3;
+constexpr int64_t kGltfJsonFactor = 72;
+// Strings at least this long (data URIs, base64 buffers) count as bytes, not structure.
+constexpr size_t kLongJsonString = 256;
+
+int64_t Factor(FileKind kind, bool parse) {
+  switch (kind) {
+    case FileKind::kBvh:
+      return parse ? kBvhParseFactor : kBvhOverheadFactor;
+    case FileKind::kGltf:
+      return kGltfBytesFactor;
+    case FileKind::kMotion3:
+      return kMotion3Factor;
+    case FileKind::kCsv:
+      return kCsvFactor;
+    case FileKind::kSpine:
+      return kSpineFactor;
+    case FileKind::kRhubarb:
+      return kRhubarbFactor;
+    case FileKind::kAudio:
+      return kAudioFactor;
+  }
+  return kMotion3Factor;
+}
+
+uint32_t LittleEndian32(std::string_view bytes, size_t at) {
+  uint32_t value = 0;
+  for (int i = 3; i >= 0; --i) {
+    value = value << 8 | static_cast<unsigned char>(bytes[at + static_cast<size_t>(i)]);
+  }
+  return value;
+}
+
+// The bytes of JSON text outside strings of kLongJsonString bytes or more.
+int64_t JsonStructureBytes(std::string_view text) {
+  int64_t structure = 0;
+  size_t i = 0;
+  while (i < text.size()) {
+    if (text[i] != '"') {
+      ++structure;
+      ++i;
+      continue;
+    }
+    size_t end = i + 1;
+    while (end < text.size() && text[end] != '"') end += text[end] == '\\' ? 2 : 1;
+    const size_t length = std::min(end + 1, text.size()) - i;
+    if (length < kLongJsonString) structure += static_cast<int64_t>(length);
+    i += length;
+  }
+  return structure;
+}
 
 }  // namespace
 
-int64_t FileParseFootprint(int64_t file_bytes, bool bvh) {
-  return kFixedBytes + (bvh ? kBvhParseFactor : kCurveFileFactor) * file_bytes;
+int64_t FileParseFootprint(int64_t file_bytes, FileKind kind) {
+  return kFixedBytes + Factor(kind, /*parse=*/true) * file_bytes;
 }
 
-int64_t FileOverheadFootprint(int64_t file_bytes, bool bvh) {
-  return kFixedBytes + (bvh ? kBvhOverheadFactor : kCurveFileFactor) * file_bytes;
+int64_t FileOverheadFootprint(int64_t file_bytes, FileKind kind) {
+  return kFixedBytes + Factor(kind, /*parse=*/false) * file_bytes;
+}
+
+int64_t GltfFootprint(std::string_view file) {
+  std::string_view json = file;
+  if (file.size() >= 20 && file.substr(0, 4) == "glTF") {
+    json = file.substr(20, std::min<size_t>(LittleEndian32(file, 12), file.size() - 20));
+  }
+  return FileParseFootprint(static_cast<int64_t>(file.size()), FileKind::kGltf) +
+         kGltfJsonFactor * JsonStructureBytes(json);
 }
 
 int64_t ReceivedFootprint(int64_t request_bytes) { return kFixedBytes + 2 * request_bytes; }
@@ -43,11 +113,10 @@ int64_t ReceivedFootprint(int64_t request_bytes) { return kFixedBytes + 2 * requ
 int64_t ExpectedFootprint(const v1::RetimeSkeletalRequest& request, int64_t /*request_bytes*/,
                           const RequestLimits& limits) {
   if (request.input_case() == v1::RetimeSkeletalRequest::kBvhText) {
-    return FileParseFootprint(static_cast<int64_t>(request.bvh_text().size()), /*bvh=*/true);
+    return FileParseFootprint(static_cast<int64_t>(request.bvh_text().size()), FileKind::kBvh);
   }
   if (request.input_case() == v1::RetimeSkeletalRequest::kGltf) {
-    // The bytes, tinygltf's model and the JSON document (each about the file), the buffers.
-    return FileParseFootprint(static_cast<int64_t>(request.gltf().size()), /*bvh=*/true);
+    return GltfFootprint(request.gltf());
   }
   // The received bytes are freed once parsed (ParseRequest in retime_service.cc); the
   // skeleton and options are small beside the values.
@@ -63,11 +132,25 @@ int64_t ExpectedFootprint(const v1::RetimeSkeletalRequest& request, int64_t /*re
          (returns_motion ? values * kDouble : 0) + frames * kPerFrameBytes;
 }
 
+namespace {
+
+template <typename Request>
+FileKind CurveFileKindOf(const Request& request) {
+  if (request.input_case() == Request::kCsvText) return FileKind::kCsv;
+  if (request.input_case() == Request::kSpineJson) return FileKind::kSpine;
+  return FileKind::kMotion3;
+}
+
+}  // namespace
+
+FileKind CurveFileKind(const v1::RetimeCurvesRequest& request) { return CurveFileKindOf(request); }
+FileKind CurveFileKind(const v1::LipBlinkRequest& request) { return CurveFileKindOf(request); }
+
 int64_t ExpectedFootprint(const v1::RetimeCurvesRequest& request, int64_t request_bytes,
                           const RequestLimits& limits) {
   if (request.input_case() != v1::RetimeCurvesRequest::kCurves &&
       request.input_case() != v1::RetimeCurvesRequest::INPUT_NOT_SET) {
-    return FileParseFootprint(request_bytes, /*bvh=*/false);
+    return FileParseFootprint(request_bytes, CurveFileKind(request));
   }
   return CurvesFootprint(request.curves(), request_bytes, limits);
 }
@@ -77,17 +160,18 @@ int64_t ExpectedFootprint(const v1::LipBlinkRequest& request, int64_t request_by
   // A voice is held as received while it is decoded (its analysis, a few dozen bytes per film
   // grid frame, is reserved by the voice handler once the header gives its length); what the
   // rest of the request needs is estimated on the rest of its bytes.
-  const int64_t voice_bytes =
-      static_cast<int64_t>(request.audio().size() + request.rhubarb_cues().size());
-  request_bytes -= voice_bytes;
-  if (request.input_case() == v1::LipBlinkRequest::INPUT_NOT_SET && voice_bytes > 0) {
-    return kFixedBytes + 2 * voice_bytes;  // the motion koma writes is small beside it
-  }
+  const int64_t audio_bytes = static_cast<int64_t>(request.audio().size());
+  const int64_t cue_bytes = static_cast<int64_t>(request.rhubarb_cues().size());
+  request_bytes -= audio_bytes + cue_bytes;
+  // The motion koma writes for a voice alone is small beside the voice.
+  const int64_t voice = (audio_bytes > 0 ? FileParseFootprint(audio_bytes, FileKind::kAudio) : 0) +
+                        (cue_bytes > 0 ? FileParseFootprint(cue_bytes, FileKind::kRhubarb) : 0);
+  if (request.input_case() == v1::LipBlinkRequest::INPUT_NOT_SET && voice > 0) return voice;
   if (request.input_case() != v1::LipBlinkRequest::kCurves &&
       request.input_case() != v1::LipBlinkRequest::INPUT_NOT_SET) {
-    return voice_bytes + FileParseFootprint(request_bytes, /*bvh=*/false);
+    return voice + FileParseFootprint(request_bytes, CurveFileKind(request));
   }
-  return voice_bytes + CurvesFootprint(request.curves(), request_bytes, limits);
+  return voice + CurvesFootprint(request.curves(), request_bytes, limits);
 }
 
 }  // namespace koma::server

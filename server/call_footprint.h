@@ -5,6 +5,7 @@
 #define KOMA_SERVER_CALL_FOOTPRINT_H_
 
 #include <cstdint>
+#include <string_view>
 
 #include "koma/v1/retime.pb.h"
 #include "server/request_limits.h"
@@ -30,17 +31,26 @@ int64_t ExpectedFootprint(const v1::RetimeCurvesRequest& request, int64_t reques
 int64_t ExpectedFootprint(const v1::LipBlinkRequest& request, int64_t request_bytes,
                           const RequestLimits& limits);
 
-// A request carrying a file (bvh_text, motion3_json, csv_text; server/file_requests.h) is sized
-// by its text until it is parsed: the text and what parsing builds (BVH: the numbers, ~1x the
-// text; motion3.json's JSON document and CSV rows: several times the text). Once parsed, the
-// file handler grows the call's reservation to FileOverheadFootprint plus the decoded
-// request's ExpectedFootprint. The factors are measured peaks (docs/python.md, "Memory"):
-// a 28.6 MB BVH peaked 142 MB above the idle server, an 8.1 MB motion3.json (40 curves x 6,000
-// linear keys) 100 MB, a 2 MB CSV 24 MB.
-int64_t FileParseFootprint(int64_t file_bytes, bool bvh);
+// The file formats a request may carry, each with its own memory per byte.
+enum class FileKind { kBvh, kGltf, kMotion3, kCsv, kSpine, kRhubarb, kAudio };
+
+// A request carrying a file (server/file_requests.h) is sized by the file until it is parsed:
+// the bytes and what parsing builds (BVH: the numbers, ~1x the text; the JSON formats: a
+// document of several times the text; glTF: the JSON document and tinygltf's model, tens of
+// times its JSON, beside its binary buffers). Once parsed, the handler grows the call's
+// reservation to FileOverheadFootprint plus the decoded request's ExpectedFootprint. The
+// factors are upper bounds of the peaks bench/format_memory.py measures on the real server
+// (docs/reliability.md, "Memory per format").
+int64_t FileParseFootprint(int64_t file_bytes, FileKind kind);
 // Beside the decoded request's footprint, until the answer is written: the text, the parsed
-// file (the motion3 document is kept to write the answer back) and the retimed file's text.
-int64_t FileOverheadFootprint(int64_t file_bytes, bool bvh);
+// file (the JSON documents are kept to write the answer back) and the retimed file's text.
+int64_t FileOverheadFootprint(int64_t file_bytes, FileKind kind);
+// A glTF file's (GLB or .gltf text): its bytes plus its JSON's document and tinygltf's model,
+// counted on the JSON without its data URIs and long strings (a GLB's JSON chunk).
+int64_t GltfFootprint(std::string_view file);
+// The format of a RetimeCurves or LipBlink request's file (motion3.json when it has none).
+FileKind CurveFileKind(const v1::RetimeCurvesRequest& request);
+FileKind CurveFileKind(const v1::LipBlinkRequest& request);
 
 }  // namespace koma::server
 

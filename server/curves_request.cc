@@ -9,6 +9,7 @@
 #include "convert/curves_convert.h"
 #include "core/film_grid.h"
 #include "core/status_macros.h"
+#include "core/stop_check.h"
 #include "server/curve_convert.h"
 
 namespace koma::server {
@@ -84,10 +85,9 @@ absl::Status CheckGroupWork(const CurveSet& set, const KomaUchiOptions& options,
   const int64_t groups = static_cast<int64_t>(options.groups.size());
   const int64_t timing_work = (groups + 1) * set.frame_count;
   if (timing_work > limits.max_values) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat("timing_groups: ", groups, " groups + the default x ", set.frame_count,
-                     " frames = ", timing_work, " exceeds the server limit --max_values=",
-                     limits.max_values));
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "timing_groups: ", groups, " groups + the default x ", set.frame_count,
+        " frames = ", timing_work, " exceeds the server limit --max_values=", limits.max_values));
   }
   int64_t pattern_bytes = 0;
   for (const CurveTimingGroup& group : options.groups) {
@@ -178,6 +178,7 @@ absl::Status PrepareCurvesAnswer(const v1::RetimeCurvesRequest& request,
 
 absl::Status CompleteCurvesAnswer(CurvesAnswer* answer) {
   answer->result = RetimeCurves(answer->set, answer->options);
+  KOMA_RETURN_IF_ERROR(StopReason());  // stopped: some curves are unfinished (core/stop_check.h)
   KOMA_RETURN_IF_ERROR(DrawGroupLipBlinks(answer->lip_blinks, answer->result));
   answer->lip_blinks.clear();  // their copies of the groups' curves are not needed any more
   KOMA_RETURN_IF_ERROR(CheckFinite(answer->result));
@@ -233,8 +234,7 @@ void FillCurvesResponse(const CurveSet& set, const KomaUchiResult& result,
     out->mutable_curves()->Add(group.curves.begin(), group.curves.end());
     out->set_frames_per_drawing(group.frames_per_drawing);
     out->mutable_key_frames()->Add(group.key_frames.begin(), group.key_frames.end());
-    out->mutable_key_grid_frames()->Add(group.key_grid_frames.begin(),
-                                        group.key_grid_frames.end());
+    out->mutable_key_grid_frames()->Add(group.key_grid_frames.begin(), group.key_grid_frames.end());
     out->mutable_key_frames_merged()->Add(group.key_merged.begin(), group.key_merged.end());
     out->set_timing(group.timing);
   }

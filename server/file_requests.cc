@@ -116,11 +116,11 @@ constexpr char kParsedFile[] =
 // from the text's estimate to the decoded request's footprint plus the file's own
 // (server/call_footprint.h); RESOURCE_EXHAUSTED naming the budget when that does not fit.
 template <typename Request>
-absl::Status ReserveDecoded(const Request& decoded, size_t file_bytes, bool bvh,
+absl::Status ReserveDecoded(const Request& decoded, size_t file_bytes, FileKind kind,
                             const RequestLimits& limits) {
   const auto bytes = static_cast<int64_t>(file_bytes);
   return GrowCallReservation(
-      FileOverheadFootprint(bytes, bvh) + ExpectedFootprint(decoded, bytes, limits), kParsedFile);
+      FileOverheadFootprint(bytes, kind) + ExpectedFootprint(decoded, bytes, limits), kParsedFile);
 }
 
 // The size of a RetimeCurves or LipBlink request's file.
@@ -187,7 +187,8 @@ absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
     // The frames now live in `decoded` only (the writer needs just the skeleton): a file near
     // --max_file_bytes decodes to tens of MB, held once here, not twice.
     std::vector<double>().swap(clip->values);
-    KOMA_RETURN_IF_ERROR(ReserveDecoded(decoded, request.bvh_text().size(), /*bvh=*/true, limits));
+    KOMA_RETURN_IF_ERROR(
+        ReserveDecoded(decoded, request.bvh_text().size(), FileKind::kBvh, limits));
     KOMA_RETURN_IF_ERROR(HandleRetimeSkeletal(decoded, limits, response));
   }  // `decoded` freed before the retimed clip and its text are built
   for (std::string& warning : warnings) response->add_warnings(std::move(warning));
@@ -222,7 +223,7 @@ absl::Status DecodeCurvesFile(const v1::RetimeCurvesRequest& request, const Requ
     KOMA_ASSIGN_OR_RETURN(*file, ParseCurveFile(request, limits));
   }
   Decode(request, *file, decoded);
-  return ReserveDecoded(*decoded, CurveFileBytes(request), /*bvh=*/false, limits);
+  return ReserveDecoded(*decoded, CurveFileBytes(request), CurveFileKind(request), limits);
 }
 
 absl::StatusOr<std::string> CurvesFileField(
@@ -235,7 +236,7 @@ absl::StatusOr<std::string> CurvesFileField(
 }
 
 absl::StatusOr<CurveFile> ParseLipBlinkFile(const v1::LipBlinkRequest& request,
-                                             const RequestLimits& limits) {
+                                            const RequestLimits& limits) {
   return ParseCurveFile(request, limits);
 }
 
@@ -249,14 +250,15 @@ absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const Reques
   KOMA_ASSIGN_OR_RETURN(const CurveFile file, ParseCurveFile(request, limits));
   v1::LipBlinkRequest decoded;
   Decode(request, file, &decoded);
-  KOMA_RETURN_IF_ERROR(ReserveDecoded(decoded, CurveFileBytes(request), /*bvh=*/false, limits));
+  KOMA_RETURN_IF_ERROR(
+      ReserveDecoded(decoded, CurveFileBytes(request), CurveFileKind(request), limits));
   KOMA_RETURN_IF_ERROR(HandleLipBlink(decoded, limits, response, shape));
   return PutLipBlinkFile(file, response);
 }
 
 absl::Status ReserveDecodedLipBlink(const v1::LipBlinkRequest& decoded, size_t file_bytes,
                                     const RequestLimits& limits) {
-  return ReserveDecoded(decoded, file_bytes, /*bvh=*/false, limits);
+  return ReserveDecoded(decoded, file_bytes, FileKind::kSpine, limits);
 }
 
 absl::Status PutLipBlinkFile(const CurveFile& file, v1::LipBlinkResponse* response) {

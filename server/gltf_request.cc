@@ -12,6 +12,7 @@
 #include "convert/gltf_convert.h"
 #include "core/gltf_animation.h"
 #include "core/status_macros.h"
+#include "core/stop_check.h"
 #include "formats/error_text.h"
 #include "formats/gltf.h"
 #include "server/call_footprint.h"
@@ -59,14 +60,14 @@ absl::StatusOr<std::vector<int>> PickAnimations(const v1::RetimeSkeletalRequest&
                         formats::QuoteForError(document.animations[static_cast<size_t>(a)].name));
       }
       return absl::InvalidArgumentError(absl::StrCat(
-          field, ": ", formats::QuoteForError(wanted), " is neither the name nor the index of an "
-          "animation of the file (", count, count == 1 ? " animation" : " animations",
-          count > 0 ? ": " : "", names, ")"));
+          field, ": ", formats::QuoteForError(wanted),
+          " is neither the name nor the index of an "
+          "animation of the file (",
+          count, count == 1 ? " animation" : " animations", count > 0 ? ": " : "", names, ")"));
     }
     if (!chosen.insert(found).second) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(field, ": ", formats::QuoteForError(wanted), " picks animation ", found,
-                       " a second time"));
+      return absl::InvalidArgumentError(absl::StrCat(field, ": ", formats::QuoteForError(wanted),
+                                                     " picks animation ", found, " a second time"));
     }
   }
   picked.assign(chosen.begin(), chosen.end());
@@ -113,9 +114,9 @@ absl::Status HandleRetimeSkeletalGltf(const v1::RetimeSkeletalRequest& request,
                                       SkeletalAnswer* described) {
   const std::string& bytes = request.gltf();
   if (static_cast<int64_t>(bytes.size()) > limits.max_file_bytes) {
-    return absl::ResourceExhaustedError(absl::StrCat(
-        "gltf: ", bytes.size(), " bytes exceeds the server limit --max_file_bytes=",
-        limits.max_file_bytes));
+    return absl::ResourceExhaustedError(
+        absl::StrCat("gltf: ", bytes.size(),
+                     " bytes exceeds the server limit --max_file_bytes=", limits.max_file_bytes));
   }
   const v1::RetimeSkeletalRequest& options = request;
   const double fps_option = options.gltf_source_fps();
@@ -132,6 +133,7 @@ absl::Status HandleRetimeSkeletalGltf(const v1::RetimeSkeletalRequest& request,
   formats::GltfReadLimits read_limits;
   read_limits.max_keys = limits.max_values;
   read_limits.max_nodes = limits.max_gltf_nodes;
+  read_limits.max_animations = limits.max_gltf_animations;
   absl::StatusOr<formats::GltfDocument> document = formats::ReadGltf(bytes, read_limits);
   if (!document.ok()) return InField(document.status(), "gltf");
   KOMA_ASSIGN_OR_RETURN(const std::vector<int> picked, PickAnimations(options, *document));
@@ -150,29 +152,55 @@ absl::Status HandleRetimeSkeletalGltf(const v1::RetimeSkeletalRequest& request,
   base.clear_gltf_keys();
   base.clear_gltf_keep_original();
   base.set_return_motion(false);
-  std::vector<formats::GltfAnimationKeys> all_keys;
+  // Every animation's sampling first: the frames of all of them together are the work
+  // (each is retimed on its own), bounded by --max_values as one animation's are.
+  struct Sampling {
+    int animation;
+    double fps;
+    int64_t frames;
+  };
+  std::vector<Sampling> plan;
   const int64_t joints = static_cast<int64_t>(document->joints.size());
+  const int64_t per_frame = std::max<int64_t>(1, joints * 3);
+  int64_t total_frames = 0;
   for (int a : picked) {
-    const formats::GltfAnimation& animation = document->animations[static_cast<size_t>(a)];
-    const std::string field = absl::StrCat("gltf: animations[", a, "]");
-    const GltfClip& clip = animation.clip;
+    const GltfClip& clip = document->animations[static_cast<size_t>(a)].clip;
     if (clip.channels.empty()) continue;  // nothing moves: left as it is
     const double fps = fps_option > 0 ? fps_option : GltfAutoSourceFps(clip);
     const int64_t frames = GltfFrameCount(clip, fps);
     if (frames < 2) continue;  // a single pose: nothing to retime, left as it is
     // Divided, not multiplied: frames may be saturated near 2^62 (GltfFrameCount).
-    if (frames > limits.max_values / std::max<int64_t>(1, joints * 3)) {
-      return absl::ResourceExhaustedError(absl::StrCat(
-          field, ": ", frames, " frames at ", fps, " fps x ", joints,
-          " joints x 3 exceeds the server limit --max_values=", limits.max_values));
+    if (frames > limits.max_values / per_frame) {
+      return absl::ResourceExhaustedError(
+          absl::StrCat("gltf: animations[", a, "]: ", frames, " frames at ", fps, " fps x ", joints,
+                       " joints x 3 exceeds the server limit --max_values=", limits.max_values));
     }
+    total_frames += frames;
+    if (total_frames > limits.max_values / per_frame) {
+      return absl::ResourceExhaustedError(absl::StrCat(
+          "gltf: the animations up to animations[", a, "] sample to ", total_frames,
+          " frames in all x ", joints, " joints x 3, which exceeds the server limit --max_values=",
+          limits.max_values, "; retime fewer at a time (gltf_animations)"));
+    }
+    plan.push_back({a, fps, frames});
+  }
+  std::vector<formats::GltfAnimationKeys> all_keys;
+  const int64_t file_footprint = GltfFootprint(bytes);  // a pass over the file: once
+  StopPoll stop(/*steps_between_checks=*/1);  // an animation is a retime call's worth of work
+  for (const Sampling& sampling : plan) {
+    if (stop.Stop()) return stop.status();
+    const int a = sampling.animation;
+    const double fps = sampling.fps;
+    const int64_t frames = sampling.frames;
+    const formats::GltfAnimation& animation = document->animations[static_cast<size_t>(a)];
+    const std::string field = absl::StrCat("gltf: animations[", a, "]");
+    const GltfClip& clip = animation.clip;
     const double start = GltfClipStart(clip);
     v1::RetimeSkeletalRequest decoded;
     decoded.CopyFrom(base);
     *decoded.mutable_motion() = convert::GltfMotion(*document, a, fps, frames);
     KOMA_RETURN_IF_ERROR(GrowCallReservation(
-        FileOverheadFootprint(static_cast<int64_t>(bytes.size()), /*bvh=*/true) +
-            ExpectedFootprint(decoded, static_cast<int64_t>(bytes.size()), limits),
+        file_footprint + ExpectedFootprint(decoded, static_cast<int64_t>(bytes.size()), limits),
         "this glTF request (the parsed file, the sampled joints, work, response)"));
     v1::GltfAnimationTiming* timing = response->add_gltf_animations();
     absl::Status retimed = HandleRetimeSkeletal(decoded, limits, timing->mutable_timing());

@@ -12,6 +12,7 @@
 #include "convert/field_error.h"
 #include "core/mouth_cues.h"
 #include "core/status_macros.h"
+#include "core/stop_check.h"
 #include "core/voice_activity.h"
 #include "formats/audio_reader.h"
 #include "formats/number_format.h"
@@ -55,7 +56,7 @@ struct Voice {
   VoiceActivity activity;
   v1::LipBlinkVoiceAnalysis analysis;
   double duration_s = 0.0;
-  int frames = 0;  // analysis frames the recording spans
+  int frames = 0;              // analysis frames the recording spans
   std::vector<MouthCue> cues;  // rhubarb_cues, as read
 };
 
@@ -69,23 +70,28 @@ absl::StatusOr<Voice> AnalyseAudio(const v1::LipBlinkRequest& request, double fp
   formats::AudioLimits audio_limits;
   audio_limits.max_seconds = limits.max_audio_seconds;
   audio_limits.max_channels = limits.max_audio_channels;
+  audio_limits.max_samples = limits.max_audio_samples;
   absl::StatusOr<std::unique_ptr<formats::AudioDecoder>> decoder =
       formats::AudioDecoder::Open(bytes, audio_limits);
   if (!decoder.ok()) return InAudio(decoder.status());
   const formats::AudioInfo& info = (*decoder)->info();
   // Memory grows with the analysis frames: reserve for the longest the limit lets through.
-  const double max_frames = std::min(limits.max_audio_seconds, static_cast<double>(info.frames) /
-                                                                   info.sample_rate + 1.0) * fps + 2;
+  const double max_frames = std::min(limits.max_audio_seconds,
+                                     static_cast<double>(info.frames) / info.sample_rate + 1.0) *
+                                fps +
+                            2;
   KOMA_RETURN_IF_ERROR(GrowCallReservation(
       ExpectedFootprint(request, static_cast<int64_t>(request.ByteSizeLong()), limits) +
           kDecoderBytes + static_cast<int64_t>(max_frames) * kBytesPerAnalysisFrame,
       "this LipBlink recording (its bytes, the decoder, the per-frame loudness)"));
   FrameLoudness loudness(info.sample_rate, fps);
+  StopPoll stop(/*steps_between_checks=*/1 << 20);  // samples: a check every ~1 ms of decoding
   for (;;) {
     absl::StatusOr<absl::Span<const float>> block = (*decoder)->Next();
     if (!block.ok()) return InAudio(block.status());
     if (block->empty()) break;
     loudness.Add(*block);
+    if (stop.Stop(static_cast<int64_t>(block->size()) * info.channels)) return stop.status();
   }
   if (loudness.samples() == 0) return absl::InvalidArgumentError("audio: holds no samples");
   Voice v;
@@ -112,10 +118,9 @@ absl::StatusOr<Voice> ReadCues(const std::string& bytes, const RequestLimits& li
     v.duration_s = std::max(v.duration_s, std::isfinite(cue.end_s) ? cue.end_s : cue.start_s);
   }
   if (v.duration_s > limits.max_audio_seconds) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat("rhubarb_cues: ", v.duration_s,
-                     " s of cues, over the server limit --max_audio_seconds=",
-                     limits.max_audio_seconds));
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "rhubarb_cues: ", v.duration_s,
+        " s of cues, over the server limit --max_audio_seconds=", limits.max_audio_seconds));
   }
   return v;
 }
@@ -124,12 +129,12 @@ absl::StatusOr<Voice> ReadCues(const std::string& bytes, const RequestLimits& li
 // are added to.
 absl::StatusOr<CurveFile> BlankMotion(double fps, int frames, bool csv) {
   const std::string duration = formats::FormatDouble((frames - 1) / fps);
-  const std::string text = absl::StrCat(
-      "{\"Version\": 3, \"Meta\": {\"Duration\": ", duration, ", \"Fps\": ",
-      formats::FormatDouble(fps),
-      ", \"Loop\": false, \"AreBeziersRestricted\": true, \"CurveCount\": 0, "
-      "\"TotalSegmentCount\": 0, \"TotalPointCount\": 0, \"UserDataCount\": 0, "
-      "\"TotalUserDataSize\": 0}, \"Curves\": []}");
+  const std::string text =
+      absl::StrCat("{\"Version\": 3, \"Meta\": {\"Duration\": ", duration,
+                   ", \"Fps\": ", formats::FormatDouble(fps),
+                   ", \"Loop\": false, \"AreBeziersRestricted\": true, \"CurveCount\": 0, "
+                   "\"TotalSegmentCount\": 0, \"TotalPointCount\": 0, \"UserDataCount\": 0, "
+                   "\"TotalUserDataSize\": 0}, \"Curves\": []}");
   absl::StatusOr<convert::CurveInput> input = convert::ParseCurveText(text, false, fps);
   if (!input.ok()) return absl::InternalError(input.status().message());
   return CurveFile{*std::move(input), csv};
@@ -233,9 +238,9 @@ absl::Status CheckVoiceRequest(const v1::LipBlinkRequest& request) {
   }
   const double fps = request.voice_motion_fps();
   if (!std::isfinite(fps) || fps < 0 || fps > kMaxTimingFps) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "voice_motion_fps: ", fps, " must be finite and in (0, 1000] (0: ",
-        kDefaultVoiceMotionFps, ")"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("voice_motion_fps: ", fps,
+                     " must be finite and in (0, 1000] (0: ", kDefaultVoiceMotionFps, ")"));
   }
   if (!v1::LipBlinkVoiceOutput_IsValid(request.voice_output())) {
     return absl::InvalidArgumentError(
@@ -264,7 +269,7 @@ absl::Status HandleLipBlinkVoice(const v1::LipBlinkRequest& request, const Reque
     KOMA_ASSIGN_OR_RETURN(set, CurveSetFromProto(request.curves(), "curves", limits));
   }
   const bool has_motion = file.has_value() || request.has_curves();
-  const double motion_fps = has_motion ? set.fps
+  const double motion_fps = has_motion                       ? set.fps
                             : request.voice_motion_fps() > 0 ? request.voice_motion_fps()
                                                              : kDefaultVoiceMotionFps;
   const double timing_fps = request.has_timing_fps() ? request.timing_fps() : kDefaultTimingFps;
@@ -290,12 +295,10 @@ absl::Status HandleLipBlinkVoice(const v1::LipBlinkRequest& request, const Reque
     }
     const int frames = std::max(2, static_cast<int>(last) + 1);
     KOMA_ASSIGN_OR_RETURN(
-        file, BlankMotion(motion_fps, frames,
-                          request.voice_output() == v1::VOICE_OUTPUT_CSV));
+        file, BlankMotion(motion_fps, frames, request.voice_output() == v1::VOICE_OUTPUT_CSV));
     set = file->input.curves;
   }
-  formats::Motion3File* motion3 =
-      file && file->input.motion3 ? &*file->input.motion3 : nullptr;
+  formats::Motion3File* motion3 = file && file->input.motion3 ? &*file->input.motion3 : nullptr;
   AddMissingCurves(request, &set, motion3);
   if (file) file->input.curves = set;
 

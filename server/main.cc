@@ -21,9 +21,9 @@
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
 #include "koma/version.h"
-#include "server/logging.h"
 #include "platform/huge_page_memory.h"
 #include "platform/malloc_tuning.h"
+#include "server/logging.h"
 #include "server/mutex_tuning.h"
 #include "server/process_control.h"
 #include "server/server.h"
@@ -48,6 +48,15 @@ ABSL_FLAG(double, max_audio_seconds, 7200,
           "longer ones get RESOURCE_EXHAUSTED");
 ABSL_FLAG(int, max_audio_channels, 64,
           "most channels of a LipBlink recording (audio); more get RESOURCE_EXHAUSTED");
+ABSL_FLAG(int64_t, max_audio_samples, 1'000'000'000,
+          "most samples (sample frames x channels) one LipBlink recording may decode, by its "
+          "header and by its samples; more get RESOURCE_EXHAUSTED");
+ABSL_FLAG(int64_t, max_gltf_animations, 4096,
+          "most animations a glTF file (RetimeSkeletalRequest.gltf) may have; more get "
+          "RESOURCE_EXHAUSTED");
+ABSL_FLAG(double, max_call_seconds, 300,
+          "longest one call may compute, whatever its client's deadline; then its work stops "
+          "and it is answered DEADLINE_EXCEEDED (0: no bound)");
 ABSL_FLAG(int64_t, max_gltf_nodes, 65536,
           "most nodes a glTF file (RetimeSkeletalRequest.gltf) may have; more get "
           "INVALID_ARGUMENT naming nodes");
@@ -94,14 +103,16 @@ ABSL_FLAG(std::string, metrics_port_file, "",
 
 namespace {
 
+// clang-format off
 constexpr const char* kEnvironmentFlags[] = {
-    "address",          "port_file",          "max_message_bytes", "max_values",
-    "max_joints",       "worker_threads",     "max_queued",        "log_level",
-    "log_format",       "shutdown_grace_ms",  "tls_cert",          "tls_key",
-    "tls_client_ca",    "metrics_address",    "metrics_port_file", "shutdown_delay_ms",
-    "inline_max_bytes", "huge_page_cache_mb", "threads_per_call",  "idle_trim_ms",
-    "max_memory_mb",    "max_file_bytes",     "max_gltf_nodes",    "max_audio_seconds",
-    "max_audio_channels"};
+    "address",             "port_file",           "max_message_bytes",   "max_values",
+    "max_joints",          "worker_threads",      "max_queued",          "log_level",
+    "log_format",          "shutdown_grace_ms",   "tls_cert",            "tls_key",
+    "tls_client_ca",       "metrics_address",     "metrics_port_file",   "shutdown_delay_ms",
+    "inline_max_bytes",    "huge_page_cache_mb",  "threads_per_call",    "idle_trim_ms",
+    "max_memory_mb",       "max_file_bytes",      "max_gltf_nodes",      "max_audio_seconds",
+    "max_audio_channels",  "max_audio_samples",   "max_gltf_animations", "max_call_seconds"};
+// clang-format on
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
 // KOMA_LOG_FORMAT, ...), for containers; a flag on the command line wins. False (with a
@@ -151,6 +162,9 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.limits.max_audio_seconds = absl::GetFlag(FLAGS_max_audio_seconds);
   config.limits.max_audio_channels = absl::GetFlag(FLAGS_max_audio_channels);
   config.limits.max_gltf_nodes = absl::GetFlag(FLAGS_max_gltf_nodes);
+  config.limits.max_audio_samples = absl::GetFlag(FLAGS_max_audio_samples);
+  config.limits.max_gltf_animations = absl::GetFlag(FLAGS_max_gltf_animations);
+  config.limits.max_call_seconds = absl::GetFlag(FLAGS_max_call_seconds);
   const int threads_per_call = absl::GetFlag(FLAGS_threads_per_call);
   config.limits.threads_per_call =
       threads_per_call > 0 ? threads_per_call

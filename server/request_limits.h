@@ -26,12 +26,21 @@ struct RequestLimits {
   // frames, CPU time with its samples), and the most channels.
   double max_audio_seconds = 7200.0;
   int max_audio_channels = 64;
+  // Most samples one recording may decode (sample frames x channels), the decoding work.
+  int64_t max_audio_samples = 1'000'000'000;
   // Most nodes a glTF file (RetimeSkeletalRequest.gltf) may have; the node tree is walked
   // every sampled frame, so this bounds the work per frame beside max_values.
   int64_t max_gltf_nodes = 65536;
+  // Most animations a glTF file may have: each is sampled and retimed on its own, so the work
+  // grows with their count beside their keys (max_values bounds the keys and the samples of
+  // all of them together).
+  int64_t max_gltf_animations = 4096;
   // Threads one RetimeSkeletal call's forward kinematics may use (a clip of at least
   // 2 x kFramesPerFkThread frames, core/forward_kinematics.h); 1 = the calling thread only.
   int threads_per_call = 1;
+  // Longest one call may compute, in seconds, whatever its client's deadline (0: no bound).
+  // The handlers' loops poll it (server/call_stop.h) and stop with DEADLINE_EXCEEDED.
+  double max_call_seconds = 300.0;
 };
 
 // With a film grid, the work is counted in grid frames: RESOURCE_EXHAUSTED when `grid_frames`

@@ -17,8 +17,9 @@
 #include "core/split_mix64.h"
 #include "server/arena_allocator.h"
 #include "server/call_footprint.h"
-#include "server/curves_request.h"
 #include "server/call_reservation.h"
+#include "server/call_stop.h"
+#include "server/curves_request.h"
 #include "server/curves_response.h"
 #include "server/file_requests.h"
 #include "server/lip_blink_request.h"
@@ -100,8 +101,8 @@ absl::StatusOr<int64_t> SerialiseInto(CurvesAnswer& answer, grpc::ByteBuffer* by
   }
   // A file request's retimed file: its field (6 or 7) follows the encoder's 1-5 and precedes
   // its 20-21.
-  std::vector<grpc::Slice> slices = EncodeInSlices(encoder, answer.result, kCurvesSliceBytes,
-                                                   std::move(answer.file_field));
+  std::vector<grpc::Slice> slices =
+      EncodeInSlices(encoder, answer.result, kCurvesSliceBytes, std::move(answer.file_field));
   grpc::ByteBuffer(slices.data(), slices.size()).Swap(bytes);
   return static_cast<int64_t>(size);
 }
@@ -343,12 +344,18 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   }
   IdleTrimmer* const trimmer = trimmer_;
   if (trimmer != nullptr) trimmer->CallStarted(record.bytes_in);
-  auto run = [context, call, reactor, record, start, metrics, trimmer]() mutable {
+  const double max_call_seconds = limits_.max_call_seconds;
+  auto run = [context, call, reactor, record, start, metrics, trimmer, max_call_seconds]() mutable {
     grpc::Status status;
     if (context->IsCancelled()) {
       status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it started");
     } else {
+      // The handler's loops poll `stop` (core/stop_check.h); a call it stopped is answered
+      // with why, whatever the handler returned.
+      const CallStopSignal stop(context, start, max_call_seconds);
+      const StopSignalScope scope(&stop);
       status = call->Run(record);
+      if (const absl::Status why = stop.Reason(); !why.ok()) status = ToGrpcStatus(why);
     }
     call->FreeRequest();
     FinishAndLog(context, reactor, std::move(status), *call, record, start, metrics);

@@ -59,6 +59,18 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
   if (config.limits.max_audio_channels < 1) {
     return invalid("--max_audio_channels: ", config.limits.max_audio_channels, " must be >= 1");
   }
+  if (config.limits.max_audio_samples < 1) {
+    return invalid("--max_audio_samples: ", config.limits.max_audio_samples,
+                   " must be >= 1 (it would refuse every recording)");
+  }
+  if (config.limits.max_gltf_animations < 1) {
+    return invalid("--max_gltf_animations: ", config.limits.max_gltf_animations,
+                   " must be >= 1 (it would refuse every glTF file)");
+  }
+  if (!(config.limits.max_call_seconds >= 0 && config.limits.max_call_seconds <= 1e6)) {
+    return invalid("--max_call_seconds: ", config.limits.max_call_seconds,
+                   " must be in [0, 1000000] (0: no bound)");
+  }
   if (config.limits.max_gltf_nodes < 1) {
     return invalid("--max_gltf_nodes: ", config.limits.max_gltf_nodes,
                    " must be >= 1 (it would refuse every glTF file)");

@@ -8,6 +8,7 @@
 #include "core/retime_grid.h"
 #include "core/retime_shots.h"
 #include "core/status_macros.h"
+#include "core/stop_check.h"
 #include "platform/thread_task_runner.h"
 #include "server/file_requests.h"
 #include "server/response_slice.h"
@@ -194,8 +195,7 @@ absl::Status RetimeByShots(absl::Span<const double> positions, Retimed& out) {
 template <typename T>
 absl::StatusOr<T> InMotion(absl::StatusOr<T> result) {
   if (result.ok()) return result;
-  return absl::Status(result.status().code(),
-                      absl::StrCat("motion: ", result.status().message()));
+  return absl::Status(result.status().code(), absl::StrCat("motion: ", result.status().message()));
 }
 
 // Validates, runs forward kinematics (channel form) and RetimeFast.
@@ -219,10 +219,9 @@ absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
     // RetimeFast would compute) instead of measuring it again.
     // With cuts the distance (a copy, with a transform) is freed before the shots make theirs.
     {
-      KOMA_ASSIGN_OR_RETURN(
-          const FrameDistance distance,
-          InMotion(FrameDistance::CreateView(positions, job.frame_count, joints,
-                                             job.distance_options)));
+      KOMA_ASSIGN_OR_RETURN(const FrameDistance distance,
+                            InMotion(FrameDistance::CreateView(positions, job.frame_count, joints,
+                                                               job.distance_options)));
       if (!find_cuts) {
         out.map = RetimeFast(distance, job.retime_options, &out.input_ssd);
         return out;
@@ -266,6 +265,7 @@ absl::Status RetimeSkeletalAnswer(const v1::RetimeSkeletalRequest& request,
                                   const RequestLimits& limits, SkeletalAnswer* answer) {
   if (CarriesFile(request)) return RetimeSkeletalFileAnswer(request, limits, answer);
   KOMA_ASSIGN_OR_RETURN(const Retimed retimed, Retime(request, limits));
+  KOMA_RETURN_IF_ERROR(StopReason());  // stopped: the map is unfinished (core/stop_check.h)
   v1::RetimeSkeletalResponse head;
   FillHead(retimed.job, retimed.map, retimed.input_ssd, &head);
   v1::RetimeSkeletalResponse tail;
@@ -289,6 +289,7 @@ absl::Status HandleRetimeSkeletal(const v1::RetimeSkeletalRequest& request,
                                   v1::RetimeSkeletalResponse* response) {
   if (CarriesFile(request)) return HandleRetimeSkeletalFile(request, limits, response);
   KOMA_ASSIGN_OR_RETURN(const Retimed retimed, Retime(request, limits));
+  KOMA_RETURN_IF_ERROR(StopReason());  // stopped: the map is unfinished (core/stop_check.h)
   FillHead(retimed.job, retimed.map, retimed.input_ssd, response);
   if (retimed.job.return_motion) {
     FillMotion(request.motion(), retimed.job, retimed.map, response->mutable_motion());

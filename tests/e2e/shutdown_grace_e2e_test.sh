@@ -2,10 +2,14 @@
 # End to end (issue 42): SIGTERM during a call that computes for seconds stops the real
 # koma_server within --shutdown_grace_ms (plus its 0.2 s margin and the test's own slack), with
 # exit code 0 and the reason in its log; a drain with nothing in flight still ends at once.
-# The slow call: a GLB of 60,000 one-channel animations (made here), each retimed on its own.
-# Usage: shutdown_grace_e2e_test.sh KOMA_SERVER KOMA
+# Two slow calls: a GLB of 60,000 one-channel animations (made here; --max_gltf_animations
+# raised to let it in), whose tinygltf parse cannot be interrupted, so the server's watchdog
+# exits without it; and a FLAC of unknown length (1.3 G samples of silence, made by
+# hostile/hostile_files.py), whose decoding polls the call's stop signal, so gRPC's
+# cancellation at the end of the grace stops it and the call is logged CANCELLED.
+# Usage: shutdown_grace_e2e_test.sh KOMA_SERVER KOMA [PYTHON]
 set -euo pipefail
-server_bin=$1 client_bin=$2
+server_bin=$1 client_bin=$2 python=${3:-/usr/bin/python3}
 
 source "$(dirname "$0")/lib.sh"
 
@@ -32,7 +36,8 @@ open(sys.argv[1], 'wb').write(glb)
 PY
 
 grace_ms=500
-start_server "$server_bin" --shutdown_delay_ms=0 --shutdown_grace_ms=$grace_ms --worker_threads=1
+start_server "$server_bin" --shutdown_delay_ms=0 --shutdown_grace_ms=$grace_ms --worker_threads=1 \
+  --max_gltf_animations=100000
 "$client_bin" skeletal "$work/many.glb" -o "$work/many_anime.glb" --server "$target" \
   --deadline 60 -q >"$work/client.out" 2>&1 &
 client_pid=$!
@@ -45,6 +50,28 @@ echo "stopped ${stopped_ms} ms after SIGTERM (grace ${grace_ms} ms)"
   fail "the server took ${stopped_ms} ms to stop, grace ${grace_ms} ms"
 grep -q "exiting without them" "$work/server.log" ||
   fail "the log does not say why it exited: $(tail -3 "$work/server.log")"
+wait "$client_pid" && fail "the cancelled call succeeded"
+
+# A call that polls its stop signal: cancelled at the end of the grace, logged, no watchdog.
+PYTHONPATH="$(dirname "$0")/hostile" "$python" -c '
+import sys, hostile_files
+open(sys.argv[1], "wb").write(hostile_files.flac_silence(1_000_000, 8, 2500, 0))' "$work/long.flac"
+: >"$work/server.log"
+start_server "$server_bin" --shutdown_delay_ms=0 --shutdown_grace_ms=$grace_ms --worker_threads=1 \
+  --max_audio_samples=100000000000 --log_format=json
+"$client_bin" lipblink --audio "$work/long.flac" -o "$work/voice.motion3.json" \
+  --server "$target" --deadline 60 -q >"$work/client.out" 2>&1 &
+client_pid=$!
+sleep 1.5
+not_running "$client_pid" && fail "the decoding ended within 1.5 s: $(cat "$work/client.out")"
+stop_server 10
+echo "decoding: stopped ${stopped_ms} ms after SIGTERM (grace ${grace_ms} ms)"
+[ "$stopped_ms" -lt $((grace_ms + 1500)) ] ||
+  fail "the server took ${stopped_ms} ms to stop, grace ${grace_ms} ms"
+grep -q '"code":"CANCELLED".*the work stopped' "$work/server.log" ||
+  fail "the decoding call is not logged CANCELLED: $(tail -3 "$work/server.log")"
+grep -q "exiting without them" "$work/server.log" &&
+  fail "the watchdog exited although the call polls its stop signal"
 wait "$client_pid" && fail "the cancelled call succeeded"
 
 # Nothing in flight: the drain ends at once, without the forced exit.

@@ -10,6 +10,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "core/split_mix64.h"
+#include "core/stop_check.h"
 #include "formats/json_text.h"
 #include "tests/formats/test_files.h"
 #include "tests/testing/status_matchers.h"
@@ -18,6 +19,7 @@ namespace koma::formats {
 namespace {
 
 using ::koma::testing::IsOk;
+using ::koma::testing::StatusIs;
 using Json = nlohmann::ordered_json;
 
 std::string RandomKey(SplitMix64& rng, int members) {
@@ -34,19 +36,37 @@ std::string RandomJson(SplitMix64& rng, int depth) {
     case 1:
       return absl::StrCat(200 * rng.Unit() - 100);
     case 2: {
-      static const char* const kNumbers[] = {
-          "18446744073709551615", "-9223372036854775808", "9223372036854775808", "1e5", "-0",
-          "0.0", "1.5E-3", "123456789012345678901234567890", "18446744073709551616",
-          "-9223372036854775809", "-0.0", "1E+2", "1e-400", "4.9e-324", "2.2250738585072011e-308",
-          "0.1", "-1.25e10", "1.7976931348623157e308", "0.30000000000000004", "1e-7"};
+      static const char* const kNumbers[] = {"18446744073709551615",
+                                             "-9223372036854775808",
+                                             "9223372036854775808",
+                                             "1e5",
+                                             "-0",
+                                             "0.0",
+                                             "1.5E-3",
+                                             "123456789012345678901234567890",
+                                             "18446744073709551616",
+                                             "-9223372036854775809",
+                                             "-0.0",
+                                             "1E+2",
+                                             "1e-400",
+                                             "4.9e-324",
+                                             "2.2250738585072011e-308",
+                                             "0.1",
+                                             "-1.25e10",
+                                             "1.7976931348623157e308",
+                                             "0.30000000000000004",
+                                             "1e-7"};
       return kNumbers[rng.Int(0, 19)];
     }
     case 3: {
       // Escapes (\u left to nlohmann by the plain reader), raw UTF-8 of every length, DEL.
       static const char* const kStrings[] = {
-          "\"\\ud83d\\ude00 \\n \\/\"", "\"plain\"", "\"a\\\"b\\\\c\\b\\f\\n\\r\\t\\/\"",
+          "\"\\ud83d\\ude00 \\n \\/\"",
+          "\"plain\"",
+          "\"a\\\"b\\\\c\\b\\f\\n\\r\\t\\/\"",
           "\"\xC3\xA9\xE3\x81\x82\xED\x9F\xBF\xEE\x80\x80\xF0\x9F\x98\x80\xF4\x8F\xBF\xBF\"",
-          "\"\x7F~ \"", "\"\""};
+          "\"\x7F~ \"",
+          "\"\""};
       return kStrings[rng.Int(0, 5)];
     }
     case 4:
@@ -58,8 +78,8 @@ std::string RandomJson(SplitMix64& rng, int depth) {
       const int n = rng.OneIn(4) ? rng.Int(17, 40) : rng.Int(1, 6);
       std::string out = "{";
       for (int i = 0; i < n; ++i) {
-        absl::StrAppend(&out, i ? "," : "", "\"", RandomKey(rng, n), "\" :",
-                        RandomJson(rng, depth - 1));
+        absl::StrAppend(&out, i ? "," : "", "\"", RandomKey(rng, n),
+                        "\" :", RandomJson(rng, depth - 1));
       }
       return out + "}";
     }
@@ -85,7 +105,8 @@ void ExpectSameTree(const Json& a, const Json& b, const std::string& path) {
     }
   } else if (a.is_array()) {
     ASSERT_EQ(a.size(), b.size()) << path;
-    for (size_t k = 0; k < a.size(); ++k) ExpectSameTree(a[k], b[k], absl::StrCat(path, "[", k, "]"));
+    for (size_t k = 0; k < a.size(); ++k)
+      ExpectSameTree(a[k], b[k], absl::StrCat(path, "[", k, "]"));
   }
 }
 
@@ -112,9 +133,24 @@ TEST(JsonTextParseTest, SameDocumentAsNlohmannsParserOnRandomText) {
                     "}]:,x\"\x01"[rng.Int(0, 6)]);
         break;
       case 4: {  // a stray or broken sequence (bad UTF-8, a BOM, a number's pieces)
-        static const char* const kBroken[] = {
-            "\x80", "\xC3", "\xC0\xAF", "\xE0\x80\xAF", "\xED\xA0\x80", "\xF4\x90\x80\x80",
-            "\xF5", "\xEF\xBB\xBF", "0", "-", ".", "e", "+", "\\u12", "\\x", "\t", "\r\n", "\x1F"};
+        static const char* const kBroken[] = {"\x80",
+                                              "\xC3",
+                                              "\xC0\xAF",
+                                              "\xE0\x80\xAF",
+                                              "\xED\xA0\x80",
+                                              "\xF4\x90\x80\x80",
+                                              "\xF5",
+                                              "\xEF\xBB\xBF",
+                                              "0",
+                                              "-",
+                                              ".",
+                                              "e",
+                                              "+",
+                                              "\\u12",
+                                              "\\x",
+                                              "\t",
+                                              "\r\n",
+                                              "\x1F"};
         const int at = rng.Int(0, static_cast<int>(text.size()));
         text.insert(static_cast<size_t>(rng.OneIn(4) ? 0 : at), kBroken[rng.Int(0, 17)]);
         break;
@@ -129,7 +165,10 @@ TEST(JsonTextParseTest, SameDocumentAsNlohmannsParserOnRandomText) {
         break;
     }
     ExpectSameParse(text);
-    if (ParseJsonTextByDom(text).ok()) ++ok; else ++errors;
+    if (ParseJsonTextByDom(text).ok())
+      ++ok;
+    else
+      ++errors;
   }
   EXPECT_GT(ok, 1000);
   EXPECT_GT(errors, 500);
@@ -145,6 +184,30 @@ TEST(JsonTextParseTest, SameDocumentOnTheTestFiles) {
     ASSERT_THAT(ParseJsonText(text).status(), IsOk()) << path;
     ExpectSameParse(text);
   }
+}
+
+// A call stopped by its signal (core/stop_check.h) ends the parse with the signal's status,
+// on both paths (the fast reader and, for text it leaves to nlohmann, nlohmann's SAX parser).
+class AlwaysStop final : public StopSignal {
+ public:
+  absl::Status Reason() const override { return absl::CancelledError("stopped for the test"); }
+};
+
+TEST(JsonTextParseTest, AStoppedCallEndsTheParseWithItsStatus) {
+  std::string plain = "[";
+  for (int i = 0; i < 200000; ++i) absl::StrAppend(&plain, i == 0 ? "" : ",", i);
+  plain += "]";
+  // With a byte order mark the fast reader leaves the text to nlohmann's parser.
+  const std::string with_bom = "\xEF\xBB\xBF" + plain;
+  const AlwaysStop stop;
+  const StopSignalScope scope(&stop);
+  for (const std::string& text : {plain, with_bom}) {
+    EXPECT_THAT(ParseJsonText(text).status(), StatusIs(absl::StatusCode::kCancelled, ::testing::_));
+    EXPECT_THAT(ParseJsonTextWithin(text, 64).status(),
+                StatusIs(absl::StatusCode::kCancelled, ::testing::_));
+  }
+  // Under 65,536 values the signal is never asked: small files are not slowed down.
+  EXPECT_THAT(ParseJsonText("[1,2,3]"), IsOk());
 }
 
 TEST(JsonTextParseTest, AKeyGivenTwiceKeepsItsFirstPlaceAndLastValue) {

@@ -208,6 +208,46 @@ TEST(CallFootprintTest, ClaimedCountsAreCappedByMaxValues) {
   EXPECT_EQ(ExpectedFootprint(request, 10, limits), 64 * 1024 + 10 + 2 * 1000 * 8 + 1000 * 64);
 }
 
+// Each file format at its own cost per byte (docs/reliability.md, "Memory per format").
+TEST(CallFootprintTest, FilesAreCountedAtTheirFormatsCostPerByte) {
+  constexpr int64_t kFixed = 64 * 1024;
+  EXPECT_EQ(FileParseFootprint(1000, FileKind::kSpine), kFixed + 24 * 1000);
+  EXPECT_EQ(FileParseFootprint(1000, FileKind::kMotion3), kFixed + 28 * 1000);
+  EXPECT_EQ(FileParseFootprint(1000, FileKind::kAudio), kFixed + 4 * 1000);
+  v1::RetimeCurvesRequest spine;
+  spine.set_spine_json(std::string(1000, ' '));
+  v1::RetimeCurvesRequest csv;
+  csv.set_csv_text(std::string(1000, ' '));
+  EXPECT_GT(ExpectedFootprint(spine, 1000, RequestLimits()),
+            ExpectedFootprint(csv, 1000, RequestLimits()));
+  v1::LipBlinkRequest voice;
+  voice.set_audio(std::string(1000, '\0'));
+  EXPECT_EQ(ExpectedFootprint(voice, 1000, RequestLimits()), kFixed + 4 * 1000);
+}
+
+// glTF: its JSON's structure at 72 per byte, its bytes (buffers, data URIs) at 3.
+TEST(CallFootprintTest, GltfCountsItsJsonStructureNotItsEmbeddedData) {
+  const std::string structure = R"({"asset":{"version":"2.0"},"buffers":[{"uri":")";
+  const std::string data = "data:application/octet-stream;base64," + std::string(100000, 'A');
+  const std::string text = structure + data + R"("}]})";
+  const int64_t counted = static_cast<int64_t>(text.size() - data.size() - 2);  // w/o quotes
+  EXPECT_EQ(GltfFootprint(text), 64 * 1024 + 3 * static_cast<int64_t>(text.size()) + 72 * counted);
+  // A GLB: its JSON chunk, not its BIN chunk.
+  const std::string json = R"({"asset":{"version":"2.0"}})";
+  std::string glb = "glTF";
+  const auto put32 = [&glb](uint32_t v) {
+    for (int i = 0; i < 4; ++i) glb.push_back(static_cast<char>(v >> (8 * i)));
+  };
+  put32(2);
+  put32(static_cast<uint32_t>(12 + 8 + json.size() + 8 + 4000));
+  put32(static_cast<uint32_t>(json.size()));
+  glb += "JSON" + json;
+  put32(4000);
+  glb += "BIN" + std::string(1, '\0') + std::string(4000, '\0');
+  EXPECT_EQ(GltfFootprint(glb), 64 * 1024 + 3 * static_cast<int64_t>(glb.size()) +
+                                    72 * static_cast<int64_t>(json.size()));
+}
+
 // Through a real server: 16 MiB of calls' budget (32 MiB: a quarter to gRPC, half to calls).
 TEST(MemoryBudgetServerTest, ACallThatDoesNotFitIsRefusedNamingTheBudget) {
   ServerConfig config = testing::InProcessServer::Config(2, 20'000'000);
