@@ -45,6 +45,13 @@ def fail(message):
     sys.exit(1)
 
 
+def bvh_claiming(frames):
+    """A one-joint BVH whose Frames line claims `frames` but which holds two."""
+    return ('HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n'
+            '  End Site\n  {\n    OFFSET 0 1 0\n  }\n}\nMOTION\nFrames: %d\n'
+            'Frame Time: 0.033333\n0 0 0\n1 2 3\n' % frames).encode()
+
+
 def cases():
     """(name, rpc, request, deadline seconds, expected codes, what the message names: one of
     the |-separated fragments)."""
@@ -98,6 +105,14 @@ def cases():
          {INVALID}, 'nested deeper'),
         ('spine 1,000,000 keys', *curves(spine_json=hf.spine(keys=1_000_000, duration=3600.0)),
          3.0, {OK, DEADLINE, EXHAUSTED}, ''),
+        # The older formats, one row each (their own batteries: tests/formats/*_malformed_test).
+        ('bvh claiming 2,000,000,000 frames', *skeletal(bvh_text=bvh_claiming(2_000_000_000)),
+         3.0, {INVALID, EXHAUSTED}, 'bvh_text: line'),
+        ('motion3.json nested 100,000 deep',
+         *curves(motion3_json=b'{"Curves":' + b'[' * 100000 + b']' * 100000 + b'}'), 3.0,
+         {INVALID}, 'nested deeper'),
+        ('csv of 1e999', *curves(csv_text=b'frame,ParamA\n0,0\n1,1e999\n'), 3.0, {INVALID},
+         'csv_text: line 3'),
         # Rhubarb cues.
         ('rhubarb cue ending at 1e308 s', *lipblink(rhubarb_cues=hf.rhubarb(3, last_end=1e308)),
          3.0, {EXHAUSTED, INVALID}, 'rhubarb_cues'),
