@@ -7,6 +7,7 @@
 //   spine:      every Spine skeleton (TESTDATA_DIR/spine/*.json, SAMPLES_DIR/*.json), which also
 //              become retime_curves requests carrying spine_json;
 //   gltf:       the test arm of tests/testing/gltf_builder.h as .glb and .gltf;
+//   fbx:        the real binary FBX files of TESTDATA_DIR/fbx;
 //   retime_skeletal, retime_curves, lip_blink: serialised requests built from those files
 //              (cut short, some with a film grid), after the slice selector byte the RPC
 //              targets read first (fuzz/rpc_fuzz_input.h): 0 = one slice, 200 = 73-byte slices.
@@ -28,8 +29,8 @@
 #include "formats/motion3.h"
 #include "formats/spine.h"
 #include "formats/spine_attachments.h"
-#include "tests/testing/gltf_builder.h"
 #include "koma/v1/retime.pb.h"
+#include "tests/testing/gltf_builder.h"
 
 namespace fs = std::filesystem;
 
@@ -243,6 +244,10 @@ int main(int argc, char** argv) {
     koma::v1::RetimeSkeletalRequest request;
     request.set_gltf(arm.Glb());
     WriteRequest(out / "retime_skeletal", std::string("arm_") + interpolation + "_glb", request);
+  }
+  // FBX: the real files of tests/testdata/fbx (Blender 7.4, Maya 7.5).
+  for (const fs::path& path : FilesEndingIn({inputs[0] / "fbx"}, ".fbx")) {
+    WriteFile(out / "fbx" / path.filename(), ReadFile(path));
   }
   std::cout << "make_seeds: corpora written to " << out << "\n";
   return 0;

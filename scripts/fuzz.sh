@@ -17,7 +17,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${KOMA_ASAN_BUILD_DIR:-$root/build-asan}
 seconds=${1:-60}
 shift || true
-all=(bvh motion3 curve_csv spine gltf audio retime_skeletal retime_curves lip_blink)
+all=(bvh motion3 curve_csv spine gltf fbx audio retime_skeletal retime_curves lip_blink)
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then targets=("${all[@]}"); fi
 

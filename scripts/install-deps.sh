@@ -13,6 +13,7 @@ packages=(
   libtinygltf-dev
   prometheus-cpp-dev
   libsndfile1-dev
+  zlib1g-dev
 )
 # What the tests and benchmarks add (python3-grpcio: the interop test's second client;
 # buildah, podman, runc, debootstrap: deploy/test-image.sh builds and runs the image;
