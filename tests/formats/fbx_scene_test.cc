@@ -1,0 +1,126 @@
+// An FBX file's take as a rig (formats/fbx_scene.h) and its evaluation (core/fbx_rig.h), on the
+// real files of tests/testdata/fbx and on curves and transforms made here.
+#include "formats/fbx_scene.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "core/fbx_rig.h"
+#include "tests/testing/status_matchers.h"
+
+namespace koma::formats {
+namespace {
+
+using ::koma::testing::StatusIs;
+using ::testing::HasSubstr;
+
+FbxDocument ReadTestFbx(const std::string& name) {
+  std::ifstream in(std::string(KOMA_TESTDATA_DIR) + "/fbx/" + name, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  absl::StatusOr<FbxDocument> document = ReadFbx(bytes.str());
+  EXPECT_TRUE(document.ok()) << document.status();
+  return *std::move(document);
+}
+
+TEST(FbxSceneTest, BlenderFilesHaveTheirBonesTakeAndRate) {
+  struct Expected {
+    const char* file;
+    double fps;
+    size_t limb_nodes;
+    const char* take;
+  };
+  for (const Expected& e :
+       {Expected{"assimp_animation_with_skeleton.fbx", 24.0, 16, "Armature|ArmatureAction"},
+        Expected{"assimp_huesitos.fbx", 25.0, 11, "Armature|Action"}}) {
+    ASSERT_OK_AND_ASSIGN(const FbxTakeRig rig, ReadFbxTakeRig(ReadTestFbx(e.file), ""));
+    EXPECT_EQ(rig.fps, e.fps) << e.file;
+    EXPECT_EQ(rig.take.name, e.take);
+    EXPECT_EQ(std::count(rig.types.begin(), rig.types.end(), "LimbNode"),
+              static_cast<std::ptrdiff_t>(e.limb_nodes))
+        << e.file;
+    EXPECT_FALSE(rig.rig.curves.empty());
+    for (size_t i = 0; i < rig.rig.nodes.size(); ++i) {
+      EXPECT_LT(rig.rig.nodes[i].parent, static_cast<int>(i)) << "parents first";
+    }
+    const std::vector<double> positions = FbxNodePositions(rig.rig, rig.take.start, rig.fps, 10);
+    ASSERT_EQ(positions.size(), 10 * rig.rig.nodes.size() * 3);
+    for (double p : positions) EXPECT_TRUE(std::isfinite(p));
+  }
+}
+
+// Maya's three layers: the base layer is what is read (take.layers says how many there are).
+TEST(FbxSceneTest, MayaTakeWithLayers) {
+  ASSERT_OK_AND_ASSIGN(const FbxTakeRig rig,
+                       ReadFbxTakeRig(ReadTestFbx("ufbx_maya_anim_layers_7500_binary.fbx"), ""));
+  EXPECT_EQ(rig.fps, 24.0);
+  EXPECT_EQ(rig.take.name, "Take 001");
+  EXPECT_EQ(rig.take.layers, 3);
+  ASSERT_EQ(rig.names, std::vector<std::string>({"pCube1"}));
+  EXPECT_EQ(rig.rig.nodes[0].scaling, (std::array<double, 3>{2, 2, 2}));
+}
+
+TEST(FbxSceneTest, ATakeThatIsNotThereNamesTheOnesThatAre) {
+  EXPECT_THAT(ReadFbxTakeRig(ReadTestFbx("assimp_huesitos.fbx"), "Run").status(),
+              StatusIs(absl::StatusCode::kInvalidArgument,
+                       HasSubstr("take \"Run\": not in the file (it has \"Armature|Action\")")));
+}
+
+FbxKeyCurve TwoKeys(FbxKeyCurve::Segment segment) {
+  FbxKeyCurve curve;
+  curve.times = {0, kFbxTicksPerSecond};
+  curve.values = {0.0, 10.0};
+  curve.segments = {segment, segment};
+  curve.right_slopes = {0.0, 0.0};
+  curve.next_left_slopes = {0.0, 0.0};
+  curve.right_weights = {1.0 / 3, 1.0 / 3};
+  curve.next_left_weights = {1.0 / 3, 1.0 / 3};
+  return curve;
+}
+
+TEST(FbxRigTest, CurvesEvaluateAsTheirFlagsSay) {
+  const int64_t half = kFbxTicksPerSecond / 2;
+  EXPECT_DOUBLE_EQ(EvaluateFbxCurve(TwoKeys(FbxKeyCurve::Segment::kConstant), half), 0.0);
+  EXPECT_DOUBLE_EQ(EvaluateFbxCurve(TwoKeys(FbxKeyCurve::Segment::kConstantNext), half), 10.0);
+  EXPECT_DOUBLE_EQ(EvaluateFbxCurve(TwoKeys(FbxKeyCurve::Segment::kLinear), half), 5.0);
+  // Flat tangents: the smoothstep, 10 * (3 u^2 - 2 u^3); at a quarter 10 * 0.15625.
+  FbxKeyCurve cubic = TwoKeys(FbxKeyCurve::Segment::kCubic);
+  EXPECT_NEAR(EvaluateFbxCurve(cubic, half), 5.0, 1e-9);
+  EXPECT_NEAR(EvaluateFbxCurve(cubic, kFbxTicksPerSecond / 4), 1.5625, 1e-9);
+  // Slopes of 10 a second at both ends: the straight line.
+  cubic.right_slopes = {10.0, 0.0};
+  cubic.next_left_slopes = {10.0, 0.0};
+  EXPECT_NEAR(EvaluateFbxCurve(cubic, kFbxTicksPerSecond / 4), 2.5, 1e-9);
+  // Before the first key and after the last: their values.
+  EXPECT_DOUBLE_EQ(EvaluateFbxCurve(cubic, -5), 0.0);
+  EXPECT_DOUBLE_EQ(EvaluateFbxCurve(cubic, 3 * kFbxTicksPerSecond), 10.0);
+}
+
+TEST(FbxRigTest, TheTransformChainWithPreRotationAndPivots) {
+  FbxRig rig;
+  FbxRigNode root;
+  root.translation = {1, 0, 0};
+  root.pre_rotation = {0, 0, 90};  // turns the child's offset from +x to +y
+  FbxRigNode child;
+  child.parent = 0;
+  child.translation = {2, 0, 0};
+  FbxRigNode pivoted;
+  pivoted.parent = 0;
+  pivoted.rotation = {0, 0, 180};
+  pivoted.rotation_pivot = {1, 0, 0};  // rotating about x = 1 moves the origin to x = 2
+  rig.nodes = {root, child, pivoted};
+  const std::vector<double> p = FbxNodePositions(rig, 0, 30.0, 1);
+  EXPECT_NEAR(p[0], 1, 1e-12);
+  EXPECT_NEAR(p[3], 1, 1e-12);  // child: 1 + R(90)(2, 0, 0) = (1, 2, 0)
+  EXPECT_NEAR(p[4], 2, 1e-12);
+  EXPECT_NEAR(p[6], 1, 1e-12);  // pivoted: R(90) of (2, 0, 0) = (0, 2, 0), plus (1, 0, 0)
+  EXPECT_NEAR(p[7], 2, 1e-12);
+}
+
+}  // namespace
+}  // namespace koma::formats
