@@ -47,6 +47,17 @@ struct FbxTakeRig {
 // "take \"Run\": not in the file (it has \"Take 001\", \"Walk\")").
 absl::StatusOr<FbxTakeRig> ReadFbxTakeRig(const FbxDocument& document, const std::string& take);
 
+// The file with the take's curves replaced by a key on every output frame (ticks from the
+// take's start at `output_fps`), each holding the value the curve has at `sample_ticks[k]`
+// (the source time of the drawing frame k shows), with the constant flag: every reader (the
+// FBX SDK's, and Blender's, assimp's and three.js's, which interpolate linearly whatever the
+// flags) shows the holds. The take's LocalStop/ReferenceStop and Takes' times follow the new
+// length; a new rate sets GlobalSettings' TimeMode (and CustomFrameRate when it has no mode).
+// Every other node is written as it was.
+absl::StatusOr<std::string> WriteFbxRetimed(FbxDocument document, const FbxTakeRig& rig,
+                                            const std::vector<int64_t>& sample_ticks,
+                                            double output_fps);
+
 // FBX's TimeMode numbers as frames per second (14, custom: `custom_rate`); 0 when unknown.
 double FbxTimeModeFps(int64_t time_mode, double custom_rate);
 

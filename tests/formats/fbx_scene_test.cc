@@ -71,6 +71,56 @@ TEST(FbxSceneTest, ATakeThatIsNotThereNamesTheOnesThatAre) {
                        HasSubstr("take \"Run\": not in the file (it has \"Armature|Action\")")));
 }
 
+// A retimed take written back: frame k of the new file shows the source at the time asked for
+// (here each frame holds the even frame before it: on twos), keys are constant, every other
+// node as it was, and the take ends at the new length.
+TEST(FbxWriteRetimedTest, EachOutputFrameShowsTheSourceTimeItWasGiven) {
+  for (const char* name : {"assimp_animation_with_skeleton.fbx", "assimp_huesitos.fbx"}) {
+    const FbxDocument document = ReadTestFbx(name);
+    ASSERT_OK_AND_ASSIGN(const FbxTakeRig rig, ReadFbxTakeRig(document, ""));
+    const int frames = 20;
+    std::vector<int64_t> ticks(frames);
+    for (int k = 0; k < frames; ++k) {
+      ticks[k] = rig.take.start + std::llround((k / 2 * 2) * kFbxTicksPerSecond / rig.fps);
+    }
+    ASSERT_OK_AND_ASSIGN(const std::string written, WriteFbxRetimed(document, rig, ticks, rig.fps));
+    ASSERT_OK_AND_ASSIGN(const FbxDocument again, ReadFbx(written));
+    ASSERT_OK_AND_ASSIGN(const FbxTakeRig retimed, ReadFbxTakeRig(again, ""));
+    ASSERT_EQ(retimed.names, rig.names);
+    EXPECT_EQ(retimed.take.stop,
+              rig.take.start + std::llround((frames - 1) * kFbxTicksPerSecond / rig.fps));
+    const std::vector<double> source = FbxNodePositions(rig.rig, rig.take.start, rig.fps, frames);
+    const std::vector<double> out =
+        FbxNodePositions(retimed.rig, retimed.take.start, retimed.fps, frames);
+    const size_t n = rig.names.size() * 3;
+    for (int k = 0; k < frames; ++k) {
+      for (size_t i = 0; i < n; ++i) {
+        // KeyValueFloat holds floats: within a float's precision of the source.
+        EXPECT_NEAR(out[k * n + i], source[(k / 2 * 2) * n + i],
+                    1e-4 * (1 + std::fabs(source[(k / 2 * 2) * n + i])))
+            << name << " frame " << k;
+      }
+    }
+    for (const FbxKeyCurve& curve : retimed.rig.curves) {
+      ASSERT_EQ(curve.times.size(), static_cast<size_t>(frames));
+      for (FbxKeyCurve::Segment segment : curve.segments) {
+        EXPECT_EQ(segment, FbxKeyCurve::Segment::kConstant);
+      }
+    }
+    // The rest of the file: the same models, geometry and connections.
+    const FbxNode* geometry_before = nullptr;
+    const FbxNode* geometry_after = nullptr;
+    for (const FbxNode& node : document.nodes) {
+      if (node.name == "Objects") geometry_before = node.Child("Geometry");
+    }
+    for (const FbxNode& node : again.nodes) {
+      if (node.name == "Objects") geometry_after = node.Child("Geometry");
+    }
+    ASSERT_NE(geometry_after, nullptr);
+    EXPECT_EQ(geometry_after->property_bytes, geometry_before->property_bytes);
+  }
+}
+
 FbxKeyCurve TwoKeys(FbxKeyCurve::Segment segment) {
   FbxKeyCurve curve;
   curve.times = {0, kFbxTicksPerSecond};
