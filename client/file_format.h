@@ -10,19 +10,19 @@
 
 namespace koma::client {
 
-enum class FileFormat { kUnknown, kBvh, kMotion3, kCsv, kGltf };
+enum class FileFormat { kUnknown, kBvh, kMotion3, kCsv, kGltf, kFbx };
 
 // From the name: *.bvh, *.json (motion3.json), *.csv, *.glb, *.gltf, *.vrm, *.vrma (glTF),
-// any case; kUnknown for "-" and others.
+// *.fbx, any case; kUnknown for "-" and others.
 FileFormat FormatFromName(const std::string& path);
 
 // From the first bytes (after a UTF-8 byte order mark and white space): the GLB magic "glTF"
-// is glTF, "HIERARCHY" is BVH, "{" is JSON (glTF when it has an "asset" member and no
+// is glTF, "Kaydara FBX Binary" or an ASCII FBX's "; FBX" comment is FBX, "HIERARCHY" is BVH, "{" is JSON (glTF when it has an "asset" member and no
 // "Curves", else motion3), "frame," or "frame;" (a CSV header, quoted or not) is CSV; else
 // kUnknown.
 FileFormat SniffFormat(absl::string_view text);
 
-// "BVH", "motion3.json", "CSV", "unknown".
+// "BVH", "motion3.json", "CSV", "glTF", "FBX", "unknown".
 absl::string_view FormatName(FileFormat format);
 
 // OK when `text` (read from `path`) is not recognisably of another format than `accepted`

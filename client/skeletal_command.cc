@@ -15,8 +15,9 @@
 #include "client/flag_values.h"
 #include "client/report/skeletal_report.h"
 #include "client/retime_call.h"
-#include "client/skeletal_gltf.h"
 #include "client/skeletal_convert.h"
+#include "client/skeletal_fbx.h"
+#include "client/skeletal_gltf.h"
 #include "client/skeletal_summary.h"
 #include "client/xdts_sheets.h"
 #include "core/film_grid.h"
@@ -87,9 +88,10 @@ absl::StatusOr<SkeletalInput> ParseSkeletalText(const std::string& path, std::st
   std::optional<std::string> text(std::move(text_in));
   if (absl::Status s = CheckInputFormat(path, *text, "skeletal"); !s.ok()) return s;
   if (IsGltfInput(path, *text)) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        InputName(path), " is a glTF file: `koma skeletal IN.glb -o OUT.glb` retimes it whole "
-        "(this step reads BVH only)"));
+    return absl::InvalidArgumentError(
+        absl::StrCat(InputName(path),
+                     " is a glTF file: `koma skeletal IN.glb -o OUT.glb` retimes it whole "
+                     "(this step reads BVH only)"));
   }
   std::vector<std::string> warnings;
   absl::StatusOr<SkeletalClip> clip = formats::ParseBvh(*text, &warnings);
@@ -107,35 +109,39 @@ absl::StatusOr<SkeletalClip> ReadSkeletalInput(const std::string& path) {
   return std::move(input->clip);
 }
 
+void SetSkeletalOptions(const SkeletalArgs& args, v1::RetimeSkeletalRequest* request) {
+  if (args.omissions) request->set_omissions(*args.omissions);
+  if (args.holds) request->set_holds(*args.holds);
+  if (args.max_hold) request->set_max_hold(*args.max_hold);
+  request->set_keep_length(args.keep_length);
+  if (!args.order.empty()) {
+    request->set_order(args.order == "hold-then-omit" ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
+  } else {
+    request->set_order(args.hold_first ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
+  }
+  request->set_root_relative(args.root_relative);
+  request->mutable_camera()->Add(args.camera.begin(), args.camera.end());
+  if (args.timing_only) {
+    request->set_return_motion(false);
+  } else if (args.return_motion) {
+    request->set_return_motion(*args.return_motion);
+  }
+  if (args.timing_fps) request->set_timing_fps(*args.timing_fps);
+  if (args.output_at_timing_rate) request->set_output_rate(v1::TIMING_RATE);
+  if (args.omissions_per_second) request->set_omissions_per_second(*args.omissions_per_second);
+  if (args.drawings_per_second) request->set_drawings_per_second(*args.drawings_per_second);
+  if (args.cut_neighbour_ratio) request->set_cut_neighbour_ratio(*args.cut_neighbour_ratio);
+  if (args.cut_median_ratio) request->set_cut_median_ratio(*args.cut_median_ratio);
+}
+
 absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArgs& args,
                                                                const SkeletalClip& clip) {
   v1::RetimeSkeletalRequest request;
   *request.mutable_motion() = ToProto(clip);
-  if (args.omissions) request.set_omissions(*args.omissions);
-  if (args.holds) request.set_holds(*args.holds);
-  if (args.max_hold) request.set_max_hold(*args.max_hold);
-  request.set_keep_length(args.keep_length);
-  if (!args.order.empty()) {
-    request.set_order(args.order == "hold-then-omit" ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
-  } else {
-    request.set_order(args.hold_first ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
-  }
+  SetSkeletalOptions(args, &request);
   absl::StatusOr<std::vector<double>> weights = JointWeights(args.joint_weights, clip.skeleton);
   if (!weights.ok()) return weights.status();
   request.mutable_joint_weights()->Add(weights->begin(), weights->end());
-  request.set_root_relative(args.root_relative);
-  request.mutable_camera()->Add(args.camera.begin(), args.camera.end());
-  if (args.timing_only) {
-    request.set_return_motion(false);
-  } else if (args.return_motion) {
-    request.set_return_motion(*args.return_motion);
-  }
-  if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
-  if (args.output_at_timing_rate) request.set_output_rate(v1::TIMING_RATE);
-  if (args.omissions_per_second) request.set_omissions_per_second(*args.omissions_per_second);
-  if (args.drawings_per_second) request.set_drawings_per_second(*args.drawings_per_second);
-  if (args.cut_neighbour_ratio) request.set_cut_neighbour_ratio(*args.cut_neighbour_ratio);
-  if (args.cut_median_ratio) request.set_cut_median_ratio(*args.cut_median_ratio);
   return request;
 }
 
@@ -165,7 +171,8 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
         "nothing to write there; drop -o");
   }
   if (!sheet_wanted && !motion_wanted) {
-    return absl::InvalidArgumentError("--return-motion false needs --timing OUT.csv or --xdts OUT.xdts");
+    return absl::InvalidArgumentError(
+        "--return-motion false needs --timing OUT.csv or --xdts OUT.xdts");
   }
   if (absl::Status s = CheckOneOnStdout({{"-o", args.output},
                                          {"--timing", args.timing},
@@ -176,16 +183,17 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
     return s;
   }
   if (args.omissions && args.omissions_per_second) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("--omit ", *args.omissions, " and --omissions-per-second ",
-                     *args.omissions_per_second,
-                     ": give one (a --config file may have set the other)"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--omit ", *args.omissions, " and --omissions-per-second ", *args.omissions_per_second,
+        ": give one (a --config file may have set the other)"));
   }
   const FileFormat named = FormatFromName(args.output);
-  if (named != FileFormat::kUnknown && named != FileFormat::kBvh && named != FileFormat::kGltf) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "-o ", args.output, ": koma skeletal writes BVH (-o OUT.bvh) or, for a glTF input, glTF "
-        "(-o OUT.glb)"));
+  if (named != FileFormat::kUnknown && named != FileFormat::kBvh && named != FileFormat::kGltf &&
+      named != FileFormat::kFbx) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("-o ", args.output,
+                     ": koma skeletal writes BVH (-o OUT.bvh) or, for a glTF or FBX "
+                     "input, the same format (-o OUT.glb, -o OUT.fbx)"));
   }
   return absl::OkStatus();
 }
@@ -211,13 +219,12 @@ absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& 
     }
     // Times on the rate koma recognises (the film's, or a whole fps within the grid's 1e-4):
     // frame 72 of a 0.0416667 s Frame Time is at 3 s, not 3.0000024.
-    const double film_fps = response.timing_fps() > 0
-                                ? response.timing_fps()
-                                : args.timing_fps.value_or(kDefaultTimingFps);
-    const std::string sheet = formats::WriteTimingSheetCsv(
-        TimingMapFromResponse(response), frame_time,
-        response.timing_fps() > 0 ? &grid_frames : nullptr,
-        formats::RecognisedFps(frame_time, film_fps));
+    const double film_fps = response.timing_fps() > 0 ? response.timing_fps()
+                                                      : args.timing_fps.value_or(kDefaultTimingFps);
+    const std::string sheet =
+        formats::WriteTimingSheetCsv(TimingMapFromResponse(response), frame_time,
+                                     response.timing_fps() > 0 ? &grid_frames : nullptr,
+                                     formats::RecognisedFps(frame_time, film_fps));
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }
   if (!args.xdts.empty()) {
@@ -237,12 +244,19 @@ int RunSkeletal(const SkeletalArgs& args) {
   absl::StatusOr<std::string> bytes = ReadFile(args.input);
   if (!bytes.ok()) return out.Failure(bytes.status());
   if (IsGltfInput(args.input, *bytes)) return RunSkeletalGltf(args, *std::move(bytes));
+  if (IsFbxInput(args.input, *bytes)) return RunSkeletalFbx(args, *std::move(bytes));
+  if (!args.take.empty()) {
+    return out.UsageFailure(absl::InvalidArgumentError("--take picks an FBX file's take; " +
+                                                       InputName(args.input) + " is not FBX"));
+  }
   if (HasGltfFlags(args)) {
     return out.UsageFailure(absl::InvalidArgumentError(
         "--gltf-animations, --gltf-retime-none, --gltf-source-fps, --gltf-keys and "
-        "--gltf-keep-original are for glTF inputs; " + InputName(args.input) + " is not one"));
+        "--gltf-keep-original are for glTF inputs; " +
+        InputName(args.input) + " is not one"));
   }
-  if (FormatFromName(args.output) == FileFormat::kGltf) {
+  if (FormatFromName(args.output) == FileFormat::kGltf ||
+      FormatFromName(args.output) == FileFormat::kFbx) {
     return out.UsageFailure(absl::InvalidArgumentError(absl::StrCat(
         "-o ", args.output, ": the input is BVH, and koma skeletal writes BVH back (-o OUT.bvh)")));
   }

@@ -51,6 +51,8 @@ struct SkeletalArgs : CallFlags {
   std::optional<double> source_fps;     // --gltf-source-fps; unset: from the keys (or 30)
   std::string gltf_keys;                // --gltf-keys step|linear; empty: step
   bool keep_original = false;           // --gltf-keep-original: add "<name>.anime" beside each
+  // FBX input (.fbx; client/skeletal_fbx.h):
+  std::string take;  // --take NAME: the AnimationStack to retime; empty: the file's current
 };
 
 // The clip in `path` ("-": standard input). A motion3.json or CSV is refused as such; a
@@ -78,6 +80,11 @@ absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalFileRequest(const Skeleta
 // unknown joint name).
 absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArgs& args,
                                                                const SkeletalClip& clip);
+
+// The options every skeletal request takes from the flags, whatever carries the clip (a
+// motion, or a glTF or FBX file the server reads): counts, rates, order, grid, cuts, camera,
+// what to return. Not the joint weights, which a decoded clip names and a file's do not.
+void SetSkeletalOptions(const SkeletalArgs& args, v1::RetimeSkeletalRequest* request);
 
 // Before reading or calling: the flags make sense together (-o given unless --timing-only,
 // --timing given with --timing-only, at most one of -o, --timing and --json on standard

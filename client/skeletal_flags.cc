@@ -25,9 +25,10 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
   AddWholeNumber(cmd, "--omit,--omissions", &args.omissions, 0, INT32_MAX,
                  "Nio, inbetween omissions (nakanashi): frames removed where the motion is "
                  "fastest; a count turns the anime defaults off (the paper's: min(4, frames - 3))");
-  AddWholeNumber(cmd, "--hold,--holds", &args.holds, 0, INT32_MAX,
-                 "Nhf, hold steps (koma-dori): frames that repeat their predecessor where the "
-                 "motion is stillest; a count turns the anime defaults off (the paper's: frames / 3)");
+  AddWholeNumber(
+      cmd, "--hold,--holds", &args.holds, 0, INT32_MAX,
+      "Nhf, hold steps (koma-dori): frames that repeat their predecessor where the "
+      "motion is stillest; a count turns the anime defaults off (the paper's: frames / 3)");
   AddNumber(cmd, "--omissions-per-second", &args.omissions_per_second, AtLeast(0),
             "omission rate: omissions per second of the clip (grid time), instead of --omit; "
             "scales with the take's length (40 s at 1.0: 40; default 1 unless a count is given)");
@@ -90,6 +91,10 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
             "per output frame, for players that mishandle STEP)");
   cmd->add_flag("--gltf-keep-original", args.keep_original,
                 "glTF: keep each animation and add the retimed one as \"<name>.anime\"");
+  // FBX inputs (.fbx): the file travels whole in `fbx`.
+  cmd->add_option("--take", args.take,
+                  "FBX: the take (AnimationStack) to retime (default: the file's current take)")
+      ->type_name("NAME");
   AddPresetFlag(cmd);
   AddCommonFlags(cmd, &args, "60");
   return cmd;

@@ -15,6 +15,7 @@
 #include "client/skeletal_summary.h"
 #include "client/xdts_sheets.h"
 #include "convert/gltf_convert.h"
+#include "core/status_macros.h"
 #include "formats/gltf.h"
 #include "formats/number_format.h"
 #include "formats/timing_sheet.h"
@@ -76,36 +77,24 @@ absl::Status CheckGltfFlags(const SkeletalArgs& args, bool input_is_glb) {
   return absl::OkStatus();
 }
 
-absl::StatusOr<v1::RetimeSkeletalRequest> BuildGltfRequest(const SkeletalArgs& args,
-                                                           std::string bytes) {
-  v1::RetimeSkeletalRequest request;
-  request.set_gltf(std::move(bytes));
-  if (args.omissions) request.set_omissions(*args.omissions);
-  if (args.holds) request.set_holds(*args.holds);
-  if (args.max_hold) request.set_max_hold(*args.max_hold);
-  request.set_keep_length(args.keep_length);
-  if (!args.order.empty()) {
-    request.set_order(args.order == "hold-then-omit" ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
-  } else {
-    request.set_order(args.hold_first ? v1::HOLD_THEN_OMIT : v1::OMIT_THEN_HOLD);
-  }
+absl::Status SetFileJointWeights(const SkeletalArgs& args, v1::RetimeSkeletalRequest* request) {
   for (const std::string& weight : args.joint_weights) {
     double w = 0;
     if (!absl::SimpleAtod(weight, &w)) {
       return absl::InvalidArgumentError(
           absl::StrCat("--joint-weights: \"", weight, "\" is not a number"));
     }
-    request.add_joint_weights(w);
+    request->add_joint_weights(w);
   }
-  request.set_root_relative(args.root_relative);
-  request.mutable_camera()->Add(args.camera.begin(), args.camera.end());
-  if (args.timing_only) {
-    request.set_return_motion(false);
-  } else if (args.return_motion) {
-    request.set_return_motion(*args.return_motion);
-  }
-  if (args.timing_fps) request.set_timing_fps(*args.timing_fps);
-  if (args.output_at_timing_rate) request.set_output_rate(v1::TIMING_RATE);
+  return absl::OkStatus();
+}
+
+absl::StatusOr<v1::RetimeSkeletalRequest> BuildGltfRequest(const SkeletalArgs& args,
+                                                           std::string bytes) {
+  v1::RetimeSkeletalRequest request;
+  request.set_gltf(std::move(bytes));
+  SetSkeletalOptions(args, &request);
+  KOMA_RETURN_IF_ERROR(SetFileJointWeights(args, &request));
   for (const std::string& animation : args.animations) request.add_gltf_animations(animation);
   request.set_gltf_retime_none(args.retime_none);
   if (args.source_fps) request.set_gltf_source_fps(*args.source_fps);
@@ -123,7 +112,8 @@ absl::Status WriteGltfOutputs(const SkeletalArgs& args,
   if (!args.timing.empty()) {
     if (response.gltf_animations_size() == 0) {
       return absl::FailedPreconditionError(
-          absl::StrCat("--timing ", args.timing, ": no animation was retimed, so there is no "
+          absl::StrCat("--timing ", args.timing,
+                       ": no animation was retimed, so there is no "
                        "timing sheet to write"));
     }
     const v1::GltfAnimationTiming& first = response.gltf_animations(0);
@@ -138,7 +128,8 @@ absl::Status WriteGltfOutputs(const SkeletalArgs& args,
     // The first retimed animation's timing, as --timing writes it.
     if (response.gltf_animations_size() == 0) {
       return absl::FailedPreconditionError(
-          absl::StrCat("--xdts ", args.xdts, ": no animation was retimed, so there is no "
+          absl::StrCat("--xdts ", args.xdts,
+                       ": no animation was retimed, so there is no "
                        "exposure sheet to write"));
     }
     absl::StatusOr<formats::XdtsSheet> sheet =
@@ -156,25 +147,23 @@ std::string GltfSummaryText(const SkeletalArgs& args, const v1::RetimeSkeletalRe
                         " (the scene, meshes and extensions as they were)\n");
   }
   std::string text = SkeletalSummaryText(args, SummaryClip(response.gltf_animations(0)), response);
-  const char* keys = args.gltf_keys == "linear" ? "LINEAR, one per output frame"
-                                                : "STEP, one per drawing";
+  const char* keys =
+      args.gltf_keys == "linear" ? "LINEAR, one per output frame" : "STEP, one per drawing";
   for (const v1::GltfAnimationTiming& animation : response.gltf_animations()) {
-    absl::StrAppend(&text, "  animation ", animation.index(), " \"", animation.name(),
-                    "\": ", animation.frame_count(), " frames at ",
-                    formats::FormatDouble(animation.source_fps()), " fps from ",
-                    formats::FormatDouble(animation.start_s()), " s; ",
-                    animation.timing().omissions_applied(), " omitted, ",
-                    animation.timing().holds_applied(), " holds; ", animation.keys_written(),
-                    " keys per channel (", keys, ")",
-                    args.keep_original ? absl::StrCat(" as \"", animation.name(), ".anime\"") : "",
-                    "\n");
+    absl::StrAppend(
+        &text, "  animation ", animation.index(), " \"", animation.name(),
+        "\": ", animation.frame_count(), " frames at ",
+        formats::FormatDouble(animation.source_fps()), " fps from ",
+        formats::FormatDouble(animation.start_s()), " s; ", animation.timing().omissions_applied(),
+        " omitted, ", animation.timing().holds_applied(), " holds; ", animation.keys_written(),
+        " keys per channel (", keys, ")",
+        args.keep_original ? absl::StrCat(" as \"", animation.name(), ".anime\"") : "", "\n");
   }
   return text;
 }
 
 absl::Status WriteGltfReport(const std::string& path, const v1::RetimeSkeletalRequest& request,
-                             const v1::RetimeSkeletalResponse& response,
-                             const std::string& input) {
+                             const v1::RetimeSkeletalResponse& response, const std::string& input) {
   if (response.gltf_animations_size() == 0) {
     return absl::FailedPreconditionError(
         absl::StrCat("--report ", path, ": no animation was retimed"));
@@ -195,8 +184,8 @@ absl::Status WriteGltfReport(const std::string& path, const v1::RetimeSkeletalRe
 
 int RunSkeletalGltf(const SkeletalArgs& args, std::string bytes) {
   const CommandOutput out("skeletal", args.json, args.quiet, args.server);
-  if (absl::Status s = CheckGltfFlags(args, SniffFormat(bytes) == FileFormat::kGltf &&
-                                                 absl::StartsWith(bytes, "glTF"));
+  if (absl::Status s = CheckGltfFlags(
+          args, SniffFormat(bytes) == FileFormat::kGltf && absl::StartsWith(bytes, "glTF"));
       !s.ok()) {
     return out.UsageFailure(s);
   }
@@ -217,10 +206,9 @@ int RunSkeletalGltf(const SkeletalArgs& args, std::string bytes) {
   if (response.gltf_animations_size() > 0) {
     json = SkeletalSummaryJson(args, SummaryClip(response.gltf_animations(0)), response);
   }
-  out.Success(GltfSummaryText(args, response) + XdtsLine(args.xdts) + ReportLine(args.report),
-              json,
-              IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report) ||
-                  IsStdio(args.xdts));
+  out.Success(
+      GltfSummaryText(args, response) + XdtsLine(args.xdts) + ReportLine(args.report), json,
+      IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report) || IsStdio(args.xdts));
   return kExitOk;
 }
 

@@ -22,6 +22,10 @@ bool IsGltfInput(const std::string& path, const std::string& bytes);
 absl::StatusOr<v1::RetimeSkeletalRequest> BuildGltfRequest(const SkeletalArgs& args,
                                                            std::string bytes);
 
+// --joint-weights for a file the server reads (glTF, FBX): numbers, one per joint in the order
+// of the summary's joints (the names are the server's to read).
+absl::Status SetFileJointWeights(const SkeletalArgs& args, v1::RetimeSkeletalRequest* request);
+
 // The flags make sense for a glTF input: -o names a file of the same container (GLB in:
 // .glb/.vrm/.vrma; .gltf in: .gltf), the glTF-only flags are not given with a BVH input.
 absl::Status CheckGltfFlags(const SkeletalArgs& args, bool input_is_glb);

@@ -129,7 +129,8 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
                                  response.deleted_frames().end());
   const std::vector<int> hidden(response.hidden_frames().begin(), response.hidden_frames().end());
   const bool has_motion =
-      response.has_motion() || !response.bvh_text().empty() || !response.gltf().empty();
+      response.has_motion() || !response.bvh_text().empty() || !response.gltf().empty() ||
+      !response.fbx().empty();
   const std::string written = has_motion && !args.output.empty() && !args.timing_only
                                   ? OutputName(args.output)
                                   : "(timing only)";

@@ -36,6 +36,8 @@ constexpr int64_t kCsvFactor = 10;
 constexpr int64_t kSpineFactor = 24;
 constexpr int64_t kRhubarbFactor = 24;
 constexpr int64_t kAudioFactor = 4;
+// FBX: the file, koma's node tree (arrays stay encoded until asked for) and the written file.
+constexpr int64_t kFbxFactor = 8;
 // glTF: the bytes (and the buffers copied out of them) 3x, its JSON structure 72x.
 constexpr int64_t kGltfBytesFactor = 3;
 constexpr int64_t kGltfJsonFactor = 72;
@@ -48,6 +50,8 @@ int64_t Factor(FileKind kind, bool parse) {
       return parse ? kBvhParseFactor : kBvhOverheadFactor;
     case FileKind::kGltf:
       return kGltfBytesFactor;
+    case FileKind::kFbx:
+      return kFbxFactor;
     case FileKind::kMotion3:
       return kMotion3Factor;
     case FileKind::kCsv:
@@ -117,6 +121,9 @@ int64_t ExpectedFootprint(const v1::RetimeSkeletalRequest& request, int64_t /*re
   }
   if (request.input_case() == v1::RetimeSkeletalRequest::kGltf) {
     return GltfFootprint(request.gltf());
+  }
+  if (request.input_case() == v1::RetimeSkeletalRequest::kFbx) {
+    return FileParseFootprint(static_cast<int64_t>(request.fbx().size()), FileKind::kFbx);
   }
   // The received bytes are freed once parsed (ParseRequest in retime_service.cc); the
   // skeleton and options are small beside the values.

@@ -32,7 +32,7 @@ int64_t ExpectedFootprint(const v1::LipBlinkRequest& request, int64_t request_by
                           const RequestLimits& limits);
 
 // The file formats a request may carry, each with its own memory per byte.
-enum class FileKind { kBvh, kGltf, kMotion3, kCsv, kSpine, kRhubarb, kAudio };
+enum class FileKind { kBvh, kGltf, kFbx, kMotion3, kCsv, kSpine, kRhubarb, kAudio };
 
 // A request carrying a file (server/file_requests.h) is sized by the file until it is parsed:
 // the bytes and what parsing builds (BVH: the numbers, ~1x the text; the JSON formats: a

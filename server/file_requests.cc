@@ -12,6 +12,7 @@
 #include "formats/bvh.h"
 #include "server/call_footprint.h"
 #include "server/call_reservation.h"
+#include "server/fbx_request.h"
 #include "server/gltf_request.h"
 #include "server/lip_blink_request.h"
 #include "server/response_slice.h"
@@ -151,7 +152,8 @@ absl::StatusOr<std::string> Serialised(const Message& message) {
 
 bool CarriesFile(const v1::RetimeSkeletalRequest& request) {
   return request.input_case() == v1::RetimeSkeletalRequest::kBvhText ||
-         request.input_case() == v1::RetimeSkeletalRequest::kGltf;
+         request.input_case() == v1::RetimeSkeletalRequest::kGltf ||
+         request.input_case() == v1::RetimeSkeletalRequest::kFbx;
 }
 bool CarriesFile(const v1::RetimeCurvesRequest& request) {
   return request.input_case() == v1::RetimeCurvesRequest::kMotion3Json ||
@@ -169,6 +171,9 @@ absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
                                       SkeletalAnswer* described) {
   if (request.input_case() == v1::RetimeSkeletalRequest::kGltf) {
     return HandleRetimeSkeletalGltf(request, limits, response, described);
+  }
+  if (request.input_case() == v1::RetimeSkeletalRequest::kFbx) {
+    return HandleRetimeSkeletalFbx(request, limits, response, described);
   }
   KOMA_RETURN_IF_ERROR(CheckFileSize(request.bvh_text(), "bvh_text", limits));
   std::vector<std::string> warnings;

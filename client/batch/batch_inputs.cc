@@ -143,7 +143,7 @@ bool IsAudioPath(const std::string& path) {
 }
 
 std::vector<std::string> ExtensionsOf(const std::string& rpc, bool spine_skeletons) {
-  if (rpc == "skeletal") return {".bvh", ".glb", ".gltf", ".vrm", ".vrma"};
+  if (rpc == "skeletal") return {".bvh", ".glb", ".gltf", ".vrm", ".vrma", ".fbx"};
   if (spine_skeletons && (rpc == "lipblink" || rpc == "curves")) return {".json"};
   std::vector<std::string> extensions = {".motion3.json", ".csv"};
   if (rpc == "lipblink") {

@@ -8,17 +8,18 @@
 #include "absl/strings/str_cat.h"
 #include "client/batch/batch_inputs.h"
 #include "client/curve_files.h"
-#include "client/spine_curves.h"
-#include "client/spine_lip_blink.h"
-#include "client/xdts_sheets.h"
-#include "formats/xdts.h"
+#include "client/file_format.h"
 #include "client/files.h"
 #include "client/report/curves_report.h"
 #include "client/report/lip_blink_report.h"
 #include "client/report/lip_blink_voice_report.h"
-#include "client/file_format.h"
 #include "client/report/skeletal_report.h"
+#include "client/skeletal_fbx.h"
 #include "client/skeletal_gltf.h"
+#include "client/spine_curves.h"
+#include "client/spine_lip_blink.h"
+#include "client/xdts_sheets.h"
+#include "formats/xdts.h"
 
 namespace koma::client::batch {
 namespace {
@@ -131,6 +132,23 @@ class GltfClipCall final : public SkeletalCall {
   const SkeletalArgs& args_;
 };
 
+class FbxClipCall final : public SkeletalCall {
+ public:
+  FbxClipCall(const SkeletalArgs& args, v1::RetimeSkeletalRequest request)
+      : SkeletalCall(std::move(request)), args_(args) {}
+
+  absl::Status Write(const BatchItem& item) override {
+    if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
+    const SkeletalArgs args = ArgsFor(args_, item);
+    if (absl::Status s = WriteFbxOutputs(args, response_); !s.ok()) return s;
+    if (item.report.empty()) return absl::OkStatus();
+    return WriteFbxReport(item.report, request_, response_, item.input);
+  }
+
+ private:
+  const SkeletalArgs& args_;
+};
+
 class SkeletalRpc final : public Rpc {
  public:
   explicit SkeletalRpc(const SkeletalArgs& args) : args_(args) {}
@@ -143,6 +161,13 @@ class SkeletalRpc final : public Rpc {
           BuildGltfRequest(args_, *std::move(bytes));
       if (!request.ok()) return WithPath(item, request.status());
       return std::make_unique<GltfClipCall>(args_, *std::move(request));
+    }
+    if (FormatFromName(item.input) == FileFormat::kFbx) {
+      absl::StatusOr<std::string> bytes = ReadFile(item.input);
+      if (!bytes.ok()) return bytes.status();
+      absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildFbxRequest(args_, *std::move(bytes));
+      if (!request.ok()) return WithPath(item, request.status());
+      return std::make_unique<FbxClipCall>(args_, *std::move(request));
     }
     absl::StatusOr<SkeletalInput> input = ReadSkeletalFile(item.input);
     if (!input.ok()) return input.status();
@@ -255,11 +280,10 @@ report::VoiceReportSources VoiceSources(const LipBlinkArgs& args, const std::str
 // and with --audio-beside the skeleton's recording (`voice`, read from item.audio).
 class LipBlinkSpineCall final : public LipBlinkCall {
  public:
-  LipBlinkSpineCall(const LipBlinkArgs& args, CurveInput input,
-                    convert::SpineLipBlinkSlots slots, const std::string& audio_path,
-                    std::string voice)
-      : LipBlinkCall(BuildSpineLipBlinkRequest(WithAudio(args, audio_path), input.text,
-                                               std::move(voice))),
+  LipBlinkSpineCall(const LipBlinkArgs& args, CurveInput input, convert::SpineLipBlinkSlots slots,
+                    const std::string& audio_path, std::string voice)
+      : LipBlinkCall(
+            BuildSpineLipBlinkRequest(WithAudio(args, audio_path), input.text, std::move(voice))),
         args_(args),
         input_(std::move(input)),
         slots_(std::move(slots)) {}
@@ -271,8 +295,8 @@ class LipBlinkSpineCall final : public LipBlinkCall {
     }
     if (absl::Status s = WriteFile(item.output, response_.spine_json()); !s.ok()) return s;
     if (!item.xdts.empty()) {
-      absl::StatusOr<formats::XdtsSheet> sheet = LipBlinkXdtsSheet(
-          response_, input_.spine->fps, XdtsClipName(item.input, item.xdts));
+      absl::StatusOr<formats::XdtsSheet> sheet =
+          LipBlinkXdtsSheet(response_, input_.spine->fps, XdtsClipName(item.input, item.xdts));
       if (!sheet.ok()) return sheet.status();
       if (absl::Status s = WriteFile(item.xdts, formats::WriteXdts(*sheet)); !s.ok()) return s;
     }
@@ -352,8 +376,8 @@ class LipBlinkRpc final : public Rpc {
     }
     // With the Spine flags a skeleton is read (and anything else refused); without, refused.
     const bool spine = HasSpineFlags(args_);
-    absl::StatusOr<CurveInput> input = ReadCurveInput(
-        item.input, args_.csv_fps, CurveFormat::kAuto, spine ? kLipBlinkSpineCommand : "lipblink");
+    absl::StatusOr<CurveInput> input = ReadCurveInput(item.input, args_.csv_fps, CurveFormat::kAuto,
+                                                      spine ? kLipBlinkSpineCommand : "lipblink");
     if (!input.ok()) return input.status();
     // --audio-beside: the recording read after the input, so an input error names the input.
     std::string voice;
@@ -378,8 +402,8 @@ class LipBlinkRpc final : public Rpc {
           CurveOutputFormat(item.output, CurveFormatFromFlag(args_.format), *input);
       if (!format.ok()) return WithPath(item, format.status());
       const bool csv_output = *format == CurveFormat::kCsv;
-      return std::make_unique<LipBlinkVoiceCall>(args_, *std::move(input), csv_output,
-                                                 item.audio, std::move(voice));
+      return std::make_unique<LipBlinkVoiceCall>(args_, *std::move(input), csv_output, item.audio,
+                                                 std::move(voice));
     }
     return std::make_unique<LipBlinkClipCall>(args_, *std::move(input));
   }

@@ -91,6 +91,14 @@ def _is_gltf(data, path):
     return data.startswith(b"glTF") or (head.startswith(b"{") and b'"asset"' in data)
 
 
+def _is_fbx(data, path):
+    """A binary FBX file: by its name or its header ("Kaydara FBX Binary"; an ASCII FBX goes
+    to the server, which says it reads binary ones only)."""
+    if path is not None and path.lower().endswith(".fbx"):
+        return True
+    return data.startswith(b"Kaydara FBX Binary") or data.startswith(b"; FBX")
+
+
 def _is_csv(data, path, file_format):
     if file_format is not None:
         if file_format not in ("motion3", "csv", "spine"):
@@ -201,9 +209,10 @@ class Client:
         max_hold) asks for the paper's counts instead (docs/semantics.md).
 
         Args:
-            source: a BVH or glTF file's path (str or path-like; .glb, .gltf, .vrm and .vrma
-                are glTF), a BVH's text (str containing a newline or starting with
-                "HIERARCHY"), a file's bytes (glTF by its content), or a koma.Positions clip.
+            source: a BVH, glTF or FBX file's path (str or path-like; .glb, .gltf, .vrm and
+                .vrma are glTF, .fbx binary FBX 7.1-7.7), a BVH's text (str containing a
+                newline or starting with "HIERARCHY"), a file's bytes (glTF and FBX by their
+                content), or a koma.Positions clip.
             preset: "twos", "threes", "snappy", "subtle" or "paper", as `koma skeletal
                 --preset` (docs/usage.md); options given beside it win.
             **options: RetimeSkeletalRequest fields: omissions (steps, int), holds (steps,
@@ -215,7 +224,8 @@ class Client:
                 omission rate instead of omissions), drawings_per_second (12 on twos, 8 on
                 threes), cut_neighbour_ratio and cut_median_ratio (cuts; 0: none), and for glTF
                 gltf_animations (names or indices as str), gltf_retime_none, gltf_source_fps,
-                gltf_keys ("GLTF_KEYS_STEP" or "GLTF_KEYS_LINEAR"), gltf_keep_original. Frame
+                gltf_keys ("GLTF_KEYS_STEP" or "GLTF_KEYS_LINEAR"), gltf_keep_original; for
+                FBX fbx_take (the take's name; default the file's current take). Frame
                 counts are in grid frames when a grid is used.
 
         Returns:
@@ -226,13 +236,15 @@ class Client:
         """
         request = retime_pb2.RetimeSkeletalRequest()
         options = _presets.apply(_presets.SKELETAL, preset, options)
-        _options.fill(request, options, skip=("motion", "bvh_text", "gltf"))
+        _options.fill(request, options, skip=("motion", "bvh_text", "gltf", "fbx"))
         path = None
         if isinstance(source, Positions):
             request.motion.CopyFrom(source.to_proto())
         else:
             data, path = _read_source(source, ("HIERARCHY",))
-            if _is_gltf(data, path):
+            if _is_fbx(data, path):
+                request.fbx = data
+            elif _is_gltf(data, path):
                 request.gltf = data
             else:
                 request.bvh_text = data

@@ -51,8 +51,10 @@ class SkeletalResult(_Result):
 
     Attributes:
         output / output_bytes: the retimed BVH (file requests), as `koma skeletal -o` writes it;
-            for a glTF request output_bytes is the retimed glTF file (output only for a .gltf,
-            which is text).
+            for a glTF or FBX request output_bytes is the retimed file (output only for a
+            .gltf, which is text).
+        take: for an FBX request, the take as read: a dict of name, source_fps, start_s,
+            frame_count, joints, output_fps, layers and curves_written; else None.
         animations: for a glTF request, per retimed animation a dict: index, name,
             source_fps, start_s, frame_count, joints, output_fps, keys_written, and its
             source_frames (the fields above are the first one's).
@@ -84,6 +86,16 @@ class SkeletalResult(_Result):
         self.output_bytes = response.bvh_text if response.bvh_text else None
         if response.gltf:
             self.output_bytes = response.gltf
+        if response.fbx:
+            self.output_bytes = response.fbx
+        self.take = None
+        if response.HasField("fbx_take"):
+            t = response.fbx_take
+            self.take = {
+                "name": t.name, "source_fps": t.source_fps, "start_s": t.start_s,
+                "frame_count": t.frame_count, "joints": list(t.joints), "output_fps": t.output_fps,
+                "layers": t.layers, "curves_written": t.curves_written,
+            }
         self.animations = [{
             "index": a.index, "name": a.name, "source_fps": a.source_fps, "start_s": a.start_s,
             "frame_count": a.frame_count, "joints": list(a.joints), "output_fps": a.output_fps,

@@ -40,9 +40,9 @@ TEST(FileFormatTest, NamesTheWrongFormat) {
                           "skeletal`")));
   EXPECT_THAT(CheckInputFormat("-", "{}", "skeletal"),
               StatusIs(absl::StatusCode::kInvalidArgument,
-                       Eq("standard input is a motion3.json file, not BVH or glTF: `koma "
-                          "skeletal` reads BVH motion capture and glTF 2.0 / VRM; retime curves "
-                          "with `koma curves` or `koma lipblink`")));
+                       Eq("standard input is a motion3.json file, not BVH, glTF or FBX: `koma "
+                          "skeletal` reads BVH motion capture, glTF 2.0 / VRM and binary FBX; "
+                          "retime curves with `koma curves` or `koma lipblink`")));
   EXPECT_THAT(CheckInputFormat("a.glb", "glTF\x02", "curves"),
               StatusIs(absl::StatusCode::kInvalidArgument,
                        Eq("a.glb is a glTF file, not motion3.json or CSV: `koma curves` reads "

@@ -125,8 +125,8 @@ MISUSE = [
     (["curves", ARM, "-o", "{W}/o.json", "--report", "{W}/missing/r.html"], 1,
      "koma: cannot write {W}/missing/r.html: No such file or directory"),
     (["skeletal", BVH, "-o", "{W}/o.json"], 2,
-     "koma skeletal: -o {W}/o.json: koma skeletal writes BVH (-o OUT.bvh) or, for a glTF input, "
-     "glTF (-o OUT.glb)"),
+     "koma skeletal: -o {W}/o.json: koma skeletal writes BVH (-o OUT.bvh) or, for a glTF or FBX "
+     "input, the same format (-o OUT.glb, -o OUT.fbx)"),
     (["curves", ARM, "-o", "{W}/o.bvh", "--server", "{T}"], 2,
      "koma curves: -o {W}/o.bvh: curves are written as motion3.json or CSV, not BVH"),
     (["curves", "{W}/bad.csv", "-o", "{W}/o.json"], 1,
@@ -145,8 +145,9 @@ MISUSE = [
      "koma: " + BVH + " is a BVH file, not motion3.json or CSV: `koma lipblink` reads Live2D "
      "motion3.json or per-frame CSV; retime BVH clips with `koma skeletal`"),
     (["skeletal", ARM, "-o", "{W}/o.bvh"], 1,
-     "koma: " + ARM + " is a motion3.json file, not BVH or glTF: `koma skeletal` reads BVH "
-     "motion capture and glTF 2.0 / VRM; retime curves with `koma curves` or `koma lipblink`"),
+     "koma: " + ARM + " is a motion3.json file, not BVH, glTF or FBX: `koma skeletal` reads BVH "
+     "motion capture, glTF 2.0 / VRM and binary FBX; retime curves with `koma curves` or "
+     "`koma lipblink`"),
     (["skeletal", "{W}/broken.bvh", "-o", "{W}/o.bvh"], 1, None),  # checked below by prefix
     (["skeletal", BVH, "-o", "{W}/o.bvh", "--server", DEAD], 1, None),
     (["health", "--server", DEAD], 1, None),

@@ -457,6 +457,26 @@ def test_gltf_path_and_bytes_give_the_cli_file(server, client, tmp_path):
     assert (tmp_path / "written.glb").read_bytes() == by_path.output_bytes
 
 
+def test_fbx_path_and_bytes_give_the_cli_file(server, client, tmp_path):
+    """An FBX file (path or bytes) travels whole; output_bytes is the retimed file, byte for byte
+    what `koma skeletal IN.fbx -o OUT.fbx` writes, .take the take as read; a missing take is
+    named."""
+    fbx = source_path("samples", "huesitos.fbx")
+    by_path = client.retime_skeletal(fbx, preset="twos")
+    by_bytes = client.retime_skeletal(pathlib.Path(fbx).read_bytes(), preset="twos")
+    assert by_path.output_bytes == by_bytes.output_bytes
+    assert by_path.output_bytes.startswith(b"Kaydara FBX Binary")
+    assert by_path.take["name"] == "Armature|Action" and by_path.take["source_fps"] == 25
+    assert by_path.take["joints"][:2] == ["Armature", "Bone"]
+    assert by_path.take["curves_written"] > 0 and by_path.drawings_per_second == 12
+    out = tmp_path / "huesitos_anime.fbx"
+    run_cli("skeletal", fbx, "-o", str(out), "--preset", "twos", "--server", server.address)
+    assert out.read_bytes() == by_path.output_bytes
+    with pytest.raises(koma.KomaError) as error:
+        client.retime_skeletal(fbx, fbx_take="Run")
+    assert 'fbx_take: take "Run": not in the file' in str(error.value)
+
+
 def test_gltf_options_are_checked_by_the_server(client):
     with pytest.raises(koma.KomaError) as error:
         client.retime_skeletal(WAVE, gltf_animations=["Run"])

@@ -25,7 +25,7 @@ def fail(message):
     sys.exit(1)
 
 
-def blender_positions(path, names, fps, start_s):
+def blender_positions(path, names, fps, start_s, frames=FRAMES):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.import_scene.fbx(filepath=path)
     scene = bpy.context.scene
@@ -41,7 +41,7 @@ def blender_positions(path, names, fps, start_s):
     out = []
     # Blender's importer puts the take's start at its frame start * fps + 1 (anim_offset 1).
     first = start_s * fps + 1.0
-    for f in range(FRAMES):
+    for f in range(frames):
         scene.frame_set(int(round(first + f)))
         bpy.context.view_layer.update()
         frame = []
@@ -109,4 +109,5 @@ def main():
     print('fbx positions against Blender: PASS (%d files)' % checked)
 
 
-main()
+if __name__ == '__main__':
+    main()

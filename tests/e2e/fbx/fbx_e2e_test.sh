@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# e2e (issue 43): the real FBX files of tests/testdata/fbx through `koma skeletal` and the real
+# koma_server: the retimed file, the timing sheet and the summary; then Blender's own FBX
+# importer reads each written file (blender_retimed_test.py) and every bone is where the
+# source was at the frame the timing shows. Also: --take picks a take, a missing one is named,
+# the same request twice gives the same bytes.
+# Usage: fbx_e2e_test.sh KOMA_SERVER KOMA FBX_POSITIONS BLENDER TESTDATA_FBX
+set -euo pipefail
+server_bin=$1 client_bin=$2 positions_bin=$3 blender=$4 data=$5
+source "$(dirname "$0")/../lib.sh"
+
+start_server "$server_bin"
+for name in assimp_animation_with_skeleton assimp_huesitos; do
+  cp "$data/$name.fbx" "$work/$name.fbx"
+  "$client_bin" skeletal "$work/$name.fbx" -o "$work/$name.anime.fbx" \
+    --timing "$work/$name.timing.csv" --server "$target" >"$work/$name.out" 2>&1 ||
+    fail "koma skeletal $name.fbx: $(cat "$work/$name.out")"
+  grep -q 'take "' "$work/$name.out" || fail "no take line: $(cat "$work/$name.out")"
+  grep -q -- "-> $work/$name.anime.fbx" "$work/$name.out" ||
+    fail "the summary does not name the written file: $(head -1 "$work/$name.out")"
+  cat "$work/$name.out"
+  "$client_bin" skeletal "$work/$name.fbx" -o "$work/$name.again.fbx" --server "$target" -q ||
+    fail "second call"
+  cmp -s "$work/$name.anime.fbx" "$work/$name.again.fbx" || fail "$name: not the same bytes twice"
+  rm "$work/$name.again.fbx"
+done
+# Maya's three animation layers: the base layer is read and rewritten, and the answer says so.
+"$client_bin" skeletal "$data/ufbx_maya_anim_layers_7500_binary.fbx" -o "$work/maya.fbx" \
+  --server "$target" >"$work/maya.out" 2>&1 || fail "the Maya file: $(cat "$work/maya.out")"
+grep -q 'warning    fbx: take "Take 001" has 3 animation layers; koma read and retimed the base layer only' \
+  "$work/maya.out" || fail "no layer warning: $(cat "$work/maya.out")"
+rm -f "$work/maya.fbx" "$work/maya.out"  # not one of the files Blender compares
+expect_error 1 'fbx_take: take "Nope": not in the file (it has "Armature|Action")' \
+  "$client_bin" skeletal "$work/assimp_huesitos.fbx" --take Nope -o "$work/x.fbx" \
+  --server "$target"
+"$client_bin" skeletal "$work/assimp_huesitos.fbx" --take "Armature|Action" \
+  -o "$work/named.fbx" --server "$target" -q || fail "--take with the take's name"
+rm "$work/named.fbx"
+stop_server
+"$blender" -b --factory-startup --python-exit-code 1 \
+  --python "$(dirname "$0")/blender_retimed_test.py" -- "$positions_bin" "$work" 2>&1 |
+  grep -v '^$' | tee "$work/blender.out" | grep -v "^FBX version\|^Blender\|^Read\|^Blender quit" || true
+grep -q "retimed fbx against Blender: PASS" "$work/blender.out" ||
+  fail "Blender's check: $(tail -5 "$work/blender.out")"
+echo "fbx e2e: ok"
