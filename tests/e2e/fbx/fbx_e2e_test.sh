@@ -36,6 +36,14 @@ expect_error 1 'fbx_take: take "Nope": not in the file (it has "Armature|Action"
 "$client_bin" skeletal "$work/assimp_huesitos.fbx" --take "Armature|Action" \
   -o "$work/named.fbx" --server "$target" -q || fail "--take with the take's name"
 rm "$work/named.fbx"
+# The rate options reach a file request (glTF and FBX alike): --preset twos asks for 12.
+for file in "$data/assimp_huesitos.fbx" "$(dirname "$0")/../../../samples/wave.glb"; do
+  out=$work/twos.${file##*.}
+  "$client_bin" skeletal "$file" -o "$out" --preset twos --server "$target" >"$work/twos.out" ||
+    fail "--preset twos on $file"
+  grep -q "asked for 12 drawings" "$work/twos.out" || fail "$file: --preset twos: $(cat "$work/twos.out")"
+  rm -f "$out"
+done
 stop_server
 "$blender" -b --factory-startup --python-exit-code 1 \
   --python "$(dirname "$0")/blender_retimed_test.py" -- "$positions_bin" "$work" 2>&1 |
