@@ -108,11 +108,27 @@ double CubicValue(const FbxKeyCurve& curve, size_t k, int64_t tick) {
 }  // namespace
 
 double EvaluateFbxCurve(const FbxKeyCurve& curve, int64_t tick) {
+  size_t cursor = 0;
+  return EvaluateFbxCurveFrom(curve, tick, cursor);
+}
+
+double EvaluateFbxCurveFrom(const FbxKeyCurve& curve, int64_t tick, size_t& cursor) {
   if (curve.times.empty()) return 0.0;
   if (tick <= curve.times.front()) return curve.values.front();
   if (tick >= curve.times.back()) return curve.values.back();
-  const size_t k = static_cast<size_t>(
-      std::upper_bound(curve.times.begin(), curve.times.end(), tick) - curve.times.begin() - 1);
+  // The segment holding `tick`: from the cursor when the ticks come in order (a step or two),
+  // else by bisection.
+  size_t k = cursor < curve.times.size() - 1 ? cursor : 0;
+  if (curve.times[k] > tick || curve.times[k + 1] <= tick) {
+    if (k + 2 < curve.times.size() && curve.times[k + 1] <= tick && curve.times[k + 2] > tick) {
+      ++k;
+    } else {
+      k = static_cast<size_t>(std::upper_bound(curve.times.begin(), curve.times.end(), tick) -
+                              curve.times.begin() - 1);
+    }
+  }
+  cursor = k;
+  if (tick == curve.times[k]) return curve.values[k];  // on a key, as a baked take's frames are
   switch (curve.segments[k]) {
     case FbxKeyCurve::Segment::kConstant:
       return curve.values[k];
@@ -134,6 +150,33 @@ std::vector<double> FbxNodePositions(const FbxRig& rig, int64_t start_tick, doub
   const size_t n = rig.nodes.size();
   std::vector<double> positions(static_cast<size_t>(frames) * n * 3);
   std::vector<Matrix> world(n);
+  // What does not change with time, per node: the pre and inverse post rotations, and the
+  // offset and pivot translations on either side of R and S (skipped when zero, as they
+  // mostly are).
+  struct Fixed {
+    Matrix pre, post, before_r, after_r, after_s;
+    bool has_before_r, has_after_r, has_after_s;
+  };
+  const auto is_zero = [](const std::array<double, 3>& v) {
+    return v[0] == 0 && v[1] == 0 && v[2] == 0;
+  };
+  std::vector<Fixed> fixed(n);
+  for (size_t i = 0; i < n; ++i) {
+    const FbxRigNode& node = rig.nodes[i];
+    Fixed& f = fixed[i];
+    f.pre = EulerRotation(node.pre_rotation, FbxRotationOrder::kXyz);
+    f.post = Transposed(EulerRotation(node.post_rotation, FbxRotationOrder::kXyz));
+    f.before_r = Multiply(Translation(node.rotation_offset), Translation(node.rotation_pivot));
+    f.has_before_r = !is_zero(node.rotation_offset) || !is_zero(node.rotation_pivot);
+    f.after_r =
+        Multiply(Multiply(Translation(node.rotation_pivot, -1.0), Translation(node.scaling_offset)),
+                 Translation(node.scaling_pivot));
+    f.has_after_r = !is_zero(node.rotation_pivot) || !is_zero(node.scaling_offset) ||
+                    !is_zero(node.scaling_pivot);
+    f.after_s = Translation(node.scaling_pivot, -1.0);
+    f.has_after_s = !is_zero(node.scaling_pivot);
+  }
+  std::vector<size_t> cursors(rig.curves.size(), 0);
   StopPoll stop(/*steps_between_checks=*/1 << 14);  // node transforms
   for (int64_t f = 0; f < frames; ++f) {
     if (stop.Stop(static_cast<int64_t>(n))) break;  // the caller asks StopReason()
@@ -141,28 +184,25 @@ std::vector<double> FbxNodePositions(const FbxRig& rig, int64_t start_tick, doub
                                                    static_cast<double>(kFbxTicksPerSecond) / fps);
     for (size_t i = 0; i < n; ++i) {
       const FbxRigNode& node = rig.nodes[i];
+      const Fixed& fix = fixed[i];
       const auto animated = [&](const std::array<double, 3>& rest,
                                 const std::array<int, 3>& curves) {
         std::array<double, 3> value = rest;
         for (int a = 0; a < 3; ++a) {
           if (curves[a] >= 0) {
-            value[a] = EvaluateFbxCurve(rig.curves[static_cast<size_t>(curves[a])], tick);
+            const auto c = static_cast<size_t>(curves[a]);
+            value[a] = EvaluateFbxCurveFrom(rig.curves[c], tick, cursors[c]);
           }
         }
         return value;
       };
       const Matrix r = EulerRotation(animated(node.rotation, node.rotation_curves), node.order);
-      const Matrix pre = EulerRotation(node.pre_rotation, FbxRotationOrder::kXyz);
-      const Matrix post = Transposed(EulerRotation(node.post_rotation, FbxRotationOrder::kXyz));
       Matrix local = Translation(animated(node.translation, node.translation_curves));
-      local = Multiply(local, Translation(node.rotation_offset));
-      local = Multiply(local, Translation(node.rotation_pivot));
-      local = Multiply(local, Multiply(pre, Multiply(r, post)));
-      local = Multiply(local, Translation(node.rotation_pivot, -1.0));
-      local = Multiply(local, Translation(node.scaling_offset));
-      local = Multiply(local, Translation(node.scaling_pivot));
+      if (fix.has_before_r) local = Multiply(local, fix.before_r);
+      local = Multiply(local, Multiply(fix.pre, Multiply(r, fix.post)));
+      if (fix.has_after_r) local = Multiply(local, fix.after_r);
       local = Multiply(local, Scaling(animated(node.scaling, node.scaling_curves)));
-      local = Multiply(local, Translation(node.scaling_pivot, -1.0));
+      if (fix.has_after_s) local = Multiply(local, fix.after_s);
       world[i] = node.parent < 0 ? local : Multiply(world[static_cast<size_t>(node.parent)], local);
       double* out = positions.data() + (static_cast<size_t>(f) * n + i) * 3;
       out[0] = world[i][3];

@@ -11,6 +11,7 @@
 #define KOMA_CORE_FBX_RIG_H_
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -33,6 +34,9 @@ struct FbxKeyCurve {
 
 // The curve's value at `tick`: the first key's before it, the last key's after it.
 double EvaluateFbxCurve(const FbxKeyCurve& curve, int64_t tick);
+// The same, starting its search at `cursor` (a key index, updated): constant time per call
+// when the ticks come in order, as a take's frames do.
+double EvaluateFbxCurveFrom(const FbxKeyCurve& curve, int64_t tick, size_t& cursor);
 
 // Euler rotation orders as FBX numbers them (RotationOrder): XYZ, XZY, YZX, YXZ, ZXY, ZYX,
 // the first axis applied first.

@@ -88,8 +88,9 @@ absl::StatusOr<std::string> WriteFbxRetimed(FbxDocument document, const FbxTakeR
     if (stop.Stop(static_cast<int64_t>(times.size()))) return stop.status();
     const FbxKeyCurve& curve = rig.rig.curves[c];
     std::vector<double> values(sample_ticks.size());
+    size_t cursor = 0;
     for (size_t k = 0; k < values.size(); ++k) {
-      values[k] = static_cast<float>(EvaluateFbxCurve(curve, sample_ticks[k]));
+      values[k] = static_cast<float>(EvaluateFbxCurveFrom(curve, sample_ticks[k], cursor));
     }
     const FbxNode* old_times = object.Child("KeyTime");
     const bool compress = old_times != nullptr && !old_times->properties.empty() &&
