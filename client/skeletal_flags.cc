@@ -92,7 +92,7 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
   cmd->add_flag("--gltf-keep-original", args.keep_original,
                 "glTF: keep each animation and add the retimed one as \"<name>.anime\"");
   // FBX inputs (.fbx): the file travels whole in `fbx`.
-  cmd->add_option("--take", args.take,
+  cmd->add_option("--fbx-take,--take", args.take,
                   "FBX: the take (AnimationStack) to retime (default: the file's current take)")
       ->type_name("NAME");
   AddPresetFlag(cmd);

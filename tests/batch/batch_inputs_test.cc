@@ -15,10 +15,10 @@ namespace koma::client::batch {
 namespace {
 
 namespace fs = std::filesystem;
-using ::testing::ElementsAre;
-using ::testing::HasSubstr;
 using ::koma::testing::IsOk;
 using ::koma::testing::StatusIs;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
 
 // A scratch folder, removed with the test.
 class Tree : public ScratchFolder {
@@ -114,8 +114,9 @@ TEST(TimingPathFor, ReplacesTheInputExtension) {
 }
 
 TEST(ExtensionsOf, PerRpc) {
-  // Skeletal: BVH and glTF 2.0 (VRM and VRM Animation are glTF files).
-  EXPECT_THAT(ExtensionsOf("skeletal"), ElementsAre(".bvh", ".glb", ".gltf", ".vrm", ".vrma"));
+  // Skeletal: BVH, glTF 2.0 (VRM and VRM Animation are glTF files) and FBX.
+  EXPECT_THAT(ExtensionsOf("skeletal"),
+              ElementsAre(".bvh", ".glb", ".gltf", ".vrm", ".vrma", ".fbx"));
   EXPECT_THAT(ExtensionsOf("curves"), ElementsAre(".motion3.json", ".csv"));
   // LipBlink: curve files and voice recordings.
   EXPECT_THAT(ExtensionsOf("lipblink"), ElementsAre(".motion3.json", ".csv", ".wav", ".flac",

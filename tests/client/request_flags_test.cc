@@ -22,6 +22,7 @@
 #include "client/cli.h"
 #include "client/curve_files.h"
 #include "client/file_format.h"
+#include "client/skeletal_fbx.h"
 #include "client/skeletal_gltf.h"
 #include "client/spine_lip_blink.h"
 #include "koma/v1/retime.pb.h"
@@ -43,6 +44,7 @@ const std::string kTalk = std::string(KOMA_SAMPLES_DIR) + "/talk_blink.motion3.j
 const std::map<std::string, std::string> kExcluded = {
     {"RetimeSkeletalRequest.motion", "the whole clip: the input file"},
     {"RetimeSkeletalRequest.gltf", "a glTF input file itself, always sent whole"},
+    {"RetimeSkeletalRequest.fbx", "an FBX input file itself, always sent whole"},
     {"RetimeCurvesRequest.curves", "the whole curve set: the input file"},
     {"LipBlinkRequest.curves", "the whole curve set: the input file"},
     {"LipBlinkRequest.audio", "the recording's bytes: --audio FILE (tests/python/test_voice.py)"},
@@ -65,13 +67,13 @@ const std::string kSpine = std::string(KOMA_TESTDATA_DIR) + "/spine/hero-4.2.jso
 // A Spine skeleton with mouth and eye slots (LipBlinkRequest.spine).
 const std::string kHero = std::string(KOMA_SAMPLES_DIR) + "/hero.json";
 const std::string kWave = std::string(KOMA_SAMPLES_DIR) + "/wave.glb";
+const std::string kFbx = std::string(KOMA_SAMPLES_DIR) + "/huesitos.fbx";
 constexpr char kInputFile[] = "<the input file>";
 
 // Singular message fields whose fields are settings, each with its own flag.
-const std::set<std::string> kSettingsMessages = {"LipBlinkRequest.mouth", "LipBlinkRequest.eyes",
-                                                 "EyeSettings.auto_blink",
-                                                 "LipBlinkRequest.voice_settings",
-                                                 "LipBlinkRequest.spine"};
+const std::set<std::string> kSettingsMessages = {
+    "LipBlinkRequest.mouth", "LipBlinkRequest.eyes", "EyeSettings.auto_blink",
+    "LipBlinkRequest.voice_settings", "LipBlinkRequest.spine"};
 
 struct FieldCase {
   FieldCase(std::vector<std::string> v, std::string e, std::vector<std::string> x = {},
@@ -120,6 +122,8 @@ const std::map<std::string, FieldCase>& Cases() {
       {"RetimeSkeletalRequest.gltf_source_fps", {{"24"}, "24", {}, "", kWave}},
       {"RetimeSkeletalRequest.gltf_keys", {{"linear"}, "GLTF_KEYS_LINEAR", {}, "", kWave}},
       {"RetimeSkeletalRequest.gltf_keep_original", {{}, "true", {}, "", kWave}},
+      {"RetimeSkeletalRequest.fbx_take",
+       {{"Armature|Action"}, "\"Armature|Action\"", {}, "", kFbx}},
       // RetimeCurves
       {"RetimeCurvesRequest.key_frames", {{"0,10,25"}, "0, 10, 25"}},
       {"RetimeCurvesRequest.frames_per_drawing", {{"2"}, "2"}},
@@ -170,8 +174,7 @@ const std::map<std::string, FieldCase>& Cases() {
       {"LipBlinkRequest.spine.mouth_attachments",
        {{"a,b,c"}, "\"a\", \"b\", \"c\"", {}, "", kHero}},
       {"LipBlinkRequest.spine.eye_slots", {{"eyes,head"}, "\"eyes\", \"head\"", {}, "", kHero}},
-      {"LipBlinkRequest.spine.eye_attachments",
-       {{"o,h,c"}, "\"o\", \"h\", \"c\"", {}, "", kHero}},
+      {"LipBlinkRequest.spine.eye_attachments", {{"o,h,c"}, "\"o\", \"h\", \"c\"", {}, "", kHero}},
       {"LipBlinkRequest.voice_settings.noise_floor_dbfs", {{"=-60"}, "-60"}},
       {"LipBlinkRequest.voice_settings.noise_percentile", {{"5"}, "5"}},
       {"LipBlinkRequest.voice_settings.start_above_floor_db", {{"12"}, "12"}},
@@ -302,6 +305,12 @@ absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(const std::string&
     if (!r.ok()) return r.status();
     return std::unique_ptr<Message>(new v1::RetimeSkeletalRequest(*r));
   }
+  if (line.command == "skeletal" && FormatFromName(line.skeletal.input) == FileFormat::kFbx) {
+    absl::StatusOr<v1::RetimeSkeletalRequest> r =
+        BuildFbxRequest(line.skeletal, FileBytes(line.skeletal.input));
+    if (!r.ok()) return r.status();
+    return std::unique_ptr<Message>(new v1::RetimeSkeletalRequest(*r));
+  }
   if (line.command == "skeletal") {
     absl::StatusOr<SkeletalInput> file = ReadSkeletalFile(line.skeletal.input);
     if (!file.ok()) return file.status();
@@ -310,8 +319,8 @@ absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(const std::string&
     return std::unique_ptr<Message>(new v1::RetimeSkeletalRequest(*r));
   }
   if (line.command == "curves") {
-    absl::StatusOr<CurveInput> file = ReadCurveInput(line.curves.input, line.curves.csv_fps,
-                                                     CurveFormat::kAuto, "curves");
+    absl::StatusOr<CurveInput> file =
+        ReadCurveInput(line.curves.input, line.curves.csv_fps, CurveFormat::kAuto, "curves");
     if (!file.ok()) return file.status();
     absl::StatusOr<v1::RetimeCurvesRequest> r = BuildCurvesFileRequest(line.curves, *file);
     if (!r.ok()) return r.status();
@@ -327,7 +336,6 @@ absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(const std::string&
   return std::unique_ptr<Message>(
       new v1::LipBlinkRequest(BuildLipBlinkFileRequest(line.lip_blink, *file)));
 }
-
 
 // A bytes field's value, as is.
 std::string RawBytes(const Message& message, const FieldDescriptor* field) {
@@ -346,8 +354,8 @@ TEST(RequestFlagsTest, WalksEveryField) {
   for (const auto& [key, unused] : Cases()) {
     EXPECT_TRUE(walked.count(key)) << key << ": a case for a field the proto does not have";
   }
-  // 21 + 15 + 42 fields today; the count catches a settings message walked wrongly.
-  EXPECT_EQ(paths.size(), 78u);
+  // 22 + 15 + 42 fields today; the count catches a settings message walked wrongly.
+  EXPECT_EQ(paths.size(), 79u);
 }
 
 TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {
@@ -394,10 +402,9 @@ TEST(RequestFlagsTest, EachFieldIsSetThroughItsKebabCaseFlag) {
       for (int i = 0; i < field->message_type()->field_count(); ++i) {
         const FieldDescriptor* sub = field->message_type()->field(i);
         // Text format: "name: value", and "name { ... }" for a message.
-        EXPECT_THAT(c.expected, ::testing::HasSubstr(
-                                    sub->name() + (sub->type() == FieldDescriptor::TYPE_MESSAGE
-                                                       ? " {"
-                                                       : ":")))
+        EXPECT_THAT(c.expected,
+                    ::testing::HasSubstr(
+                        sub->name() + (sub->type() == FieldDescriptor::TYPE_MESSAGE ? " {" : ":")))
             << "the case leaves " << sub->name() << " unset";
       }
     }
