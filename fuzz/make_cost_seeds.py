@@ -3,7 +3,8 @@ small versions of the hostile files tests/e2e/hostile_wire_test.py sends (a FLAC
 claiming 8 channels at 1 MHz for 2 hours, one of unknown length, WAV headers that lie, glTF
 files over the animation limit or with key times of 1e30 s and below 0, Spine bones that are
 their own parents, cycles and duplicates, a UTF-16 skeleton, many keys, Rhubarb cues ending
-at 1e308 s), as files for the format targets and as requests for the RPC targets.
+at 1e308 s, an FBX zip bomb, deep nesting and ASCII), as files for the format targets and as
+requests for the RPC targets.
 
 Usage: python3 fuzz/make_cost_seeds.py SEEDS_DIR
 """
@@ -71,6 +72,15 @@ def main():
         files['audio/cost_' + name] = data
         # LipBlinkRequest.audio = 20
         files['lip_blink/cost_audio_' + name] = request(0, bytes_field(20, data))
+    fbxs = {
+        'zip_bomb': hf.fbx_zip_bomb(),
+        'nested_40': hf.fbx_nested(40),
+        'ascii': b'; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n',
+    }
+    for name, data in fbxs.items():
+        files['fbx/cost_%s.fbx' % name] = data
+        # RetimeSkeletalRequest.fbx = 36
+        files['retime_skeletal/cost_fbx_%s' % name] = request(0, bytes_field(36, data))
     # LipBlinkRequest.rhubarb_cues = 21
     files['lip_blink/cost_rhubarb_1e308'] = request(
         0, bytes_field(21, hf.rhubarb(3, last_end=1e308)))

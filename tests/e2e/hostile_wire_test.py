@@ -52,6 +52,10 @@ def bvh_claiming(frames):
             'Frame Time: 0.033333\n0 0 0\n1 2 3\n' % frames).encode()
 
 
+def samples_file(name):
+    return open(os.path.join(sys.argv[2], name), 'rb').read()
+
+
 def cases():
     """(name, rpc, request, deadline seconds, expected codes, what the message names: one of
     the |-separated fragments)."""
@@ -89,6 +93,15 @@ def cases():
         ('.gltf with 2 MB of broken base64', *skeletal(gltf=hf.gltf_text_broken_data_uri(2_000_000)),
          3.0, {INVALID}, 'buffers[0].uri: character 0 of its base64 data'),
         ('glb header only', *skeletal(gltf=b'glTF\x02\0\0\0\x0c\0\0\0'), 3.0, {INVALID}, 'gltf'),
+        # FBX: nesting, a zip bomb, a take of a million seconds, ASCII.
+        ('fbx zip bomb (2^31 doubles in 10 bytes)', *skeletal(fbx=hf.fbx_zip_bomb()), 3.0,
+         {EXHAUSTED}, 'an array of 2147483648 elements'),
+        ('fbx nested 100,000 deep', *skeletal(fbx=hf.fbx_nested(100000)), 3.0, {EXHAUSTED},
+         'nested deeper than 32'),
+        ('fbx take of 1,000,000 s', *skeletal(fbx=hf.fbx_long_take(
+            samples_file('huesitos.fbx'), 1e6)), 3.0, {EXHAUSTED}, '--max_values'),
+        ('ascii fbx', *skeletal(fbx=b'; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n'), 3.0,
+         {INVALID}, 'ASCII FBX'),
         # Spine: bones the runtimes refuse, and many keys.
         ('spine bone its own parent',
          *curves(spine_json=hf.spine([{"name": "root"}, {"name": "arm", "parent": "arm"}])),

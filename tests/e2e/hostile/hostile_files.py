@@ -147,3 +147,53 @@ def rhubarb(count, last_end=None):
         cues[-1]["end"] = last_end
     return json.dumps({"metadata": {"soundFile": "x.wav", "duration": 0},
                        "mouthCues": cues}).encode()
+
+
+# --- FBX ------------------------------------------------------------------------------------
+
+def _fbx(records, version=7400):
+    """A binary FBX of the given top-level records (bytes each), then the null record."""
+    return (b'Kaydara FBX Binary  \0\x1a\0' + struct.pack('<I', version) + b''.join(records) +
+            b'\0' * 13)
+
+
+def _fbx_record(start, name, properties, count, children=b''):
+    """One 7.4 node record at byte `start`: its end offset, counts, name and properties."""
+    body = bytes([len(name)]) + name + properties + children
+    return struct.pack('<III', start + 12 + len(body), count, len(properties)) + body
+
+
+def fbx_zip_bomb(claimed=1 << 31):
+    """A node whose one array of doubles claims `claimed` elements in 10 zlib bytes."""
+    prop = b'd' + struct.pack('<III', claimed, 1, 10) + b'x' * 10
+    return _fbx([_fbx_record(27, b'N', prop, 1)])
+
+
+def fbx_nested(depth):
+    """`depth` nodes "N", each the only child of the one before."""
+    header = 27
+    record = 13 + 1
+    total = header + depth * (record + 13) + 13
+    out = bytearray()
+    for i in range(depth):
+        end = total - 13 - i * 13
+        out += struct.pack('<III', end, 0, 0) + b'\x01N'
+    out += b'\0' * (13 * depth)
+    return _fbx([bytes(out)])
+
+
+def fbx_long_take(source, seconds):
+    """`source` (a binary FBX) with its take's LocalStop, and every other time property equal to
+    it (ReferenceStop, Takes' times), made `seconds` long (the Definitions' template default,
+    0, left alone)."""
+    at = 0
+    while True:
+        at = source.index(b'LocalStop', at) + len(b'LocalStop')
+        p = at
+        for _ in range(3):  # the P record's type, label and flags: three S properties
+            if source[p:p + 1] != b'S':
+                break
+            p += 5 + struct.unpack('<I', source[p + 1:p + 5])[0]
+        if source[p:p + 1] == b'L' and struct.unpack('<q', source[p + 1:p + 9])[0] != 0:
+            stop = source[p:p + 9]  # the L type byte and the ticks
+            return source.replace(stop, b'L' + struct.pack('<q', int(seconds * 46186158000)))
