@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # e2e (issue 43): the real FBX files of tests/testdata/fbx through `koma skeletal` and the real
 # koma_server: the retimed file, the timing sheet and the summary; then Blender's own FBX
-# importer reads each written file (blender_retimed_test.py) and every bone is where the
-# source was at the frame the timing shows. Also: --take picks a take, a missing one is named,
+# importer reads each written file (blender_retimed_test.py), and three.js's FBXLoader under
+# node (three_retimed_check.py), and every bone is where the source was at the frame the
+# timing shows. Also: --take picks a take, a missing one is named,
 # the same request twice gives the same bytes.
 # Usage: fbx_e2e_test.sh KOMA_SERVER KOMA FBX_POSITIONS BLENDER TESTDATA_FBX
 set -euo pipefail
@@ -50,4 +51,9 @@ stop_server
   grep -v '^$' | tee "$work/blender.out" | grep -v "^FBX version\|^Blender\|^Read\|^Blender quit" || true
 grep -q "retimed fbx against Blender: PASS" "$work/blender.out" ||
   fail "Blender's check: $(tail -5 "$work/blender.out")"
+three=$(dirname "$0")/../gltf/three_fbx_poses.mjs
+[ -d "$(dirname "$0")/../gltf/node_modules/three" ] ||
+  fail "three.js is not installed in tests/e2e/gltf/node_modules: run ./scripts/install-deps.sh"
+python3 "$(dirname "$0")/three_retimed_check.py" "$positions_bin" "$three" "$work" ||
+  fail "three.js's check"
 echo "fbx e2e: ok"
