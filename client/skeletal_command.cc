@@ -198,6 +198,14 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
   return absl::OkStatus();
 }
 
+absl::Status WriteSkeletalXdts(const SkeletalArgs& args,
+                               const v1::RetimeSkeletalResponse& response) {
+  absl::StatusOr<formats::XdtsSheet> sheet =
+      SkeletalXdtsSheet(response, XdtsClipName(args.input, args.xdts));
+  if (!sheet.ok()) return sheet.status();
+  return WriteFile(args.xdts, formats::WriteXdts(*sheet));
+}
+
 absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& clip,
                                   const v1::RetimeSkeletalResponse& response) {
   if (!args.output.empty() && !args.timing_only && !response.bvh_text().empty()) {
@@ -228,10 +236,7 @@ absl::Status WriteSkeletalOutputs(const SkeletalArgs& args, const SkeletalClip& 
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }
   if (!args.xdts.empty()) {
-    absl::StatusOr<formats::XdtsSheet> sheet =
-        SkeletalXdtsSheet(response, XdtsClipName(args.input, args.xdts));
-    if (!sheet.ok()) return sheet.status();
-    if (absl::Status s = WriteFile(args.xdts, formats::WriteXdts(*sheet)); !s.ok()) return s;
+    if (absl::Status s = WriteSkeletalXdts(args, response); !s.ok()) return s;
   }
   return absl::OkStatus();
 }

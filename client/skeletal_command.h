@@ -92,6 +92,10 @@ void SetSkeletalOptions(const SkeletalArgs& args, v1::RetimeSkeletalRequest* req
 // written is CheckWritable's (client/files.h).
 absl::Status CheckSkeletalFlags(const SkeletalArgs& args);
 
+// --xdts: the exposure sheet of the response's timing (a file request's too), to args.xdts.
+absl::Status WriteSkeletalXdts(const SkeletalArgs& args,
+                               const v1::RetimeSkeletalResponse& response);
+
 // Writes -o (unless --timing-only or the response has no motion; the server's bvh_text as is
 // when it answered one) and --timing (when given) from `response` to the request built from
 // `clip`.

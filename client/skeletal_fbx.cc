@@ -91,10 +91,7 @@ absl::Status WriteFbxOutputs(const SkeletalArgs& args, const v1::RetimeSkeletalR
     if (absl::Status s = WriteFile(args.timing, sheet); !s.ok()) return s;
   }
   if (!args.xdts.empty()) {
-    absl::StatusOr<formats::XdtsSheet> sheet =
-        SkeletalXdtsSheet(response, XdtsClipName(args.input, args.xdts));
-    if (!sheet.ok()) return sheet.status();
-    if (absl::Status s = WriteFile(args.xdts, formats::WriteXdts(*sheet)); !s.ok()) return s;
+    if (absl::Status s = WriteSkeletalXdts(args, response); !s.ok()) return s;
   }
   return absl::OkStatus();
 }

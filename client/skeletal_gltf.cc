@@ -132,10 +132,7 @@ absl::Status WriteGltfOutputs(const SkeletalArgs& args,
                        ": no animation was retimed, so there is no "
                        "exposure sheet to write"));
     }
-    absl::StatusOr<formats::XdtsSheet> sheet =
-        SkeletalXdtsSheet(response, XdtsClipName(args.input, args.xdts));
-    if (!sheet.ok()) return sheet.status();
-    if (absl::Status s = WriteFile(args.xdts, formats::WriteXdts(*sheet)); !s.ok()) return s;
+    if (absl::Status s = WriteSkeletalXdts(args, response); !s.ok()) return s;
   }
   return absl::OkStatus();
 }
