@@ -278,8 +278,10 @@ void AppendArray(std::string& out, const FbxProperty& property) {
         break;
     }
   }
-  std::string stored = raw;
-  if (property.encoding == 1) {
+  std::string stored;
+  if (property.encoding == 0) {
+    stored = std::move(raw);
+  } else {
     uLongf length = compressBound(static_cast<uLong>(raw.size()));
     stored.assign(length, '\0');
     // The fastest level: a take's rewritten curves are megabytes, and every reader inflates

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -356,29 +355,39 @@ absl::StatusOr<FbxTakeRig> ReadFbxTakeRig(const FbxDocument& document, const std
     if (type == "LimbNode" || type == "Root" || type == "Null") kept.insert(id);
   }
   for (const auto& [node, binding] : bindings) kept.insert(binding.model);
+  // Their ancestors, each walked once (a walk stops at a model walked before), so a long
+  // chain costs its length, not its length squared.
+  std::set<int64_t> walked;
   for (int64_t id : std::vector<int64_t>(kept.begin(), kept.end())) {
-    std::set<int64_t> seen{id};
-    for (auto p = parent_of.find(id); p != parent_of.end(); p = parent_of.find(p->second)) {
-      if (!seen.insert(p->second).second) {
-        return Invalid(Where(*by_id[id]), "its parents form a cycle");
-      }
+    std::set<int64_t> this_walk;
+    for (int64_t at = id; walked.insert(at).second;) {
+      this_walk.insert(at);
+      const auto p = parent_of.find(at);
+      if (p == parent_of.end()) break;
+      if (this_walk.count(p->second)) return Invalid(Where(*by_id[id]), "its parents form a cycle");
       kept.insert(p->second);
+      at = p->second;
     }
   }
   std::map<int64_t, int> index_of;
-  // File order, each after its parent.
+  // File order, each after its parent (no recursion: a chain of models may be long).
   std::vector<int64_t> order;
   std::set<int64_t> placed;
-  const std::function<void(int64_t)> place = [&](int64_t id) {
-    if (placed.count(id)) return;
-    const auto p = parent_of.find(id);
-    if (p != parent_of.end() && kept.count(p->second)) place(p->second);
-    placed.insert(id);
-    order.push_back(id);
-  };
   for (const FbxNode& object : objects->children) {
-    if (object.name == "Model" && kept.count(ObjectId(object))) place(ObjectId(object));
+    if (object.name != "Model" || !kept.count(ObjectId(object))) continue;
+    std::vector<int64_t> chain;  // the model and its ancestors not placed yet, child first
+    for (int64_t at = ObjectId(object); !placed.count(at);) {
+      chain.push_back(at);
+      placed.insert(at);
+      const auto p = parent_of.find(at);
+      if (p == parent_of.end()) break;
+      at = p->second;
+    }
+    order.insert(order.end(), chain.rbegin(), chain.rend());
   }
+  // Each model's bindings, for the loop below.
+  std::map<int64_t, std::vector<const Binding*>> bindings_of;
+  for (const auto& [node, binding] : bindings) bindings_of[binding.model].push_back(&binding);
   std::map<int64_t, int> curve_index;
   for (int64_t id : order) {
     const FbxNode& object = *by_id[id];
@@ -406,13 +415,12 @@ absl::StatusOr<FbxTakeRig> ReadFbxTakeRig(const FbxDocument& document, const std
       }
       node.order = static_cast<FbxRotationOrder>(static_cast<int>(order_number));
     }
-    for (const auto& [curve_node, binding] : bindings) {
-      if (binding.model != id) continue;
-      std::array<int, 3>& slots = binding.kind == 0   ? node.translation_curves
-                                  : binding.kind == 1 ? node.rotation_curves
-                                                      : node.scaling_curves;
+    for (const Binding* binding : bindings_of[id]) {
+      std::array<int, 3>& slots = binding->kind == 0   ? node.translation_curves
+                                  : binding->kind == 1 ? node.rotation_curves
+                                                       : node.scaling_curves;
       for (int a = 0; a < 3; ++a) {
-        const int64_t curve_id = binding.curves[static_cast<size_t>(a)];
+        const int64_t curve_id = binding->curves[static_cast<size_t>(a)];
         if (curve_id == 0) continue;
         auto [at, added] = curve_index.emplace(curve_id, static_cast<int>(out.rig.curves.size()));
         if (added) {

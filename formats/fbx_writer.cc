@@ -1,6 +1,7 @@
 // A retimed take written into its FBX file (formats/fbx_scene.h, WriteFbxRetimed).
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -78,13 +79,14 @@ absl::StatusOr<std::string> WriteFbxRetimed(FbxDocument document, const FbxTakeR
   }
   FbxNode* objects = TopLevel(document, "Objects");
   if (objects == nullptr) return absl::InternalError("FBX writer: no Objects");
+  std::map<int64_t, size_t> curve_of;  // AnimationCurve id -> the rig's curve
+  for (size_t c = 0; c < rig.curve_ids.size(); ++c) curve_of[rig.curve_ids[c]] = c;
   StopPoll stop(/*steps_between_checks=*/1 << 14);  // keys written
   for (FbxNode& object : objects->children) {
     if (object.name != "AnimationCurve" || object.properties.empty()) continue;
-    const int64_t id = object.properties[0].integer;
-    size_t c = 0;
-    while (c < rig.curve_ids.size() && rig.curve_ids[c] != id) ++c;
-    if (c == rig.curve_ids.size()) continue;  // another take's or layer's: as it was
+    const auto found = curve_of.find(object.properties[0].integer);
+    if (found == curve_of.end()) continue;  // another take's or layer's: as it was
+    const size_t c = found->second;
     if (stop.Stop(static_cast<int64_t>(times.size()))) return stop.status();
     const FbxKeyCurve& curve = rig.rig.curves[c];
     std::vector<double> values(sample_ticks.size());

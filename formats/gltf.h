@@ -82,6 +82,11 @@ absl::StatusOr<std::string> WriteGltf(const GltfDocument& document,
 // "glTF" magic at the start: a GLB container.
 bool IsGlb(std::string_view bytes);
 
+// What a glTF file's JSON document (and tinygltf's model of it) grows with: the bytes of its
+// JSON (a GLB's JSON chunk, as its header states it) outside strings of 256 bytes or more,
+// which are data: URIs and base64 buffers, one value each however long.
+int64_t GltfJsonStructureBytes(std::string_view file);
+
 }  // namespace koma::formats
 
 #endif  // KOMA_FORMATS_GLTF_H_

@@ -1,4 +1,5 @@
 // The GLB container, JSON pre-checks, accessor decoding and base64 (formats/gltf_internal.h).
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -136,6 +137,29 @@ std::string JoinGlb(std::string_view json, std::string_view bin) {
     out.append(bin_padded - bin.size(), '\0');
   }
   return out;
+}
+
+int64_t GltfJsonStructureBytes(std::string_view file) {
+  constexpr size_t kLongString = 256;  // data: URIs and base64 buffers are no longer
+  std::string_view json = file;
+  if (file.size() >= 20 && IsGlb(file)) {
+    json = file.substr(20, std::min<size_t>(ReadU32(file, 12), file.size() - 20));
+  }
+  int64_t structure = 0;
+  size_t i = 0;
+  while (i < json.size()) {
+    if (json[i] != '"') {
+      ++structure;
+      ++i;
+      continue;
+    }
+    size_t end = i + 1;
+    while (end < json.size() && json[end] != '"') end += json[end] == '\\' ? 2 : 1;
+    const size_t length = std::min(end + 1, json.size()) - i;
+    if (length < kLongString) structure += static_cast<int64_t>(length);
+    i += length;
+  }
+  return structure;
 }
 
 absl::Status CheckGltfJson(const nlohmann::ordered_json& json, const GltfReadLimits& limits) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "formats/gltf.h"
+
 namespace koma::server {
 namespace {
 
@@ -41,8 +43,6 @@ constexpr int64_t kFbxFactor = 8;
 // glTF: the bytes (and the buffers copied out of them) 3x, its JSON structure 72x.
 constexpr int64_t kGltfBytesFactor = 3;
 constexpr int64_t kGltfJsonFactor = 72;
-// Strings at least this long (data URIs, base64 buffers) count as bytes, not structure.
-constexpr size_t kLongJsonString = 256;
 
 int64_t Factor(FileKind kind, bool parse) {
   switch (kind) {
@@ -66,33 +66,6 @@ int64_t Factor(FileKind kind, bool parse) {
   return kMotion3Factor;
 }
 
-uint32_t LittleEndian32(std::string_view bytes, size_t at) {
-  uint32_t value = 0;
-  for (int i = 3; i >= 0; --i) {
-    value = value << 8 | static_cast<unsigned char>(bytes[at + static_cast<size_t>(i)]);
-  }
-  return value;
-}
-
-// The bytes of JSON text outside strings of kLongJsonString bytes or more.
-int64_t JsonStructureBytes(std::string_view text) {
-  int64_t structure = 0;
-  size_t i = 0;
-  while (i < text.size()) {
-    if (text[i] != '"') {
-      ++structure;
-      ++i;
-      continue;
-    }
-    size_t end = i + 1;
-    while (end < text.size() && text[end] != '"') end += text[end] == '\\' ? 2 : 1;
-    const size_t length = std::min(end + 1, text.size()) - i;
-    if (length < kLongJsonString) structure += static_cast<int64_t>(length);
-    i += length;
-  }
-  return structure;
-}
-
 }  // namespace
 
 int64_t FileParseFootprint(int64_t file_bytes, FileKind kind) {
@@ -104,12 +77,8 @@ int64_t FileOverheadFootprint(int64_t file_bytes, FileKind kind) {
 }
 
 int64_t GltfFootprint(std::string_view file) {
-  std::string_view json = file;
-  if (file.size() >= 20 && file.substr(0, 4) == "glTF") {
-    json = file.substr(20, std::min<size_t>(LittleEndian32(file, 12), file.size() - 20));
-  }
   return FileParseFootprint(static_cast<int64_t>(file.size()), FileKind::kGltf) +
-         kGltfJsonFactor * JsonStructureBytes(json);
+         kGltfJsonFactor * formats::GltfJsonStructureBytes(file);
 }
 
 int64_t ReceivedFootprint(int64_t request_bytes) { return kFixedBytes + 2 * request_bytes; }

@@ -114,39 +114,35 @@ class SkeletalClipCall final : public SkeletalCall {
   std::vector<std::string> warnings_;
 };
 
-// A glTF file (.glb, .gltf, .vrm, .vrma): sent whole, the server's file written back.
-class GltfClipCall final : public SkeletalCall {
- public:
-  GltfClipCall(const SkeletalArgs& args, v1::RetimeSkeletalRequest request)
-      : SkeletalCall(std::move(request)), args_(args) {}
-
-  absl::Status Write(const BatchItem& item) override {
-    if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
-    const SkeletalArgs args = ArgsFor(args_, item);
-    if (absl::Status s = WriteGltfOutputs(args, response_); !s.ok()) return s;
-    if (item.report.empty()) return absl::OkStatus();
-    return WriteGltfReport(item.report, request_, response_, item.input);
-  }
-
- private:
-  const SkeletalArgs& args_;
+// A file the server reads and answers whole (glTF: .glb, .gltf, .vrm, .vrma; FBX): the
+// request is built and the answer written by that format's own functions, as `koma skeletal`
+// does for it.
+struct SkeletalFileFormat {
+  absl::StatusOr<v1::RetimeSkeletalRequest> (*build)(const SkeletalArgs&, std::string);
+  absl::Status (*write_outputs)(const SkeletalArgs&, const v1::RetimeSkeletalResponse&);
+  absl::Status (*write_report)(const std::string&, const v1::RetimeSkeletalRequest&,
+                               const v1::RetimeSkeletalResponse&, const std::string&);
 };
+constexpr SkeletalFileFormat kGltfFile{BuildGltfRequest, WriteGltfOutputs, WriteGltfReport};
+constexpr SkeletalFileFormat kFbxFile{BuildFbxRequest, WriteFbxOutputs, WriteFbxReport};
 
-class FbxClipCall final : public SkeletalCall {
+class SkeletalFileCall final : public SkeletalCall {
  public:
-  FbxClipCall(const SkeletalArgs& args, v1::RetimeSkeletalRequest request)
-      : SkeletalCall(std::move(request)), args_(args) {}
+  SkeletalFileCall(const SkeletalArgs& args, const SkeletalFileFormat& format,
+                   v1::RetimeSkeletalRequest request)
+      : SkeletalCall(std::move(request)), args_(args), format_(format) {}
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
     const SkeletalArgs args = ArgsFor(args_, item);
-    if (absl::Status s = WriteFbxOutputs(args, response_); !s.ok()) return s;
+    if (absl::Status s = format_.write_outputs(args, response_); !s.ok()) return s;
     if (item.report.empty()) return absl::OkStatus();
-    return WriteFbxReport(item.report, request_, response_, item.input);
+    return format_.write_report(item.report, request_, response_, item.input);
   }
 
  private:
   const SkeletalArgs& args_;
+  const SkeletalFileFormat& format_;
 };
 
 class SkeletalRpc final : public Rpc {
@@ -154,20 +150,14 @@ class SkeletalRpc final : public Rpc {
   explicit SkeletalRpc(const SkeletalArgs& args) : args_(args) {}
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
-    if (FormatFromName(item.input) == FileFormat::kGltf) {
+    const FileFormat named = FormatFromName(item.input);
+    if (named == FileFormat::kGltf || named == FileFormat::kFbx) {
+      const SkeletalFileFormat& format = named == FileFormat::kGltf ? kGltfFile : kFbxFile;
       absl::StatusOr<std::string> bytes = ReadFile(item.input);
       if (!bytes.ok()) return bytes.status();
-      absl::StatusOr<v1::RetimeSkeletalRequest> request =
-          BuildGltfRequest(args_, *std::move(bytes));
+      absl::StatusOr<v1::RetimeSkeletalRequest> request = format.build(args_, *std::move(bytes));
       if (!request.ok()) return WithPath(item, request.status());
-      return std::make_unique<GltfClipCall>(args_, *std::move(request));
-    }
-    if (FormatFromName(item.input) == FileFormat::kFbx) {
-      absl::StatusOr<std::string> bytes = ReadFile(item.input);
-      if (!bytes.ok()) return bytes.status();
-      absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildFbxRequest(args_, *std::move(bytes));
-      if (!request.ok()) return WithPath(item, request.status());
-      return std::make_unique<FbxClipCall>(args_, *std::move(request));
+      return std::make_unique<SkeletalFileCall>(args_, format, *std::move(request));
     }
     absl::StatusOr<SkeletalInput> input = ReadSkeletalFile(item.input);
     if (!input.ok()) return input.status();
