@@ -36,43 +36,45 @@ open(sys.argv[1], 'wb').write(glb)
 PY
 
 grace_ms=500
-start_server "$server_bin" --shutdown_delay_ms=0 --shutdown_grace_ms=$grace_ms --worker_threads=1 \
-  --max_gltf_animations=100000
-"$client_bin" skeletal "$work/many.glb" -o "$work/many_anime.glb" --server "$target" \
-  --deadline 60 -q >"$work/client.out" 2>&1 &
-client_pid=$!
-sleep 1.5
-not_running "$client_pid" && fail "the slow call ended within 1.5 s: $(cat "$work/client.out")"
-stop_server 10
-# shellcheck disable=SC2154  # set by stop_server_as (lib.sh)
-echo "stopped ${stopped_ms} ms after SIGTERM (grace ${grace_ms} ms)"
-[ "$stopped_ms" -lt $((grace_ms + 1500)) ] ||
-  fail "the server took ${stopped_ms} ms to stop, grace ${grace_ms} ms"
+# sigterm_during WHAT SERVER_FLAGS... -- CLIENT_ARGS...: starts the server with the flags, the
+# client call in the background, sends SIGTERM 1.5 s in (the call still running), and checks
+# the server stopped within the grace plus 1.5 s and the call did not succeed.
+sigterm_during() {
+  local what=$1 flags=() client_pid
+  shift
+  while [ "$1" != "--" ]; do flags+=("$1"); shift; done
+  shift
+  : >"$work/server.log"
+  start_server "$server_bin" --shutdown_delay_ms=0 --shutdown_grace_ms=$grace_ms \
+    --worker_threads=1 "${flags[@]}"
+  "$client_bin" "$@" --server "$target" --deadline 60 -q >"$work/client.out" 2>&1 &
+  client_pid=$!
+  sleep 1.5
+  not_running "$client_pid" && fail "$what ended within 1.5 s: $(cat "$work/client.out")"
+  stop_server 10
+  # shellcheck disable=SC2154  # set by stop_server_as (lib.sh)
+  echo "$what: stopped ${stopped_ms} ms after SIGTERM (grace ${grace_ms} ms)"
+  [ "$stopped_ms" -lt $((grace_ms + 1500)) ] ||
+    fail "the server took ${stopped_ms} ms to stop, grace ${grace_ms} ms"
+  wait "$client_pid" && fail "the cancelled call ($what) succeeded"
+  return 0
+}
+
+sigterm_during "the GLB" --max_gltf_animations=100000 -- \
+  skeletal "$work/many.glb" -o "$work/many_anime.glb"
 grep -q "exiting without them" "$work/server.log" ||
   fail "the log does not say why it exited: $(tail -3 "$work/server.log")"
-wait "$client_pid" && fail "the cancelled call succeeded"
 
 # A call that polls its stop signal: cancelled at the end of the grace, logged, no watchdog.
 PYTHONPATH="$(dirname "$0")/hostile" "$python" -c '
 import sys, hostile_files
 open(sys.argv[1], "wb").write(hostile_files.flac_silence(1_000_000, 8, 2500, 0))' "$work/long.flac"
-: >"$work/server.log"
-start_server "$server_bin" --shutdown_delay_ms=0 --shutdown_grace_ms=$grace_ms --worker_threads=1 \
-  --max_audio_samples=100000000000 --log_format=json
-"$client_bin" lipblink --audio "$work/long.flac" -o "$work/voice.motion3.json" \
-  --server "$target" --deadline 60 -q >"$work/client.out" 2>&1 &
-client_pid=$!
-sleep 1.5
-not_running "$client_pid" && fail "the decoding ended within 1.5 s: $(cat "$work/client.out")"
-stop_server 10
-echo "decoding: stopped ${stopped_ms} ms after SIGTERM (grace ${grace_ms} ms)"
-[ "$stopped_ms" -lt $((grace_ms + 1500)) ] ||
-  fail "the server took ${stopped_ms} ms to stop, grace ${grace_ms} ms"
+sigterm_during "the decoding" --max_audio_samples=100000000000 --log_format=json -- \
+  lipblink --audio "$work/long.flac" -o "$work/voice.motion3.json"
 grep -q '"code":"CANCELLED".*the work stopped' "$work/server.log" ||
   fail "the decoding call is not logged CANCELLED: $(tail -3 "$work/server.log")"
 grep -q "exiting without them" "$work/server.log" &&
   fail "the watchdog exited although the call polls its stop signal"
-wait "$client_pid" && fail "the cancelled call succeeded"
 
 # Nothing in flight: the drain ends at once, without the forced exit.
 start_server "$server_bin" --shutdown_delay_ms=0 --shutdown_grace_ms=5000
