@@ -13,7 +13,7 @@
 #include "client/skeletal_gltf.h"
 #include "client/skeletal_summary.h"
 #include "client/xdts_sheets.h"
-#include "core/fbx_rig.h"
+#include "convert/fbx_convert.h"
 #include "formats/fbx.h"
 #include "formats/fbx_scene.h"
 #include "formats/number_format.h"
@@ -112,18 +112,7 @@ absl::Status WriteFbxReport(const std::string& path, const v1::RetimeSkeletalReq
   }
   v1::RetimeSkeletalRequest shown = request;
   shown.clear_fbx();
-  v1::SkeletalMotion* motion = shown.mutable_motion();
-  for (size_t i = 0; i < rig->names.size(); ++i) {
-    v1::Joint* joint = motion->mutable_skeleton()->add_joints();
-    joint->set_name(rig->names[i]);
-    joint->set_parent(rig->rig.nodes[i].parent);
-  }
-  const int frames = response.fbx_take().frame_count();
-  motion->set_frame_time(1.0 / rig->fps);
-  motion->set_frame_count(frames);
-  const std::vector<double> positions =
-      FbxNodePositions(rig->rig, rig->take.start, rig->fps, frames);
-  motion->mutable_positions()->mutable_values()->Add(positions.begin(), positions.end());
+  *shown.mutable_motion() = convert::FbxMotion(*rig, response.fbx_take().frame_count());
   return report::WriteSkeletalReport(path, shown, response, input);
 }
 

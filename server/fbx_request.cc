@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "absl/strings/str_cat.h"
+#include "convert/fbx_convert.h"
 #include "core/fbx_rig.h"
 #include "core/status_macros.h"
 #include "core/stop_check.h"
@@ -20,17 +21,6 @@ namespace {
 
 absl::Status InFbx(const absl::Status& status) {
   return absl::Status(status.code(), absl::StrCat("fbx: ", status.message()));
-}
-
-// The skeleton of the positions form: the rig's models, each with its parent.
-v1::Skeleton RigSkeleton(const formats::FbxTakeRig& rig) {
-  v1::Skeleton skeleton;
-  for (size_t i = 0; i < rig.names.size(); ++i) {
-    v1::Joint* joint = skeleton.add_joints();
-    joint->set_name(rig.names[i]);
-    joint->set_parent(rig.rig.nodes[i].parent);
-  }
-  return skeleton;
 }
 
 }  // namespace
@@ -85,15 +75,8 @@ absl::Status HandleRetimeSkeletalFbx(const v1::RetimeSkeletalRequest& request,
   decoded.clear_fbx();
   decoded.clear_fbx_take();
   decoded.set_return_motion(false);
-  v1::SkeletalMotion* motion = decoded.mutable_motion();
-  *motion->mutable_skeleton() = RigSkeleton(*rig);
-  motion->set_frame_time(1.0 / rig->fps);
-  motion->set_frame_count(static_cast<int32_t>(frames));
-  {
-    const std::vector<double> positions = FbxNodePositions(rig->rig, take.start, rig->fps, frames);
-    KOMA_RETURN_IF_ERROR(StopReason());  // a stopped evaluation left positions unfinished
-    motion->mutable_positions()->mutable_values()->Add(positions.begin(), positions.end());
-  }
+  *decoded.mutable_motion() = convert::FbxMotion(*rig, frames);
+  KOMA_RETURN_IF_ERROR(StopReason());  // a stopped evaluation left positions unfinished
   KOMA_RETURN_IF_ERROR(GrowCallReservation(
       FileOverheadFootprint(static_cast<int64_t>(bytes.size()), FileKind::kFbx) +
           ExpectedFootprint(decoded, static_cast<int64_t>(bytes.size()), limits),
