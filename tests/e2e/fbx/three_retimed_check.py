@@ -20,7 +20,7 @@ def fail(message):
 
 
 def main():
-    tool, script, folder = sys.argv[1:4]
+    tool, script, folder = (os.path.abspath(a) for a in sys.argv[1:4])
     checked = 0
     for name in sorted(os.listdir(folder)):
         if not name.endswith('.fbx') or name.endswith('.anime.fbx'):
