@@ -1,10 +1,16 @@
-"""koma for Blender: retime the active armature's action into anime timing (RetimeSkeletal).
+"""koma for Blender: retime the active armature's action, or a motion file, into anime timing
+(RetimeSkeletal).
 
-The operator samples the bones' world head positions over the action's frame range (the
+Action mode: the operator samples the bones' world head positions over the action's frame range (the
 positions form of RetimeSkeletal: no BVH export), asks a koma_server for the timing map, and
 writes a new action "<name>.anime" on the armature: every output frame t is keyed with the pose
 of source frame source_frames[t] (each F-curve of the action evaluated there), with CONSTANT
 interpolation, so playback shows held drawings. The original action is kept (fake user).
+
+File mode: the operator sends a motion file (FBX, glTF/GLB/VRM, BVH) as it is to the server (a
+file request, as `koma skeletal FILE -o OUT`), writes the retimed file the server returns
+(default next to the source, "<name>.anime.<ext>"), byte for byte what the CLI and the Python
+package write for the same options, and imports it with Blender's own importer for its format.
 
 Installed from its zip (build/dist/koma_retime-VERSION.zip: Preferences > Add-ons > Install),
 it carries the pure-Python `koma` package; only grpcio and protobuf must come from Blender's
@@ -13,7 +19,9 @@ instead, it needs the `koma` package of a build (build/python, docs/python.md): 
 add-on's preference "koma package folder" (or the KOMA_PYTHONPATH environment variable) to the
 folder that holds it. The preference and the variable win over the bundled copy.
 """
+import builtins
 import os
+import pathlib
 import sys
 
 import bpy
@@ -24,7 +32,8 @@ bl_info = {
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
     "location": "3D Viewport > Sidebar > koma",
-    "description": "Inbetween omission and holds on the active armature's action (koma_server)",
+    "description": "Inbetween omission and holds on the active armature's action or a motion "
+                   "file (FBX, glTF, BVH) (koma_server)",
     "category": "Animation",
 }
 
@@ -98,6 +107,20 @@ class KomaSettings(bpy.types.PropertyGroup):
                     "scene's own frames)")
     timeout: bpy.props.FloatProperty(name="Timeout", default=60.0, min=0.1,
                                      description="Seconds the server may take")
+    motion_file: bpy.props.StringProperty(
+        name="Motion file", subtype="FILE_PATH",
+        description="File mode: the motion file to retime (.fbx, .glb, .gltf, .vrm, .vrma, "
+                    ".bvh), sent to the server as it is")
+    output_file: bpy.props.StringProperty(
+        name="Output", subtype="FILE_PATH",
+        description="File mode: where the retimed file goes; empty: next to the motion file, "
+                    "as <name>.anime.<ext>")
+    take: bpy.props.StringProperty(
+        name="Take", description="File mode: the FBX take or the glTF animation to retime; "
+                                 "empty: the server's default (an FBX file's current take, "
+                                 "every glTF animation)")
+    last_summary: bpy.props.StringProperty(
+        name="Last result", description="What the last file retime did (also in the Info log)")
 
 
 def sample_positions(context, armature, start, end):
@@ -146,10 +169,12 @@ PRESET_NAMES = {"PAPER": "paper", "TWOS": "twos", "THREES": "threes"}
 
 
 def request_options(settings):
-    """The RetimeSkeletal options of the panel's settings (unset ones: the server's defaults),
-    with `preset` for Client.retime_skeletal (values set here win over it)."""
-    options = {"timing_fps": settings.timing_fps, "return_motion": False,
-               "preset": PRESET_NAMES.get(settings.preset)}
+    """The RetimeSkeletal options of the panel's settings (unset ones, and the timing rate left
+    at its default: not sent, so the server's defaults apply), with `preset` for
+    Client.retime_skeletal (values set here win over it)."""
+    options = {"preset": PRESET_NAMES.get(settings.preset)}
+    if settings.is_property_set("timing_fps"):
+        options["timing_fps"] = settings.timing_fps
     if settings.max_hold > 0:
         options["max_hold"] = settings.max_hold
     if settings.omissions_per_second > 0:
@@ -161,6 +186,17 @@ def request_options(settings):
     if settings.drawings_per_second > 0:
         options["drawings_per_second"] = settings.drawings_per_second
     return options
+
+
+def _koma_or_none(operator, context):
+    """The koma package as the add-on's preference finds it, or None with an error report."""
+    try:
+        addon = context.preferences.addons.get(__name__)
+        return _import_koma(addon.preferences.package_folder if addon else "")
+    except ImportError as error:
+        operator.report({"ERROR"}, f"cannot import koma ({error}); set the add-on's koma "
+                                   "package folder")
+        return None
 
 
 class KOMA_OT_retime_action(bpy.types.Operator):
@@ -183,16 +219,12 @@ class KOMA_OT_retime_action(bpy.types.Operator):
         if end - start < 1:
             self.report({"ERROR"}, f"{source.name}: needs at least 2 frames")
             return {"CANCELLED"}
-        try:
-            addon = context.preferences.addons.get(__name__)
-            koma = _import_koma(addon.preferences.package_folder if addon else "")
-        except ImportError as error:
-            self.report({"ERROR"}, f"cannot import koma ({error}); set the add-on's koma "
-                                   "package folder")
+        koma = _koma_or_none(self, context)
+        if koma is None:
             return {"CANCELLED"}
         names, parents, values = sample_positions(context, armature, start, end)
         fps = context.scene.render.fps / context.scene.render.fps_base
-        options = request_options(settings)
+        options = dict(request_options(settings), return_motion=False)
         try:
             with koma.Client(settings.server, timeout=settings.timeout) as client:
                 result = client.retime_skeletal(
@@ -210,6 +242,207 @@ class KOMA_OT_retime_action(bpy.types.Operator):
         return {"FINISHED"}
 
 
+# File mode: each format the server takes as a file, by the file's extension, with Blender's
+# importer for the retimed file the server returns in the same format.
+FILE_FORMATS = {".fbx": "FBX", ".glb": "glTF", ".gltf": "glTF", ".vrm": "glTF", ".vrma": "glTF",
+                ".bvh": "BVH"}
+
+
+def output_path(source, chosen=""):
+    """Where the retimed file goes: `chosen` (a Blender path, "//" relative to the .blend), else
+    next to `source` as "<name>.anime<ext>"."""
+    if chosen:
+        return bpy.path.abspath(chosen)
+    stem, ext = os.path.splitext(source)
+    return stem + ".anime" + ext
+
+
+def file_request_options(settings, file_format):
+    """request_options plus the take for the file's format (FBX fbx_take, glTF
+    gltf_animations); empty take: not sent (the server's default)."""
+    options = request_options(settings)
+    take = settings.take.strip()
+    if take:
+        if file_format == "FBX":
+            options["fbx_take"] = take
+        elif file_format == "glTF":
+            options["gltf_animations"] = [take]
+        else:
+            raise ValueError(f"Take {take!r}: a BVH file has one take; leave Take empty")
+    return options
+
+
+def _bvh_open(file, mode="r", *args, **kwargs):
+    """open() without the 'U' mode Debian's Blender 3.4 BVH importer passes ('rU'), which
+    Python 3.11 refuses."""
+    return builtins.open(file, mode.replace("U", ""), *args, **kwargs)
+
+
+def import_retimed(path, file_format, output_fps):
+    """Imports `path` with Blender's importer for its format; the importer's result set.
+    FBX: the importer sets the scene's rate to the file's. glTF: the importer keys at the
+    scene's rate, so the scene gets the file's (output_fps) first. BVH: the importer sets the
+    scene's rate and length (update_scene_fps, update_scene_duration). Two fixes for Debian's
+    Blender 3.4 on Python 3.11 and numpy 1.24 are applied around the call only (_bvh_open, and
+    numpy.bool below)."""
+    scene = bpy.context.scene
+    if file_format == "FBX":
+        return bpy.ops.import_scene.fbx(filepath=path)
+    if file_format == "glTF":
+        if output_fps > 0:
+            scene.render.fps = max(1, round(output_fps))
+            scene.render.fps_base = scene.render.fps / output_fps
+        # Debian's Blender 3.4 glTF importer uses numpy's `np.bool`, which Debian 12's numpy
+        # 1.24 removed (it was an alias of the builtin): lent for the import only.
+        import numpy
+        lent = "bool" not in vars(numpy)  # (hasattr would warn)
+        if lent:
+            numpy.bool = bool
+        try:
+            return bpy.ops.import_scene.gltf(filepath=path)
+        finally:
+            if lent:
+                del numpy.bool
+    from io_anim_bvh import import_bvh
+    patched = sys.version_info >= (3, 11) and "open" not in vars(import_bvh)
+    if patched:
+        import_bvh.open = _bvh_open
+    try:
+        return bpy.ops.import_anim.bvh(filepath=path, update_scene_fps=True,
+                                       update_scene_duration=True)
+    finally:
+        if patched:
+            del import_bvh.open
+
+
+def short_error(error):
+    """An operator's RuntimeError as one line: for a Python error inside the importer (the
+    message is "Error: Python: Traceback ..."), its last line, the exception itself."""
+    lines = [line.strip() for line in str(error).splitlines()
+             if line.strip() and not line.strip().startswith("Location:")]
+    if not lines:
+        return type(error).__name__
+    return lines[-1] if "Traceback" in lines[0] else lines[0].removeprefix("Error: ")
+
+
+def drawings_shown(source_frames):
+    """Runs of one drawing (source frame) in the output, as the CLI's summary counts them."""
+    return sum(1 for t, f in enumerate(source_frames) if t == 0 or f != source_frames[t - 1])
+
+
+def file_summary(result, out_path, file_format):
+    """One line: what the retime did to the file (counts as the CLI's summary names them)."""
+    c = result.counts
+    parts = [f"{os.path.basename(out_path)}: {c['frames']} frames, "
+             f"{drawings_shown(result.source_frames)} drawings, omitted "
+             f"{c['omissions_applied']}, held {c['holds_applied']}"]
+    if result.take is not None:
+        parts.append(f"take \"{result.take['name']}\" at {result.take['output_fps']:g} fps")
+    if result.animations:
+        names = ", ".join(f"\"{a['name'] or a['index']}\"" for a in result.animations)
+        parts.append(f"animations {names} at {result.animations[0]['output_fps']:g} fps")
+    if result.cut_frames:
+        parts.append(f"cuts before frames {result.cut_frames}")
+    if result.warnings:
+        parts.append(f"{len(result.warnings)} warning(s)")
+    return "; ".join(parts)
+
+
+class KOMA_OT_retime_file(bpy.types.Operator):
+    """Retime a motion file (FBX, glTF, BVH) with a koma_server, write the retimed file and
+    import it"""
+    bl_idname = "koma.retime_file"
+    bl_label = "Retime file (koma)"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filepath: bpy.props.StringProperty(
+        name="Motion file", subtype="FILE_PATH", options={"SKIP_SAVE"},
+        description="The motion file; empty: the panel's Motion file")
+    filter_glob: bpy.props.StringProperty(
+        default="*.fbx;*.glb;*.gltf;*.vrm;*.vrma;*.bvh", options={"HIDDEN", "SKIP_SAVE"})
+
+    def invoke(self, context, event):
+        if self.filepath or context.scene.koma.motion_file:
+            return self.execute(context)
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def fail(self, message):
+        bpy.context.scene.koma.last_summary = message
+        self.report({"ERROR"}, message)
+        return {"CANCELLED"}
+
+    def execute(self, context):
+        settings = context.scene.koma
+        if self.filepath:
+            settings.motion_file = self.filepath
+        if not settings.motion_file:
+            return self.fail("koma: choose a motion file (.fbx, .glb, .gltf, .vrm, .vrma, .bvh)")
+        source = bpy.path.abspath(settings.motion_file)
+        file_format = FILE_FORMATS.get(os.path.splitext(source)[1].lower())
+        if file_format is None:
+            return self.fail(f"koma: {os.path.basename(source)}: not a motion file koma "
+                             "takes (.fbx, .glb, .gltf, .vrm, .vrma, .bvh)")
+        out_path = output_path(source, settings.output_file)
+        if os.path.abspath(out_path) == os.path.abspath(source):
+            return self.fail(f"koma: the output {out_path} is the motion file itself")
+        koma = _koma_or_none(self, context)
+        if koma is None:
+            return {"CANCELLED"}
+        try:
+            options = file_request_options(settings, file_format)
+            # By its path, as `koma skeletal FILE` sends it: the package reads the file and
+            # puts it in the request's fbx, gltf or bvh_text field by its extension.
+            with koma.Client(settings.server, timeout=settings.timeout) as client:
+                result = client.retime_skeletal(pathlib.Path(source), **options)
+        except koma.KomaError as error:
+            return self.fail(f"koma: {error.code.name}: {error.message}")
+        except OSError as error:
+            return self.fail(f"koma: cannot read {source}: {error.strerror or error}")
+        except (TypeError, ValueError) as error:
+            return self.fail(f"koma: {error}")
+        try:
+            result.write(out_path)
+        except (OSError, ValueError) as error:
+            return self.fail(f"koma: cannot write {out_path}: "
+                             f"{getattr(error, 'strerror', None) or error}")
+        output_fps = result.animations[0]["output_fps"] if result.animations else 0.0
+        objects_before = set(bpy.data.objects)
+        try:
+            if bpy.ops.object.mode_set.poll():
+                bpy.ops.object.mode_set(mode="OBJECT")
+            imported = import_retimed(out_path, file_format, output_fps)
+        except RuntimeError as error:
+            return self.fail(f"koma: wrote {out_path}, but Blender's {file_format} importer "
+                             f"refused it: {short_error(error)}")
+        if imported != {"FINISHED"}:
+            return self.fail(f"koma: wrote {out_path}, but Blender's {file_format} importer "
+                             f"returned {sorted(imported)}")
+        new = [o for o in bpy.data.objects if o not in objects_before]
+        armatures = [o for o in new if o.type == "ARMATURE"]
+        summary = file_summary(result, out_path, file_format)
+        for obj in armatures:
+            data = obj.animation_data
+            if data is not None and data.action is not None:
+                data.action["koma_source_file"] = source
+                data.action["koma_source_frames"] = list(result.source_frames)
+        if armatures:
+            context.view_layer.objects.active = armatures[0]
+            summary += f"; imported as {armatures[0].name}"
+            action = armatures[0].animation_data and armatures[0].animation_data.action
+            if action is not None:
+                scene = context.scene
+                scene.frame_start, scene.frame_end = (int(round(f)) for f in action.frame_range)
+                if file_format == "glTF":  # STEP keys: the last drawing lasts to the end
+                    scene.frame_end = scene.frame_start + len(result.source_frames) - 1
+        settings.last_summary = summary
+        for warning in result.warnings:
+            self.report({"WARNING"}, f"koma: {warning}")
+        self.report({"INFO"}, summary)
+        return {"FINISHED"}
+
+
+
 class KOMA_PT_panel(bpy.types.Panel):
     bl_label = "koma: anime timing"
     bl_space_type = "VIEW_3D"
@@ -223,9 +456,17 @@ class KOMA_PT_panel(bpy.types.Panel):
                      "drawings_per_second", "timing_fps", "server", "timeout"):
             layout.prop(settings, name)
         layout.operator(KOMA_OT_retime_action.bl_idname)
+        box = layout.box()
+        box.label(text="File (FBX, glTF, BVH)")
+        for name in ("motion_file", "take", "output_file"):
+            box.prop(settings, name)
+        box.operator(KOMA_OT_retime_file.bl_idname)
+        if settings.last_summary:
+            box.label(text=settings.last_summary)
 
 
-_classes = (KomaPreferences, KomaSettings, KOMA_OT_retime_action, KOMA_PT_panel)
+_classes = (KomaPreferences, KomaSettings, KOMA_OT_retime_action, KOMA_OT_retime_file,
+            KOMA_PT_panel)
 
 
 def register():

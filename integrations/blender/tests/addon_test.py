@@ -1,7 +1,7 @@
 """Headless Blender test of the koma add-on against the real koma_server on loopback.
 
     blender -b --factory-startup --python-exit-code 1 --python addon_test.py -- \
-        KOMA_SERVER ADDON_PARENT_DIR KOMA_PYTHON_DIR
+        KOMA_SERVER ADDON_PARENT_DIR KOMA_PYTHON_DIR KOMA_CLI SOURCE_DIR
 
 Enables the add-on through addon_utils with its "koma package folder" preference set (koma
 itself is not on Blender's path), builds an armature with a keyed action (an arm swinging slow-fast-slow while the root
@@ -10,7 +10,9 @@ frame keyed, CONSTANT interpolation, each key the source pose the timing map nam
 is the one koma answers for the same bone positions sampled here independently. Once at
 24 fps (no grid), once for a 120 fps action on the 24 fps film grid (the paper's counts, then
 on threes), and once with the panel's defaults (the server's anime timing). Then a wrong
-server address: the operator cancels with koma's error and writes nothing.
+server address: the operator cancels with koma's error and writes nothing. Then the file
+mode (file_mode_checks.py): real FBX, GLB and BVH files retimed, written with the CLI's bytes,
+imported and checked against the source; and its errors.
 """
 import os
 import sys
@@ -20,12 +22,14 @@ import bpy
 
 import addon_utils
 
-server_bin, addon_parent, package_dir = sys.argv[sys.argv.index("--") + 1:][:3]
+server_bin, addon_parent, package_dir, cli_bin, source_dir = \
+    sys.argv[sys.argv.index("--") + 1:][:5]
 # The add-on is found on sys.path; `koma` is not: the add-on finds it through its preference.
 sys.path.insert(0, addon_parent)
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from blender_test_helpers import (check_anime_action, expected_source_frames,  # noqa: E402
                                   make_armature, run_operator, start_server, stop_server)
+from file_mode_checks import check_file_mode  # noqa: E402
 
 
 def main():
@@ -128,6 +132,9 @@ def main():
             assert "UNAVAILABLE" in str(error), error
         assert len(bpy.data.actions) == actions_before
         assert obj.animation_data.action == source
+
+        settings.server = address
+        check_file_mode(address, cli_bin, source_dir, workdir)
     finally:
         stop_server(process)
     print("koma Blender add-on test: PASS")

@@ -7,17 +7,21 @@
 Blender's own installer (bpy.ops.preferences.addon_install, what Preferences > Add-ons >
 Install runs), into the user scripts folder; enables it (bpy.ops.preferences.addon_enable); with
 no package folder set and no $KOMA_PYTHONPATH, retimes a keyed armature's action and checks
-the "<name>.anime" action against the timing map koma answers for the same positions. The koma
-package used must be the zip's copy, installed under the user scripts folder, at the project's
-version; only grpcio and protobuf come from Blender's Python.
+the "<name>.anime" action against the timing map koma answers for the same positions; then the
+file mode on a real FBX (the same panel options): the written file against koma.Client's bytes,
+imported by Blender's FBX importer. The koma package used must be the zip's copy, installed
+under the user scripts folder, at the project's version; only grpcio and protobuf come from
+Blender's Python.
 """
 import os
+import shutil
 import sys
 import tempfile
 
 import bpy
 
 server_bin, addon_zip, version = sys.argv[sys.argv.index("--") + 1:][:3]
+_SOURCE_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from blender_test_helpers import (check_anime_action, expected_source_frames,  # noqa: E402
                                   make_armature, run_operator, start_server, stop_server)
@@ -61,6 +65,24 @@ def main():
         check_anime_action(obj, source, expected)
         print(f"installed from {os.path.basename(addon_zip)}; koma {koma.__version__} from "
               f"{os.path.dirname(where)}; {expected.counts}")
+
+        # The file mode with the zip's package: a real FBX retimed, written next to it with
+        # the bytes koma.Client gives, and imported by Blender's FBX importer.
+        fbx = os.path.join(workdir, "huesitos.fbx")
+        shutil.copyfile(os.path.join(_SOURCE_DIR, "tests", "testdata", "fbx",
+                                     "assimp_huesitos.fbx"), fbx)
+        bpy.context.scene.koma.motion_file = fbx
+        before = set(bpy.data.objects)
+        assert bpy.ops.koma.retime_file() == {"FINISHED"}
+        with koma.Client(address, timeout=30) as client:
+            want = client.retime_skeletal(fbx, timing_fps=0, omissions=2, max_hold=3)
+        with open(os.path.join(workdir, "huesitos.anime.fbx"), "rb") as f:
+            assert f.read() == want.output_bytes, "the file mode's FBX differs from koma.Client's"
+        imported = [o for o in bpy.data.objects if o not in before and o.type == "ARMATURE"]
+        assert len(imported) == 1, imported
+        keys = {len(c.keyframe_points) for c in imported[0].animation_data.action.fcurves}
+        assert keys == {len(want.source_frames)}, keys
+        print(f"file mode: {bpy.context.scene.koma.last_summary}")
     finally:
         stop_server(process)
     print("koma Blender add-on zip test: PASS")
