@@ -53,6 +53,10 @@ if [ "${1:-}" != "--build-only" ]; then
   if ! command -v npm >/dev/null 2>&1; then packages+=(npm); fi
   # catatonit: `podman kube play` (deploy/test-image.sh) builds the pod's pause image from it.
   packages+=(catatonit)
+  # libassimp-dev: Debian's assimp is the third reader of the FBX files koma writes
+  # (blender.fbx_retimed builds tests/e2e/fbx/assimp_poses against it, pivots off, beside
+  # Blender's importer and three.js's FBXLoader).
+  packages+=(libassimp-dev)
 fi
 
 # The tests' npm packages, exactly as tests/e2e/gltf/package-lock.json pins them (into

@@ -4,7 +4,9 @@ equals the source's at the source frame NAME.timing.csv says that frame shows (k
 of NAME.fbx, fbx_positions). three.js keeps the file's units and axes and interpolates keys
 linearly whatever their flags: the holds must come from the keys themselves.
 
-  python3 three_retimed_check.py FBX_POSITIONS THREE_FBX_POSES_MJS DIR
+--skip NAME leaves a file out, for what three.js cannot read (the caller says why).
+
+  python3 three_retimed_check.py FBX_POSITIONS THREE_FBX_POSES_MJS DIR [--skip NAME]...
 """
 import csv
 import json
@@ -21,11 +23,15 @@ def fail(message):
 
 def main():
     tool, script, folder = (os.path.abspath(a) for a in sys.argv[1:4])
+    skip = [sys.argv[i + 1] for i in range(4, len(sys.argv) - 1) if sys.argv[i] == '--skip']
     checked = 0
     for name in sorted(os.listdir(folder)):
         if not name.endswith('.fbx') or name.endswith('.anime.fbx'):
             continue
         stem = name[:-4]
+        if stem in skip:
+            print('%s: skipped' % stem)
+            continue
         rows = list(csv.DictReader(open(os.path.join(folder, stem + '.timing.csv'))))
         shown = [int(r['source_frame']) for r in rows]
         koma = json.loads(subprocess.run([tool, os.path.join(folder, name), str(max(shown) + 1)],
