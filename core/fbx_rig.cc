@@ -14,15 +14,18 @@ constexpr double kPi = 3.14159265358979323846;
 
 Matrix Identity() { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; }
 
+// Every matrix here is affine (its last row 0 0 0 1), so the product's is too: 36
+// multiplications, not 64.
 Matrix Multiply(const Matrix& a, const Matrix& b) {
   Matrix m{};
-  for (int r = 0; r < 4; ++r) {
+  for (int r = 0; r < 3; ++r) {
+    const double* row = &a[static_cast<size_t>(r) * 4];
     for (int c = 0; c < 4; ++c) {
-      double sum = 0;
-      for (int k = 0; k < 4; ++k) sum += a[r * 4 + k] * b[k * 4 + c];
-      m[r * 4 + c] = sum;
+      m[r * 4 + c] = row[0] * b[c] + row[1] * b[4 + c] + row[2] * b[8 + c];
     }
+    m[r * 4 + 3] += row[3];
   }
+  m[15] = 1.0;
   return m;
 }
 
@@ -34,35 +37,25 @@ Matrix Translation(const std::array<double, 3>& t, double sign = 1.0) {
   return m;
 }
 
-Matrix Scaling(const std::array<double, 3>& s) {
-  Matrix m = Identity();
-  m[0] = s[0];
-  m[5] = s[1];
-  m[10] = s[2];
-  return m;
-}
-
-Matrix AxisRotation(int axis, double degrees) {
-  const double a = degrees * kPi / 180.0;
-  const double c = std::cos(a);
-  const double s = std::sin(a);
-  Matrix m = Identity();
-  const int i = (axis + 1) % 3;
-  const int j = (axis + 2) % 3;
-  m[i * 4 + i] = c;
-  m[i * 4 + j] = -s;
-  m[j * 4 + i] = s;
-  m[j * 4 + j] = c;
-  return m;
-}
-
 // The Euler rotation applying its axes in `order`, first to last.
 Matrix EulerRotation(const std::array<double, 3>& degrees, FbxRotationOrder order) {
   static constexpr int kAxes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0},
                                       {1, 0, 2}, {2, 0, 1}, {2, 1, 0}};
   const int* axes = kAxes[static_cast<int>(order)];
   Matrix m = Identity();
-  for (int k = 0; k < 3; ++k) m = Multiply(AxisRotation(axes[k], degrees[axes[k]]), m);
+  for (int k = 0; k < 3; ++k) {
+    // m = AxisRotation(axis) * m, which mixes only two of m's rows.
+    const double a = degrees[axes[k]] * kPi / 180.0;
+    const double c = std::cos(a);
+    const double s = std::sin(a);
+    double* row_i = &m[static_cast<size_t>((axes[k] + 1) % 3) * 4];
+    double* row_j = &m[static_cast<size_t>((axes[k] + 2) % 3) * 4];
+    for (int col = 0; col < 3; ++col) {
+      const double x = row_i[col], y = row_j[col];
+      row_i[col] = c * x - s * y;
+      row_j[col] = s * x + c * y;
+    }
+  }
   return m;
 }
 
@@ -88,18 +81,31 @@ double CubicValue(const FbxKeyCurve& curve, size_t k, int64_t tick) {
   // this is the Hermite curve of the two slopes.
   const double x1 = w0 * dt, y1 = v0 + curve.right_slopes[k] * w0 * dt;
   const double x2 = dt - w1 * dt, y2 = v1 - curve.next_left_slopes[k] * w1 * dt;
-  // The curve's parameter at time t: bisection on its time, which increases when the
-  // weights are in [0, 1] (FBX keeps them there).
-  double lo = 0.0, hi = 1.0, u = t / dt;
-  for (int i = 0; i < 48; ++i) {
+  // The curve's parameter at time t, where its time x(u) reaches t: Newton's steps from the
+  // unweighted answer t / dt (exact when both weights are 1/3, where x is linear in u), kept
+  // inside a bracket that bisection narrows when a step leaves it. x increases with u when
+  // the weights are in [0, 1] (FBX keeps them there).
+  const auto time_at = [&](double u) {
     const double m = 1.0 - u;
-    const double x = 3 * m * m * u * x1 + 3 * m * u * u * x2 + u * u * u * dt;
-    if (x < t) {
+    return 3 * m * m * u * x1 + 3 * m * u * u * x2 + u * u * u * dt;
+  };
+  const auto slope_at = [&](double u) {  // dx/du
+    const double m = 1.0 - u;
+    return 3 * m * m * x1 + 6 * m * u * (x2 - x1) + 3 * u * u * (dt - x2);
+  };
+  double lo = 0.0, hi = 1.0, u = std::clamp(t / dt, 0.0, 1.0);
+  for (int i = 0; i < 64; ++i) {
+    const double error = time_at(u) - t;
+    if (std::fabs(error) <= 1e-15 * dt) break;
+    if (error < 0) {
       lo = u;
     } else {
       hi = u;
     }
-    u = 0.5 * (lo + hi);
+    const double slope = slope_at(u);
+    const double step = slope > 0 ? u - error / slope : -1.0;
+    u = step > lo && step < hi ? step : 0.5 * (lo + hi);
+    if (hi - lo <= 1e-16) break;
   }
   const double m = 1.0 - u;
   return m * m * m * v0 + 3 * m * m * u * y1 + 3 * m * u * u * y2 + u * u * u * v1;
@@ -116,16 +122,22 @@ double EvaluateFbxCurveFrom(const FbxKeyCurve& curve, int64_t tick, size_t& curs
   if (curve.times.empty()) return 0.0;
   if (tick <= curve.times.front()) return curve.values.front();
   if (tick >= curve.times.back()) return curve.values.back();
-  // The segment holding `tick`: from the cursor when the ticks come in order (a step or two),
-  // else by bisection.
+  // The segment holding `tick` (times[k] <= tick < times[k + 1], which exists: tick is inside
+  // the keys): from the cursor when the ticks come in order, a few steps on (a take's frames
+  // and its keys are seldom on exactly the same ticks: a key a tick late puts the next frame
+  // two keys on); else by bisection.
+  const auto after = [&](size_t from) {
+    return static_cast<size_t>(
+        std::upper_bound(curve.times.begin() + static_cast<std::ptrdiff_t>(from), curve.times.end(),
+                         tick) -
+        curve.times.begin() - 1);
+  };
   size_t k = cursor < curve.times.size() - 1 ? cursor : 0;
-  if (curve.times[k] > tick || curve.times[k + 1] <= tick) {
-    if (k + 2 < curve.times.size() && curve.times[k + 1] <= tick && curve.times[k + 2] > tick) {
-      ++k;
-    } else {
-      k = static_cast<size_t>(std::upper_bound(curve.times.begin(), curve.times.end(), tick) -
-                              curve.times.begin() - 1);
-    }
+  if (curve.times[k] > tick) {
+    k = after(0);
+  } else {
+    for (int step = 0; step < 8 && curve.times[k + 1] <= tick; ++step) ++k;
+    if (curve.times[k + 1] <= tick) k = after(k);
   }
   cursor = k;
   if (tick == curve.times[k]) return curve.values[k];  // on a key, as a baked take's frames are
@@ -155,7 +167,7 @@ std::vector<double> FbxNodePositions(const FbxRig& rig, int64_t start_tick, doub
   // mostly are).
   struct Fixed {
     Matrix pre, post, before_r, after_r, after_s;
-    bool has_before_r, has_after_r, has_after_s;
+    bool has_pre, has_post, has_before_r, has_after_r, has_after_s;
   };
   const auto is_zero = [](const std::array<double, 3>& v) {
     return v[0] == 0 && v[1] == 0 && v[2] == 0;
@@ -166,6 +178,8 @@ std::vector<double> FbxNodePositions(const FbxRig& rig, int64_t start_tick, doub
     Fixed& f = fixed[i];
     f.pre = EulerRotation(node.pre_rotation, FbxRotationOrder::kXyz);
     f.post = Transposed(EulerRotation(node.post_rotation, FbxRotationOrder::kXyz));
+    f.has_pre = !is_zero(node.pre_rotation);
+    f.has_post = !is_zero(node.post_rotation);
     f.before_r = Multiply(Translation(node.rotation_offset), Translation(node.rotation_pivot));
     f.has_before_r = !is_zero(node.rotation_offset) || !is_zero(node.rotation_pivot);
     f.after_r =
@@ -176,38 +190,69 @@ std::vector<double> FbxNodePositions(const FbxRig& rig, int64_t start_tick, doub
     f.after_s = Translation(node.scaling_pivot, -1.0);
     f.has_after_s = !is_zero(node.scaling_pivot);
   }
-  std::vector<size_t> cursors(rig.curves.size(), 0);
+  // The curves are evaluated a block of frames at a time, one curve after another (each
+  // curve's keys read in order: a take's hundreds of curves, read frame by frame, missed the
+  // cache at every key), then the block's transforms frame by frame.
+  constexpr int64_t kBlock = 64;  // frames
+  const size_t curves = rig.curves.size();
+  std::vector<double> block(curves * kBlock);  // curve-major: block[c * kBlock + j]
+  std::vector<int64_t> ticks(kBlock);
+  std::vector<size_t> cursors(curves, 0);
   StopPoll stop(/*steps_between_checks=*/1 << 14);  // node transforms
-  for (int64_t f = 0; f < frames; ++f) {
-    if (stop.Stop(static_cast<int64_t>(n))) break;  // the caller asks StopReason()
-    const int64_t tick = start_tick + std::llround(static_cast<double>(f) *
-                                                   static_cast<double>(kFbxTicksPerSecond) / fps);
-    for (size_t i = 0; i < n; ++i) {
-      const FbxRigNode& node = rig.nodes[i];
-      const Fixed& fix = fixed[i];
-      const auto animated = [&](const std::array<double, 3>& rest,
-                                const std::array<int, 3>& curves) {
-        std::array<double, 3> value = rest;
-        for (int a = 0; a < 3; ++a) {
-          if (curves[a] >= 0) {
-            const auto c = static_cast<size_t>(curves[a]);
-            value[a] = EvaluateFbxCurveFrom(rig.curves[c], tick, cursors[c]);
+  for (int64_t first = 0; first < frames; first += kBlock) {
+    if (stop.Stop(static_cast<int64_t>(n) * kBlock)) break;  // the caller asks StopReason()
+    const int64_t count = std::min(kBlock, frames - first);
+    for (int64_t j = 0; j < count; ++j) {
+      ticks[static_cast<size_t>(j)] =
+          start_tick + std::llround(static_cast<double>(first + j) *
+                                    static_cast<double>(kFbxTicksPerSecond) / fps);
+    }
+    for (size_t c = 0; c < curves; ++c) {
+      double* values = block.data() + c * kBlock;
+      for (int64_t j = 0; j < count; ++j) {
+        values[j] = EvaluateFbxCurveFrom(rig.curves[c], ticks[static_cast<size_t>(j)], cursors[c]);
+      }
+    }
+    for (int64_t j = 0; j < count; ++j) {
+      const int64_t f = first + j;
+      for (size_t i = 0; i < n; ++i) {
+        const FbxRigNode& node = rig.nodes[i];
+        const Fixed& fix = fixed[i];
+        const auto animated = [&](const std::array<double, 3>& rest,
+                                  const std::array<int, 3>& channel_curves) {
+          std::array<double, 3> value = rest;
+          for (int a = 0; a < 3; ++a) {
+            if (channel_curves[a] >= 0) {
+              value[a] =
+                  block[static_cast<size_t>(channel_curves[a]) * kBlock + static_cast<size_t>(j)];
+            }
           }
+          return value;
+        };
+        // local = T * Roff * Rp * Rpre * R * Rpost^-1 * Rp^-1 * Soff * Sp * S * Sp^-1, built
+        // from the middle out, the factors that are identity skipped; S scales columns and T
+        // adds to the last one.
+        Matrix local = EulerRotation(animated(node.rotation, node.rotation_curves), node.order);
+        if (fix.has_pre) local = Multiply(fix.pre, local);
+        if (fix.has_post) local = Multiply(local, fix.post);
+        if (fix.has_before_r) local = Multiply(fix.before_r, local);
+        if (fix.has_after_r) local = Multiply(local, fix.after_r);
+        const std::array<double, 3> scale = animated(node.scaling, node.scaling_curves);
+        for (int row = 0; row < 3; ++row) {
+          for (int col = 0; col < 3; ++col) local[static_cast<size_t>(row * 4 + col)] *= scale[col];
         }
-        return value;
-      };
-      const Matrix r = EulerRotation(animated(node.rotation, node.rotation_curves), node.order);
-      Matrix local = Translation(animated(node.translation, node.translation_curves));
-      if (fix.has_before_r) local = Multiply(local, fix.before_r);
-      local = Multiply(local, Multiply(fix.pre, Multiply(r, fix.post)));
-      if (fix.has_after_r) local = Multiply(local, fix.after_r);
-      local = Multiply(local, Scaling(animated(node.scaling, node.scaling_curves)));
-      if (fix.has_after_s) local = Multiply(local, fix.after_s);
-      world[i] = node.parent < 0 ? local : Multiply(world[static_cast<size_t>(node.parent)], local);
-      double* out = positions.data() + (static_cast<size_t>(f) * n + i) * 3;
-      out[0] = world[i][3];
-      out[1] = world[i][7];
-      out[2] = world[i][11];
+        if (fix.has_after_s) local = Multiply(local, fix.after_s);
+        const std::array<double, 3> t = animated(node.translation, node.translation_curves);
+        local[3] += t[0];
+        local[7] += t[1];
+        local[11] += t[2];
+        world[i] =
+            node.parent < 0 ? local : Multiply(world[static_cast<size_t>(node.parent)], local);
+        double* out = positions.data() + (static_cast<size_t>(f) * n + i) * 3;
+        out[0] = world[i][3];
+        out[1] = world[i][7];
+        out[2] = world[i][11];
+      }
     }
   }
   return positions;

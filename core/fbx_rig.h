@@ -28,6 +28,7 @@ struct FbxKeyCurve {
   std::vector<Segment> segments;  // per key: the segment to the next key
   // Cubic: the key's right slope and the next key's left slope (value per second), and
   // their weights (the fraction of the segment's time each handle reaches; 1/3 unweighted).
+  // Empty when no key is cubic (a baked take's linear keys need none of them).
   std::vector<double> right_slopes, next_left_slopes;
   std::vector<double> right_weights, next_left_weights;
 };

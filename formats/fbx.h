@@ -50,6 +50,9 @@ struct FbxProperty {
   std::string_view encoded;
   std::vector<double> reals;      // f d, when built
   std::vector<int64_t> integers;  // l i b, when built
+  // What `encoded` points into when the array was encoded in memory (EncodedIntegerArray),
+  // shared by the property's copies.
+  std::shared_ptr<const std::string> encoded_owner;
 
   bool is_array() const;
   static FbxProperty Int64(int64_t value);
@@ -59,6 +62,9 @@ struct FbxProperty {
   // Arrays to be written: zlib-compressed when `compress`.
   static FbxProperty DoubleArray(char type, std::vector<double> values, bool compress);
   static FbxProperty IntegerArray(char type, std::vector<int64_t> values, bool compress);
+  // The same array encoded now, once: its copies share the bytes, so an array written into
+  // many nodes (a take's key times, the same in every curve) is compressed once.
+  static FbxProperty EncodedIntegerArray(char type, std::vector<int64_t> values, bool compress);
 };
 
 struct FbxNode {

@@ -246,56 +246,63 @@ class TreeReader {
 
 // --- writing -------------------------------------------------------------------------------
 
-void AppendArray(std::string& out, const FbxProperty& property) {
+template <typename T>
+void Store(char* at, T value) {
+  std::memcpy(at, &value, sizeof(T));
+}
+
+// A built array's bytes as stored in the file: its elements, compressed when its encoding
+// says so.
+std::string StoredArrayBytes(const FbxProperty& property) {
   const size_t element = ElementBytes(property.type);
-  std::string raw;
-  if (!property.encoded.empty() || (property.reals.empty() && property.integers.empty())) {
-    out.push_back(property.type);
-    Append<uint32_t>(out, property.count);
-    Append<uint32_t>(out, property.encoding);
-    Append<uint32_t>(out, static_cast<uint32_t>(property.encoded.size()));
-    out.append(property.encoded);
-    return;
-  }
   const size_t count = std::max(property.reals.size(), property.integers.size());
-  raw.reserve(count * element);
-  for (size_t i = 0; i < count; ++i) {
+  std::string raw(count * element, '\0');
+  char* at = raw.data();
+  for (size_t i = 0; i < count; ++i, at += element) {
     switch (property.type) {
       case 'f':
-        Append<float>(raw, static_cast<float>(property.reals[i]));
+        Store<float>(at, static_cast<float>(property.reals[i]));
         break;
       case 'd':
-        Append<double>(raw, property.reals[i]);
+        Store<double>(at, property.reals[i]);
         break;
       case 'l':
-        Append<int64_t>(raw, property.integers[i]);
+        Store<int64_t>(at, property.integers[i]);
         break;
       case 'i':
-        Append<int32_t>(raw, static_cast<int32_t>(property.integers[i]));
+        Store<int32_t>(at, static_cast<int32_t>(property.integers[i]));
         break;
       default:  // 'b'
-        raw.push_back(property.integers[i] != 0 ? 1 : 0);
+        *at = property.integers[i] != 0 ? 1 : 0;
         break;
     }
   }
-  std::string stored;
-  if (property.encoding == 0) {
-    stored = std::move(raw);
-  } else {
-    uLongf length = compressBound(static_cast<uLong>(raw.size()));
-    stored.assign(length, '\0');
-    // The fastest level: a take's rewritten curves are megabytes, and every reader inflates
-    // any level the same (Z_DEFAULT_COMPRESSION took about 4x as long here).
-    compress2(reinterpret_cast<Bytef*>(stored.data()), &length,
-              reinterpret_cast<const Bytef*>(raw.data()), static_cast<uLong>(raw.size()),
-              Z_BEST_SPEED);
-    stored.resize(length);
-  }
+  if (property.encoding == 0) return raw;
+  uLongf length = compressBound(static_cast<uLong>(raw.size()));
+  std::string stored(length, '\0');
+  // The fastest level: a take's rewritten curves are megabytes, and every reader inflates
+  // any level the same (Z_DEFAULT_COMPRESSION took about 4x as long here).
+  compress2(reinterpret_cast<Bytef*>(stored.data()), &length,
+            reinterpret_cast<const Bytef*>(raw.data()), static_cast<uLong>(raw.size()),
+            Z_BEST_SPEED);
+  stored.resize(length);
+  return stored;
+}
+
+void AppendArrayRecord(std::string& out, const FbxProperty& property, std::string_view stored) {
   out.push_back(property.type);
-  Append<uint32_t>(out, static_cast<uint32_t>(count));
+  Append<uint32_t>(out, property.count);
   Append<uint32_t>(out, property.encoding);
   Append<uint32_t>(out, static_cast<uint32_t>(stored.size()));
   out.append(stored);
+}
+
+void AppendArray(std::string& out, const FbxProperty& property) {
+  if (!property.encoded.empty() || (property.reals.empty() && property.integers.empty())) {
+    AppendArrayRecord(out, property, property.encoded);  // as read, or encoded already
+    return;
+  }
+  AppendArrayRecord(out, property, StoredArrayBytes(property));
 }
 
 void AppendProperty(std::string& out, const FbxProperty& property) {
@@ -416,6 +423,15 @@ FbxProperty FbxProperty::IntegerArray(char type, std::vector<int64_t> values, bo
   return p;
 }
 
+FbxProperty FbxProperty::EncodedIntegerArray(char type, std::vector<int64_t> values,
+                                             bool compress) {
+  FbxProperty p = IntegerArray(type, std::move(values), compress);
+  p.encoded_owner = std::make_shared<const std::string>(StoredArrayBytes(p));
+  p.encoded = *p.encoded_owner;
+  p.integers.clear();
+  return p;
+}
+
 const FbxNode* FbxNode::Child(std::string_view child_name) const {
   for (const FbxNode& child : children) {
     if (child.name == child_name) return &child;
@@ -466,13 +482,20 @@ absl::StatusOr<FbxDocument> ReadFbx(std::string bytes, const FbxReadLimits& limi
 
 namespace {
 
-// The array's elements as raw little-endian bytes (inflated when zlib-encoded).
-absl::StatusOr<std::string> RawArray(const FbxProperty& property) {
-  const size_t bytes = static_cast<size_t>(property.count) * ElementBytes(property.type);
-  if (property.encoding == 0) return std::string(property.encoded);
-  std::string raw(bytes, '\0');
+// The array's elements as raw little-endian bytes (inflated when zlib-encoded) into `raw`,
+// which holds count x the element's size.
+absl::Status RawArrayInto(const FbxProperty& property, char* raw, size_t bytes) {
+  if (property.encoding == 0) {
+    if (property.encoded.size() != bytes) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("an array of ", property.count, " '", std::string(1, property.type),
+                       "' elements stored in ", property.encoded.size(), " bytes"));
+    }
+    std::memcpy(raw, property.encoded.data(), bytes);
+    return absl::OkStatus();
+  }
   uLongf length = static_cast<uLongf>(bytes);
-  const int result = uncompress(reinterpret_cast<Bytef*>(raw.data()), &length,
+  const int result = uncompress(reinterpret_cast<Bytef*>(raw), &length,
                                 reinterpret_cast<const Bytef*>(property.encoded.data()),
                                 static_cast<uLong>(property.encoded.size()));
   if (result != Z_OK || length != bytes) {
@@ -480,6 +503,12 @@ absl::StatusOr<std::string> RawArray(const FbxProperty& property) {
         "an array of ", property.count, " '", std::string(1, property.type),
         "' elements whose zlib data is broken or holds another size (", zError(result), ")"));
   }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::string> RawArray(const FbxProperty& property) {
+  std::string raw(static_cast<size_t>(property.count) * ElementBytes(property.type), '\0');
+  KOMA_RETURN_IF_ERROR(RawArrayInto(property, raw.data(), raw.size()));
   return raw;
 }
 
@@ -491,8 +520,13 @@ absl::StatusOr<std::vector<double>> FbxReals(const FbxProperty& property) {
                                                    "' where numbers (f, d) are expected"));
   }
   if (property.encoded.empty() && !property.reals.empty()) return property.reals;  // as built
-  KOMA_ASSIGN_OR_RETURN(const std::string raw, RawArray(property));
   std::vector<double> values(property.count);
+  if (property.type == 'd') {  // little-endian doubles: inflated in place
+    KOMA_RETURN_IF_ERROR(RawArrayInto(property, reinterpret_cast<char*>(values.data()),
+                                      values.size() * sizeof(double)));
+    return values;
+  }
+  KOMA_ASSIGN_OR_RETURN(const std::string raw, RawArray(property));
   for (size_t i = 0; i < values.size(); ++i) {
     values[i] =
         property.type == 'f' ? Load<float>(raw.data() + 4 * i) : Load<double>(raw.data() + 8 * i);
@@ -506,8 +540,13 @@ absl::StatusOr<std::vector<int64_t>> FbxIntegers(const FbxProperty& property) {
                                                    "' where integers (l, i, b) are expected"));
   }
   if (property.encoded.empty() && !property.integers.empty()) return property.integers;
-  KOMA_ASSIGN_OR_RETURN(const std::string raw, RawArray(property));
   std::vector<int64_t> values(property.count);
+  if (property.type == 'l') {  // little-endian int64s: inflated in place
+    KOMA_RETURN_IF_ERROR(RawArrayInto(property, reinterpret_cast<char*>(values.data()),
+                                      values.size() * sizeof(int64_t)));
+    return values;
+  }
+  KOMA_ASSIGN_OR_RETURN(const std::string raw, RawArray(property));
   for (size_t i = 0; i < values.size(); ++i) {
     values[i] = property.type == 'l'   ? Load<int64_t>(raw.data() + 8 * i)
                 : property.type == 'i' ? Load<int32_t>(raw.data() + 4 * i)

@@ -6,6 +6,8 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -84,7 +86,20 @@ std::string Where(const FbxNode& object) {
                       "\"");
 }
 
-absl::StatusOr<FbxKeyCurve> ReadCurve(const FbxNode& object) {
+// Key times already inflated, by their compressed bytes: a baked take's curves all have the
+// same times (Blender's exporter, the vendors'), inflated once instead of once per curve.
+using KeyTimeCache = std::unordered_map<std::string_view, std::vector<int64_t>>;
+
+absl::StatusOr<std::vector<int64_t>> KeyTimes(const FbxProperty& times, KeyTimeCache& cache) {
+  if (times.encoding != 1 || times.type != 'l') return FbxIntegers(times);
+  const auto found = cache.find(times.encoded);
+  if (found != cache.end() && found->second.size() == times.count) return found->second;
+  KOMA_ASSIGN_OR_RETURN(std::vector<int64_t> decoded, FbxIntegers(times));
+  cache[times.encoded] = decoded;
+  return decoded;
+}
+
+absl::StatusOr<FbxKeyCurve> ReadCurve(const FbxNode& object, KeyTimeCache& time_cache) {
   const std::string where = Where(object);
   const auto array = [&](const char* name) -> const FbxProperty* {
     const FbxNode* node = object.Child(name);
@@ -99,7 +114,7 @@ absl::StatusOr<FbxKeyCurve> ReadCurve(const FbxNode& object) {
   const auto in_field = [&](absl::Status status, const char* field) {
     return absl::Status(status.code(), absl::StrCat(where, " ", field, ": ", status.message()));
   };
-  absl::StatusOr<std::vector<int64_t>> t = FbxIntegers(*times);
+  absl::StatusOr<std::vector<int64_t>> t = KeyTimes(*times, time_cache);
   if (!t.ok()) return in_field(t.status(), "KeyTime");
   absl::StatusOr<std::vector<double>> v = FbxReals(*values);
   if (!v.ok()) return in_field(v.status(), "KeyValueFloat");
@@ -116,10 +131,6 @@ absl::StatusOr<FbxKeyCurve> ReadCurve(const FbxNode& object) {
   curve.values = *std::move(v);
   const size_t keys = curve.times.size();
   curve.segments.assign(keys, FbxKeyCurve::Segment::kLinear);
-  curve.right_slopes.assign(keys, 0.0);
-  curve.next_left_slopes.assign(keys, 0.0);
-  curve.right_weights.assign(keys, kDefaultWeight);
-  curve.next_left_weights.assign(keys, kDefaultWeight);
   const FbxProperty* flags = array("KeyAttrFlags");
   const FbxProperty* data = array("KeyAttrDataFloat");
   const FbxProperty* counts = array("KeyAttrRefCount");
@@ -161,6 +172,13 @@ absl::StatusOr<FbxKeyCurve> ReadCurve(const FbxNode& object) {
         return Invalid(where, absl::StrCat("KeyAttrRefCount covers more than the ", keys, " keys"));
       }
       curve.segments[key] = segment;
+      if (segment != FbxKeyCurve::Segment::kCubic) continue;
+      if (curve.right_slopes.empty()) {  // the first cubic key: a baked take often has none
+        curve.right_slopes.assign(keys, 0.0);
+        curve.next_left_slopes.assign(keys, 0.0);
+        curve.right_weights.assign(keys, kDefaultWeight);
+        curve.next_left_weights.assign(keys, kDefaultWeight);
+      }
       curve.right_slopes[key] = d[4 * a];
       curve.next_left_slopes[key] = d[4 * a + 1];
       if (bits & kWeightedRight) curve.right_weights[key] = (weights & 0xffff) / 10000.0;
@@ -389,6 +407,7 @@ absl::StatusOr<FbxTakeRig> ReadFbxTakeRig(const FbxDocument& document, const std
   std::map<int64_t, std::vector<const Binding*>> bindings_of;
   for (const auto& [node, binding] : bindings) bindings_of[binding.model].push_back(&binding);
   std::map<int64_t, int> curve_index;
+  KeyTimeCache time_cache;
   for (int64_t id : order) {
     const FbxNode& object = *by_id[id];
     Properties p = model_template;
@@ -424,7 +443,7 @@ absl::StatusOr<FbxTakeRig> ReadFbxTakeRig(const FbxDocument& document, const std
         if (curve_id == 0) continue;
         auto [at, added] = curve_index.emplace(curve_id, static_cast<int>(out.rig.curves.size()));
         if (added) {
-          KOMA_ASSIGN_OR_RETURN(FbxKeyCurve curve, ReadCurve(*by_id[curve_id]));
+          KOMA_ASSIGN_OR_RETURN(FbxKeyCurve curve, ReadCurve(*by_id[curve_id], time_cache));
           out.rig.curves.push_back(std::move(curve));
           out.curve_ids.push_back(curve_id);
         }

@@ -81,6 +81,10 @@ absl::StatusOr<std::string> WriteFbxRetimed(FbxDocument document, const FbxTakeR
   if (objects == nullptr) return absl::InternalError("FBX writer: no Objects");
   std::map<int64_t, size_t> curve_of;  // AnimationCurve id -> the rig's curve
   for (size_t c = 0; c < rig.curve_ids.size(); ++c) curve_of[rig.curve_ids[c]] = c;
+  // Every rewritten curve has the same key times: encoded (compressed, as the file's arrays
+  // mostly are) once, raw once, and shared.
+  const FbxProperty times_compressed = FbxProperty::EncodedIntegerArray('l', times, true);
+  const FbxProperty times_raw = FbxProperty::EncodedIntegerArray('l', times, false);
   StopPoll stop(/*steps_between_checks=*/1 << 14);  // keys written
   for (FbxNode& object : objects->children) {
     if (object.name != "AnimationCurve" || object.properties.empty()) continue;
@@ -97,7 +101,7 @@ absl::StatusOr<std::string> WriteFbxRetimed(FbxDocument document, const FbxTakeR
     const FbxNode* old_times = object.Child("KeyTime");
     const bool compress = old_times != nullptr && !old_times->properties.empty() &&
                           old_times->properties[0].encoding == 1;
-    ReplaceArray(object, "KeyTime", FbxProperty::IntegerArray('l', times, compress));
+    ReplaceArray(object, "KeyTime", compress ? times_compressed : times_raw);
     ReplaceArray(object, "KeyValueFloat", FbxProperty::DoubleArray('f', values, compress));
     ReplaceArray(object, "KeyAttrFlags", FbxProperty::IntegerArray('i', {kConstantKey}, false));
     ReplaceArray(object, "KeyAttrDataFloat",

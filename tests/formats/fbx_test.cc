@@ -117,6 +117,32 @@ TEST(FbxWriteTest, AChangedArrayIsWrittenAndReadBack) {
   }
 }
 
+TEST(FbxWriteTest, AnArrayEncodedOnceWritesAsBuiltInEveryCopy) {
+  ASSERT_OK_AND_ASSIGN(FbxDocument document, ReadFbx(ReadTestFile("assimp_huesitos.fbx")));
+  FbxNode* curve = nullptr;
+  for (FbxNode& node : document.nodes) {
+    if (node.name == "Objects") curve = node.Child("AnimationCurve");
+  }
+  ASSERT_NE(curve, nullptr);
+  FbxNode* times = curve->Child("KeyTime");
+  const std::vector<int64_t> ticks = {0, 1924423250, 3848846500, 5773269750, 7697693000};
+  for (const bool compress : {true, false}) {
+    times->properties[0] = FbxProperty::IntegerArray('l', ticks, compress);
+    times->changed = true;
+    const std::string built = WriteFbx(document);
+    const FbxProperty encoded = FbxProperty::EncodedIntegerArray('l', ticks, compress);
+    times->properties[0] = encoded;  // a copy, sharing the encoded bytes
+    const std::string written = WriteFbx(document);
+    EXPECT_EQ(written, built) << compress;
+    ASSERT_OK_AND_ASSIGN(const FbxDocument again, ReadFbx(written));
+    const FbxNode* again_curve = Find(again.nodes, "Objects")->Child("AnimationCurve");
+    EXPECT_EQ(again_curve->Child("KeyTime")->properties[0].encoding, compress ? 1u : 0u);
+    ASSERT_OK_AND_ASSIGN(const std::vector<int64_t> read,
+                         FbxIntegers(again_curve->Child("KeyTime")->properties[0]));
+    EXPECT_EQ(read, ticks);
+  }
+}
+
 // A minimal 7.4 file built here: one top-level node "N" with the given property bytes.
 std::string OneNodeFile(const std::string& properties, uint32_t count, uint32_t version = 7400) {
   std::string out("Kaydara FBX Binary  \0\x1a\0", 23);
