@@ -111,6 +111,78 @@ double CubicValue(const FbxKeyCurve& curve, size_t k, int64_t tick) {
   return m * m * m * v0 + 3 * m * m * u * y1 + 3 * m * u * u * y2 + u * u * u * v1;
 }
 
+// The 3x3 part's inverse (the translation left zero); false when it is singular.
+bool InverseLinear(const Matrix& m, Matrix& inverse) {
+  const double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9],
+               k = m[10];
+  const double det = a * (e * k - f * h) - b * (d * k - f * g) + c * (d * h - e * g);
+  if (!(std::fabs(det) > 1e-300)) return false;
+  inverse = {(e * k - f * h) / det,
+             (c * h - b * k) / det,
+             (b * f - c * e) / det,
+             0,
+             (f * g - d * k) / det,
+             (a * k - c * g) / det,
+             (c * d - a * f) / det,
+             0,
+             (d * h - e * g) / det,
+             (b * g - a * h) / det,
+             (a * e - b * d) / det,
+             0,
+             0,
+             0,
+             0,
+             1};
+  return true;
+}
+
+// A node's world transform when its InheritType is not RSrs (where it is simply
+// parent_world * local), as the FBX SDK's transformation sample composes it:
+//   linear = ParentR * (Rpre R Rpost^-1) * ParentSS * S     (RrSs)
+//   linear = ParentR * (Rpre R Rpost^-1) * ParentSS * ParentS^-1 * S     (Rrs)
+// with ParentR the parent's world rotation (its linear part's columns normalised, as
+// three.js's FBXLoader takes it), ParentSS = ParentR^-1 * the parent's linear part (its
+// shear and scale) and ParentS the parent's own Lcl Scaling; the translation is the local
+// chain's, placed by the parent's whole world transform in every type. A degenerate parent
+// (a zero scale) is inherited as RSrs.
+Matrix InheritedWorld(const Matrix& parent_world, const std::array<double, 3>& parent_scale,
+                      const Matrix& local, const Matrix& rotation,
+                      const std::array<double, 3>& scale, FbxInheritType type) {
+  const Matrix simple = Multiply(parent_world, local);
+  Matrix parent_rotation = Identity();
+  for (int col = 0; col < 3; ++col) {
+    const double length = std::hypot(parent_world[static_cast<size_t>(col)],
+                                     parent_world[static_cast<size_t>(4 + col)],
+                                     parent_world[static_cast<size_t>(8 + col)]);
+    if (!(length > 0)) return simple;
+    for (int row = 0; row < 3; ++row) {
+      parent_rotation[static_cast<size_t>(row * 4 + col)] =
+          parent_world[static_cast<size_t>(row * 4 + col)] / length;
+    }
+  }
+  Matrix parent_linear = parent_world;
+  parent_linear[3] = parent_linear[7] = parent_linear[11] = 0;
+  Matrix rotation_inverse;
+  if (!InverseLinear(parent_rotation, rotation_inverse)) return simple;
+  Matrix shear_scale = Multiply(rotation_inverse, parent_linear);
+  if (type == FbxInheritType::kRrs) {
+    for (int col = 0; col < 3; ++col) {
+      if (parent_scale[static_cast<size_t>(col)] == 0) return simple;
+      for (int row = 0; row < 3; ++row) {
+        shear_scale[static_cast<size_t>(row * 4 + col)] /= parent_scale[static_cast<size_t>(col)];
+      }
+    }
+  }
+  Matrix world = Multiply(Multiply(parent_rotation, rotation), shear_scale);
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) world[static_cast<size_t>(row * 4 + col)] *= scale[col];
+  }
+  world[3] = simple[3];
+  world[7] = simple[7];
+  world[11] = simple[11];
+  return world;
+}
+
 }  // namespace
 
 double EvaluateFbxCurve(const FbxKeyCurve& curve, int64_t tick) {
@@ -162,6 +234,7 @@ std::vector<double> FbxNodePositions(const FbxRig& rig, int64_t start_tick, doub
   const size_t n = rig.nodes.size();
   std::vector<double> positions(static_cast<size_t>(frames) * n * 3);
   std::vector<Matrix> world(n);
+  std::vector<std::array<double, 3>> scales(n);  // each node's Lcl Scaling at this frame
   // What does not change with time, per node: the pre and inverse post rotations, and the
   // offset and pivot translations on either side of R and S (skipped when zero, as they
   // mostly are).
@@ -232,10 +305,10 @@ std::vector<double> FbxNodePositions(const FbxRig& rig, int64_t start_tick, doub
         // local = T * Roff * Rp * Rpre * R * Rpost^-1 * Rp^-1 * Soff * Sp * S * Sp^-1, built
         // from the middle out, the factors that are identity skipped; S scales columns and T
         // adds to the last one.
-        Matrix local = EulerRotation(animated(node.rotation, node.rotation_curves), node.order);
-        if (fix.has_pre) local = Multiply(fix.pre, local);
-        if (fix.has_post) local = Multiply(local, fix.post);
-        if (fix.has_before_r) local = Multiply(fix.before_r, local);
+        Matrix rotation = EulerRotation(animated(node.rotation, node.rotation_curves), node.order);
+        if (fix.has_pre) rotation = Multiply(fix.pre, rotation);
+        if (fix.has_post) rotation = Multiply(rotation, fix.post);
+        Matrix local = fix.has_before_r ? Multiply(fix.before_r, rotation) : rotation;
         if (fix.has_after_r) local = Multiply(local, fix.after_r);
         const std::array<double, 3> scale = animated(node.scaling, node.scaling_curves);
         for (int row = 0; row < 3; ++row) {
@@ -246,8 +319,16 @@ std::vector<double> FbxNodePositions(const FbxRig& rig, int64_t start_tick, doub
         local[3] += t[0];
         local[7] += t[1];
         local[11] += t[2];
-        world[i] =
-            node.parent < 0 ? local : Multiply(world[static_cast<size_t>(node.parent)], local);
+        scales[i] = scale;
+        if (node.parent < 0) {
+          world[i] = local;
+        } else if (node.inherit == FbxInheritType::kRSrs) {
+          world[i] = Multiply(world[static_cast<size_t>(node.parent)], local);
+        } else {
+          const auto parent = static_cast<size_t>(node.parent);
+          world[i] =
+              InheritedWorld(world[parent], scales[parent], local, rotation, scale, node.inherit);
+        }
         double* out = positions.data() + (static_cast<size_t>(f) * n + i) * 3;
         out[0] = world[i][3];
         out[1] = world[i][7];

@@ -4,7 +4,8 @@
 //
 // A node's world transform:
 //   World = ParentWorld * T * Roff * Rp * Rpre * R * Rpost^-1 * Rp^-1 * Soff * Sp * S * Sp^-1
-// with R the Euler rotation in the node's RotationOrder and Rpre, Rpost in XYZ order (both,
+// (for InheritType RSrs; FbxInheritType for the other two) with R the Euler rotation in the
+// node's RotationOrder and Rpre, Rpost in XYZ order (both,
 // and the order, only when RotationActive, as Blender's importer reads them). Angles in
 // degrees; lengths in the file's unit.
 #ifndef KOMA_CORE_FBX_RIG_H_
@@ -43,6 +44,13 @@ double EvaluateFbxCurveFrom(const FbxKeyCurve& curve, int64_t tick, size_t& curs
 // the first axis applied first.
 enum class FbxRotationOrder : int { kXyz = 0, kXzy, kYzx, kYxz, kZxy, kZyx };
 
+// How a node inherits its parent's transform (InheritType), as the FBX SDK names them:
+// RSrs, the parent's whole transform (World = ParentWorld * Local, the usual); RrSs, the
+// parent's scale applied after the node's rotation (it scales along the parent's axes,
+// without shearing the child); Rrs, the parent's own scale not inherited at all (Maya's
+// segment scale compensation).
+enum class FbxInheritType : int { kRrSs = 0, kRSrs = 1, kRrs = 2 };
+
 struct FbxRigNode {
   int parent = -1;  // an earlier node, or -1
   std::array<double, 3> translation{}, rotation{}, scaling{1, 1, 1};
@@ -50,6 +58,7 @@ struct FbxRigNode {
   std::array<double, 3> rotation_offset{}, rotation_pivot{};
   std::array<double, 3> scaling_offset{}, scaling_pivot{};
   FbxRotationOrder order = FbxRotationOrder::kXyz;
+  FbxInheritType inherit = FbxInheritType::kRSrs;
   // Curves (indices into FbxRig::curves, -1: the value above) for Lcl Translation, Lcl
   // Rotation and Lcl Scaling, x y z.
   std::array<int, 3> translation_curves{-1, -1, -1};

@@ -434,6 +434,14 @@ absl::StatusOr<FbxTakeRig> ReadFbxTakeRig(const FbxDocument& document, const std
       }
       node.order = static_cast<FbxRotationOrder>(static_cast<int>(order_number));
     }
+    // The SDK's default (its templates' 0, RrSs) when neither the model nor the template
+    // says; every exporter seen writes 1 (RSrs) on each model.
+    const double inherit = Scalar(p, "InheritType").value_or(0);
+    if (inherit != 0 && inherit != 1 && inherit != 2) {
+      return Invalid(Where(object), absl::StrCat("InheritType ", inherit,
+                                                 " is not 0-2 (eInheritRrSs..eInheritRrs)"));
+    }
+    node.inherit = static_cast<FbxInheritType>(static_cast<int>(inherit));
     for (const Binding* binding : bindings_of[id]) {
       std::array<int, 3>& slots = binding->kind == 0   ? node.translation_curves
                                   : binding->kind == 1 ? node.rotation_curves

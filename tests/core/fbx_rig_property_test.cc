@@ -72,6 +72,62 @@ Matrix Transpose(const Matrix& r) {
   return m;
 }
 
+// The inverse of an affine matrix by Gauss-Jordan elimination with partial pivoting.
+Matrix Inverse(Matrix m) {
+  Matrix inv = Identity();
+  for (int col = 0; col < 4; ++col) {
+    int pivot = col;
+    for (int r = col + 1; r < 4; ++r) {
+      if (std::fabs(m[r * 4 + col]) > std::fabs(m[pivot * 4 + col])) pivot = r;
+    }
+    for (int c = 0; c < 4; ++c) {
+      std::swap(m[col * 4 + c], m[pivot * 4 + c]);
+      std::swap(inv[col * 4 + c], inv[pivot * 4 + c]);
+    }
+    const double d = m[col * 4 + col];
+    for (int c = 0; c < 4; ++c) {
+      m[col * 4 + c] /= d;
+      inv[col * 4 + c] /= d;
+    }
+    for (int r = 0; r < 4; ++r) {
+      if (r == col) continue;
+      const double f = m[r * 4 + col];
+      for (int c = 0; c < 4; ++c) {
+        m[r * 4 + c] -= f * m[col * 4 + c];
+        inv[r * 4 + c] -= f * inv[col * 4 + c];
+      }
+    }
+  }
+  return inv;
+}
+
+// The world transform of a node inheriting RrSs or Rrs, step by step as the FBX SDK's
+// transformations sample composes it: the parent's rotation (its columns normalised), its
+// shear-and-scale ParentR^-1 * (ParentT^-1 * ParentWorld), the global rotation-scale of the
+// inherit type, the translation the local chain gives placed by the parent's world.
+Matrix SdkSampleWorld(const Matrix& parent_world, const std::array<double, 3>& parent_scale,
+                      const Matrix& local, const Matrix& pre, const Matrix& r, const Matrix& post,
+                      const std::array<double, 3>& scale, FbxInheritType type) {
+  Matrix parent_r = Identity();
+  for (int c = 0; c < 3; ++c) {
+    const double length =
+        std::sqrt(parent_world[c] * parent_world[c] + parent_world[4 + c] * parent_world[4 + c] +
+                  parent_world[8 + c] * parent_world[8 + c]);
+    for (int row = 0; row < 3; ++row) parent_r[row * 4 + c] = parent_world[row * 4 + c] / length;
+  }
+  Matrix parent_t = Identity();
+  for (int row = 0; row < 3; ++row) parent_t[row * 4 + 3] = parent_world[row * 4 + 3];
+  const Matrix parent_rs = Product(Inverse(parent_t), parent_world);
+  Matrix parent_s = Product(Inverse(parent_r), parent_rs);
+  if (type == FbxInheritType::kRrs) parent_s = Product(parent_s, Inverse(Scale(parent_scale)));
+  const Matrix global_rs =
+      Product(Product(Product(parent_r, Product(Product(pre, r), post)), parent_s), Scale(scale));
+  const Matrix global_t =
+      Translate({Product(parent_world, local)[3], Product(parent_world, local)[7],
+                 Product(parent_world, local)[11]});
+  return Product(global_t, global_rs);
+}
+
 // The curve's value by its definition: the segment by a linear scan, a cubic's parameter by
 // bisection to the last bit.
 double NaiveValue(const FbxKeyCurve& c, int64_t tick) {
@@ -184,6 +240,7 @@ TEST(FbxRigPropertyTest, PositionsEqualTheDocumentedChainOfFullProducts) {
       n.scaling_offset = vector(0.3, -5, 5);
       n.scaling_pivot = vector(0.3, -5, 5);
       n.order = static_cast<FbxRotationOrder>(random() % 6);
+      n.inherit = static_cast<FbxInheritType>(random() % 3);
       for (std::array<int, 3>* channel :
            {&n.translation_curves, &n.rotation_curves, &n.scaling_curves}) {
         for (int& curve : *channel) {
@@ -206,6 +263,7 @@ TEST(FbxRigPropertyTest, PositionsEqualTheDocumentedChainOfFullProducts) {
     for (int64_t f = 0; f < frames; ++f) {
       const int64_t tick = start + std::llround(double(f) * double(kFbxTicksPerSecond) / fps);
       std::vector<Matrix> world(static_cast<size_t>(nodes));
+      std::vector<std::array<double, 3>> scales(static_cast<size_t>(nodes));
       for (int i = 0; i < nodes; ++i) {
         const FbxRigNode& n = rig.nodes[size_t(i)];
         const auto at = [&](std::array<double, 3> v, const std::array<int, 3>& curves) {
@@ -224,7 +282,15 @@ TEST(FbxRigPropertyTest, PositionsEqualTheDocumentedChainOfFullProducts) {
               Scale(at(n.scaling, n.scaling_curves)), Translate(n.scaling_pivot, -1)}) {
           local = Product(local, factor);
         }
-        world[size_t(i)] = n.parent < 0 ? local : Product(world[size_t(n.parent)], local);
+        scales[size_t(i)] = at(n.scaling, n.scaling_curves);
+        world[size_t(i)] =
+            n.parent < 0 || n.inherit == FbxInheritType::kRSrs
+                ? (n.parent < 0 ? local : Product(world[size_t(n.parent)], local))
+                : SdkSampleWorld(world[size_t(n.parent)], scales[size_t(n.parent)], local,
+                                 Euler(n.pre_rotation, 0),
+                                 Euler(at(n.rotation, n.rotation_curves), int(n.order)),
+                                 Transpose(Euler(n.post_rotation, 0)), scales[size_t(i)],
+                                 n.inherit);
         for (int a = 0; a < 3; ++a) {
           ASSERT_NEAR(fast[size_t((f * nodes + i) * 3 + a)], world[size_t(i)][size_t(a * 4 + 3)],
                       1e-7)

@@ -47,6 +47,8 @@ TEST(FbxSceneTest, BlenderFilesHaveTheirBonesTakeAndRate) {
     EXPECT_FALSE(rig.rig.curves.empty());
     for (size_t i = 0; i < rig.rig.nodes.size(); ++i) {
       EXPECT_LT(rig.rig.nodes[i].parent, static_cast<int>(i)) << "parents first";
+      // Each model says InheritType 1 (RSrs) over its template's 0.
+      EXPECT_EQ(rig.rig.nodes[i].inherit, FbxInheritType::kRSrs) << rig.names[i];
     }
     const std::vector<double> positions = FbxNodePositions(rig.rig, rig.take.start, rig.fps, 10);
     ASSERT_EQ(positions.size(), 10 * rig.rig.nodes.size() * 3);
@@ -170,6 +172,49 @@ TEST(FbxRigTest, TheTransformChainWithPreRotationAndPivots) {
   EXPECT_NEAR(p[4], 2, 1e-12);
   EXPECT_NEAR(p[6], 1, 1e-12);  // pivoted: R(90) of (2, 0, 0) = (0, 2, 0), plus (1, 0, 0)
   EXPECT_NEAR(p[7], 2, 1e-12);
+}
+
+// A parent scaled (2, 1, 1) and turned 90 degrees about z, a child turned 90 more, and two
+// grandchildren one unit along the child's x and y: where they land says how the child
+// inherited the parent's scale (worked by hand from the SDK's three definitions).
+TEST(FbxRigTest, InheritTypesPlaceTheGrandchildrenAsTheSdkDefinesThem) {
+  struct Case {
+    FbxInheritType type;
+    std::array<double, 3> along_x, along_y;
+  };
+  const Case cases[] = {
+      // RSrs: the child's axes sheared by the parent's world: x -> (-1, 0), y -> (0, -2).
+      {FbxInheritType::kRSrs, {-1, 2, 0}, {0, 0, 0}},
+      // RrSs: the parent's scale after the child's rotation: x -> (-2, 0), y -> (0, -1).
+      {FbxInheritType::kRrSs, {-2, 2, 0}, {0, 1, 0}},
+      // Rrs: the parent's own scale dropped: x -> (-1, 0), y -> (0, -1).
+      {FbxInheritType::kRrs, {-1, 2, 0}, {0, 1, 0}},
+  };
+  for (const Case& c : cases) {
+    FbxRig rig;
+    FbxRigNode root;
+    root.scaling = {2, 1, 1};
+    root.rotation = {0, 0, 90};
+    FbxRigNode child;
+    child.parent = 0;
+    child.translation = {1, 0, 0};
+    child.rotation = {0, 0, 90};
+    child.inherit = c.type;
+    FbxRigNode along_x;
+    along_x.parent = 1;
+    along_x.translation = {1, 0, 0};
+    FbxRigNode along_y = along_x;
+    along_y.translation = {0, 1, 0};
+    rig.nodes = {root, child, along_x, along_y};
+    const std::vector<double> p = FbxNodePositions(rig, 0, 30.0, 1);
+    const int type = static_cast<int>(c.type);
+    EXPECT_NEAR(p[3], 0, 1e-12) << type;  // the child: the parent's world of (1, 0, 0)
+    EXPECT_NEAR(p[4], 2, 1e-12) << type;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(p[6 + a], c.along_x[static_cast<size_t>(a)], 1e-12) << type << " axis " << a;
+      EXPECT_NEAR(p[9 + a], c.along_y[static_cast<size_t>(a)], 1e-12) << type << " axis " << a;
+    }
+  }
 }
 
 }  // namespace
