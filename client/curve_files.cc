@@ -15,7 +15,7 @@ CurveFormat CurveFormatFromFlag(const std::string& value) {
   return CurveFormat::kAuto;
 }
 
-bool IsCsvPath(const std::string& path) { return absl::EndsWithIgnoreCase(path, ".csv"); }
+bool IsCsvPath(const std::string& path) { return FormatFromName(path) == FormatId::kCsv; }
 
 bool CanWriteOutput(const std::string& input, const std::string& output) {
   if (IsCsvPath(output) || !IsCsvPath(input)) return true;
@@ -56,10 +56,10 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
   }
   if (format == CurveFormat::kAuto) {
     switch (SniffFormat(*text)) {
-      case FileFormat::kMotion3:
+      case FormatId::kMotion3:
         format = CurveFormat::kMotion3;
         break;
-      case FileFormat::kCsv:
+      case FormatId::kCsv:
         format = CurveFormat::kCsv;
         break;
       default:
@@ -82,7 +82,7 @@ absl::StatusOr<CurveInput> ReadCurveInput(const std::string& path, double csv_fp
 absl::StatusOr<CurveFormat> CurveOutputFormat(const std::string& path, CurveFormat format,
                                               const CurveInput& input) {
   if (format == CurveFormat::kAuto) {
-    if (absl::EndsWithIgnoreCase(path, ".bvh")) {
+    if (FormatFromName(path) == FormatId::kBvh) {
       return absl::InvalidArgumentError(
           absl::StrCat("-o ", path, ": curves are written as motion3.json or CSV, not BVH"));
     }

@@ -1,84 +1,74 @@
 #include "client/file_format.h"
 
-#include "absl/strings/ascii.h"
-#include "absl/strings/match.h"
-#include "absl/strings/str_cat.h"
+#include <string_view>
+#include <vector>
+
 #include "client/files.h"
-#include "formats/text_encoding.h"
 
 namespace koma::client {
+namespace {
 
-FileFormat FormatFromName(const std::string& path) {
-  if (absl::EndsWithIgnoreCase(path, ".bvh")) return FileFormat::kBvh;
-  if (absl::EndsWithIgnoreCase(path, ".json")) return FileFormat::kMotion3;
-  if (absl::EndsWithIgnoreCase(path, ".csv")) return FileFormat::kCsv;
-  if (absl::EndsWithIgnoreCase(path, ".fbx")) return FileFormat::kFbx;
-  for (absl::string_view ext : {".glb", ".gltf", ".vrm", ".vrma"}) {
-    if (absl::EndsWithIgnoreCase(path, ext)) return FileFormat::kGltf;
+std::string_view View(absl::string_view text) { return {text.data(), text.size()}; }
+
+// "A, B or C" (`last` " or " or " and "). std::string, not absl::StrCat: the table's
+// std::string_view is not Debian abseil's absl::string_view.
+std::string Listed(const std::vector<std::string>& items, std::string_view last) {
+  std::string out;
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (i > 0) out += i + 1 == items.size() ? last : std::string_view(", ");
+    out += items[i];
   }
-  return FileFormat::kUnknown;
+  return out;
 }
 
-FileFormat SniffFormat(absl::string_view text) {
-  if (absl::StartsWith(text, "glTF")) return FileFormat::kGltf;
-  if (absl::StartsWith(text, "Kaydara FBX Binary") || absl::StartsWith(text, "; FBX")) {
-    return FileFormat::kFbx;
+// The formats `command` takes as IN that a name says (Spine JSON is told from motion3.json by
+// its contents only, and counts as one of "the JSON curve files" here).
+std::vector<const formats::FormatRow*> NamedInputsOf(std::string_view command) {
+  std::vector<const formats::FormatRow*> rows;
+  for (const formats::FormatRow& row : formats::FormatTable()) {
+    if (!row.extensions.empty() && formats::TakesInput(row, command)) rows.push_back(&row);
   }
-  const absl::string_view bom(formats::kUtf8Bom.data(), formats::kUtf8Bom.size());
-  if (absl::StartsWith(text, bom)) text.remove_prefix(bom.size());
-  text = absl::StripLeadingAsciiWhitespace(text);
-  if (absl::StartsWith(text, "HIERARCHY")) return FileFormat::kBvh;
-  if (absl::StartsWith(text, "{")) {
-    const bool gltf =
-        absl::StrContains(text, "\"asset\"") && !absl::StrContains(text, "\"Curves\"");
-    return gltf ? FileFormat::kGltf : FileFormat::kMotion3;
-  }
-  for (absl::string_view header : {"frame,", "frame;", "\"frame\",", "\"frame\";"}) {
-    if (absl::StartsWith(text, header)) return FileFormat::kCsv;
-  }
-  return FileFormat::kUnknown;
+  return rows;
 }
 
-absl::string_view FormatName(FileFormat format) {
-  switch (format) {
-    case FileFormat::kBvh:
-      return "BVH";
-    case FileFormat::kMotion3:
-      return "motion3.json";
-    case FileFormat::kCsv:
-      return "CSV";
-    case FileFormat::kGltf:
-      return "glTF";
-    case FileFormat::kFbx:
-      return "FBX";
-    case FileFormat::kUnknown:
-      break;
+const formats::CommandRow* CommandOf(std::string_view name) {
+  for (const formats::CommandRow& row : formats::CommandTable()) {
+    if (row.name == name) return &row;
   }
-  return "unknown";
+  return nullptr;
 }
+
+}  // namespace
+
+FormatId FormatFromName(const std::string& path) { return formats::FormatFromName(path); }
+
+FormatId SniffFormat(absl::string_view text) { return formats::SniffFormat(View(text)); }
 
 absl::Status CheckInputFormat(const std::string& path, absl::string_view text,
-                              absl::string_view command) {
-  const FileFormat found = SniffFormat(text);
-  const bool skeletal = command == "skeletal";
-  if (skeletal && (found == FileFormat::kMotion3 || found == FileFormat::kCsv)) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        InputName(path), " is a ", FormatName(found),
-        " file, not BVH, glTF or FBX: `koma skeletal` reads BVH motion capture, glTF 2.0 / VRM "
-        "and binary FBX; "
-        "retime curves with `koma curves` or `koma lipblink`"));
+                              absl::string_view command_line) {
+  const formats::FormatRow& found = formats::FormatOf(SniffFormat(text));
+  const std::string_view command = View(command_line.substr(0, command_line.find(' ')));
+  const formats::CommandRow* reader = CommandOf(command);
+  if (found.id == FormatId::kUnknown || reader == nullptr || formats::TakesInput(found, command)) {
+    return absl::OkStatus();
   }
-  if (!skeletal &&
-      (found == FileFormat::kBvh || found == FileFormat::kGltf || found == FileFormat::kFbx)) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        InputName(path), " is a ", FormatName(found), " file, not motion3.json or CSV: `koma ",
-        command, "` reads Live2D motion3.json or per-frame CSV; retime ",
-        found == FileFormat::kBvh    ? "BVH clips"
-        : found == FileFormat::kGltf ? "glTF files"
-                                     : "FBX takes",
-        " with `koma skeletal`"));
+  std::vector<std::string> names;
+  std::vector<std::string> described;
+  for (const formats::FormatRow* row : NamedInputsOf(command)) {
+    names.emplace_back(row->name);
+    described.emplace_back(row->described);
   }
-  return absl::OkStatus();
+  std::vector<std::string> elsewhere;
+  for (const formats::CommandInput& input : found.inputs) {
+    if (input.flag.empty()) elsewhere.push_back("`koma " + std::string(input.command) + "`");
+  }
+  std::string message = InputName(path) + " is a " + std::string(found.name) + " file, not " +
+                        Listed(names, " or ") + ": `koma " + std::string(command_line) +
+                        "` reads " + Listed(described, reader->conjunction);
+  if (!elsewhere.empty()) {
+    message += "; retime " + std::string(found.retimed_as) + " with " + Listed(elsewhere, " or ");
+  }
+  return absl::InvalidArgumentError(message);
 }
 
 }  // namespace koma::client

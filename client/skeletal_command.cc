@@ -16,7 +16,7 @@
 #include "client/report/skeletal_report.h"
 #include "client/retime_call.h"
 #include "client/skeletal_convert.h"
-#include "client/skeletal_fbx.h"
+#include "client/skeletal_file_formats.h"
 #include "client/skeletal_gltf.h"
 #include "client/skeletal_summary.h"
 #include "client/xdts_sheets.h"
@@ -187,9 +187,10 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
         "--omit ", *args.omissions, " and --omissions-per-second ", *args.omissions_per_second,
         ": give one (a --config file may have set the other)"));
   }
-  const FileFormat named = FormatFromName(args.output);
-  if (named != FileFormat::kUnknown && named != FileFormat::kBvh && named != FileFormat::kGltf &&
-      named != FileFormat::kFbx) {
+  // A name of a format other commands write (motion3.json, CSV), not a name koma has no
+  // format for (a BVH may be written to any name).
+  const formats::FormatRow& named = formats::FormatOf(FormatFromName(args.output));
+  if (!named.written_by.empty() && !formats::WrittenBy(named, "skeletal")) {
     return absl::InvalidArgumentError(
         absl::StrCat("-o ", args.output,
                      ": koma skeletal writes BVH (-o OUT.bvh) or, for a glTF or FBX "
@@ -248,8 +249,9 @@ int RunSkeletal(const SkeletalArgs& args) {
     return out.Failure(s);
   absl::StatusOr<std::string> bytes = ReadFile(args.input);
   if (!bytes.ok()) return out.Failure(bytes.status());
-  if (IsGltfInput(args.input, *bytes)) return RunSkeletalGltf(args, *std::move(bytes));
-  if (IsFbxInput(args.input, *bytes)) return RunSkeletalFbx(args, *std::move(bytes));
+  if (const SkeletalFileFormat* file = SkeletalFileFormatOf(args.input, &*bytes)) {
+    return file->run(args, *std::move(bytes));
+  }
   if (!args.take.empty()) {
     return out.UsageFailure(absl::InvalidArgumentError("--take picks an FBX file's take; " +
                                                        InputName(args.input) + " is not FBX"));
@@ -260,8 +262,10 @@ int RunSkeletal(const SkeletalArgs& args) {
         "--gltf-keep-original are for glTF inputs; " +
         InputName(args.input) + " is not one"));
   }
-  if (FormatFromName(args.output) == FileFormat::kGltf ||
-      FormatFromName(args.output) == FileFormat::kFbx) {
+  // -o names a format that only comes back from its own input (OUT.glb for IN.glb).
+  if (const FormatId out_format = FormatFromName(args.output);
+      out_format != FormatId::kBvh &&
+      formats::WrittenBy(formats::FormatOf(out_format), "skeletal")) {
     return out.UsageFailure(absl::InvalidArgumentError(absl::StrCat(
         "-o ", args.output, ": the input is BVH, and koma skeletal writes BVH back (-o OUT.bvh)")));
   }

@@ -48,7 +48,7 @@ absl::Status CheckFbxFlags(const SkeletalArgs& args) {
     return absl::InvalidArgumentError("--send-file: an FBX file always travels whole");
   }
   if (!args.output.empty() && !IsStdio(args.output) &&
-      FormatFromName(args.output) != FileFormat::kFbx) {
+      FormatFromName(args.output) != FormatId::kFbx) {
     return absl::InvalidArgumentError(absl::StrCat(
         "-o ", args.output, ": the input is FBX, and koma writes the same file back: -o OUT.fbx"));
   }
@@ -117,7 +117,7 @@ absl::Status WriteFbxReport(const std::string& path, const v1::RetimeSkeletalReq
 }
 
 bool IsFbxInput(const std::string& path, const std::string& bytes) {
-  return FormatFromName(path) == FileFormat::kFbx || SniffFormat(bytes) == FileFormat::kFbx;
+  return FormatFromName(path) == FormatId::kFbx || SniffFormat(bytes) == FormatId::kFbx;
 }
 
 int RunSkeletalFbx(const SkeletalArgs& args, std::string bytes) {

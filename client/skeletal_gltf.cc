@@ -46,7 +46,7 @@ SkeletalClip SummaryClip(const v1::GltfAnimationTiming& animation) {
 }  // namespace
 
 bool IsGltfInput(const std::string& path, const std::string& bytes) {
-  return FormatFromName(path) == FileFormat::kGltf || SniffFormat(bytes) == FileFormat::kGltf;
+  return FormatFromName(path) == FormatId::kGltf || SniffFormat(bytes) == FormatId::kGltf;
 }
 
 bool HasGltfFlags(const SkeletalArgs& args) {
@@ -65,9 +65,9 @@ absl::Status CheckGltfFlags(const SkeletalArgs& args, bool input_is_glb) {
         "--gltf-retime-none and --gltf-animations: give one or the other");
   }
   if (!args.output.empty() && !IsStdio(args.output)) {
-    const FileFormat named = FormatFromName(args.output);
+    const FormatId named = FormatFromName(args.output);
     const bool glb_out = NamesGlbContainer(args.output);
-    if (named != FileFormat::kGltf || glb_out != input_is_glb) {
+    if (named != FormatId::kGltf || glb_out != input_is_glb) {
       return absl::InvalidArgumentError(absl::StrCat(
           "-o ", args.output, ": the input is ", input_is_glb ? "a GLB file" : "a .gltf file",
           ", and koma writes the same file back: -o OUT",
@@ -182,7 +182,7 @@ absl::Status WriteGltfReport(const std::string& path, const v1::RetimeSkeletalRe
 int RunSkeletalGltf(const SkeletalArgs& args, std::string bytes) {
   const CommandOutput out("skeletal", args.json, args.quiet, args.server);
   if (absl::Status s = CheckGltfFlags(
-          args, SniffFormat(bytes) == FileFormat::kGltf && absl::StartsWith(bytes, "glTF"));
+          args, SniffFormat(bytes) == FormatId::kGltf && absl::StartsWith(bytes, "glTF"));
       !s.ok()) {
     return out.UsageFailure(s);
   }

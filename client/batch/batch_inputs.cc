@@ -14,6 +14,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
 #include "client/batch/batch_audio_beside.h"
+#include "formats/format_table.h"
 #include "formats/text_encoding.h"
 
 namespace koma::client::batch {
@@ -130,24 +131,33 @@ absl::Status AddList(const std::string& list_path, Collector& collector) {
 }  // namespace
 
 const std::vector<std::string>& AudioExtensions() {
-  static const std::vector<std::string> extensions = {".wav", ".flac", ".ogg",
-                                                      ".oga", ".opus", ".mp3"};
-  return extensions;
+  static const std::vector<std::string>* const extensions = [] {
+    const formats::FormatRow& audio = formats::FormatOf(formats::FormatId::kAudio);
+    return new std::vector<std::string>(audio.folder_extensions.begin(),
+                                        audio.folder_extensions.end());
+  }();
+  return *extensions;
 }
 
 bool IsAudioPath(const std::string& path) {
-  for (const std::string& extension : AudioExtensions()) {
-    if (absl::EndsWithIgnoreCase(path, extension)) return true;
-  }
-  return false;
+  return formats::FormatFromName(path) == formats::FormatId::kAudio;
 }
 
 std::vector<std::string> ExtensionsOf(const std::string& rpc, bool spine_skeletons) {
-  if (rpc == "skeletal") return {".bvh", ".glb", ".gltf", ".vrm", ".vrma", ".fbx"};
-  if (spine_skeletons && (rpc == "lipblink" || rpc == "curves")) return {".json"};
-  std::vector<std::string> extensions = {".motion3.json", ".csv"};
-  if (rpc == "lipblink") {
-    extensions.insert(extensions.end(), AudioExtensions().begin(), AudioExtensions().end());
+  // The formats the command reads, as IN or through a flag naming a file beside it (a
+  // recording), in the table's order. Spine skeletons share *.json with motion3.json, so a
+  // folder is read as one or the other, as the command's flags say.
+  const bool skeletons_only =
+      spine_skeletons && formats::TakesInput(formats::FormatOf(formats::FormatId::kSpine), rpc);
+  std::vector<std::string> extensions;
+  for (const formats::FormatRow& row : formats::FormatTable()) {
+    const bool taken = std::any_of(row.inputs.begin(), row.inputs.end(),
+                                   [&](const formats::CommandInput& input) {
+                                     return input.command == rpc;
+                                   });
+    if (!taken || skeletons_only != (row.id == formats::FormatId::kSpine)) continue;
+    extensions.insert(extensions.end(), row.folder_extensions.begin(),
+                      row.folder_extensions.end());
   }
   return extensions;
 }

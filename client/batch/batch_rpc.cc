@@ -14,8 +14,7 @@
 #include "client/report/lip_blink_report.h"
 #include "client/report/lip_blink_voice_report.h"
 #include "client/report/skeletal_report.h"
-#include "client/skeletal_fbx.h"
-#include "client/skeletal_gltf.h"
+#include "client/skeletal_file_formats.h"
 #include "client/spine_curves.h"
 #include "client/spine_lip_blink.h"
 #include "client/xdts_sheets.h"
@@ -114,18 +113,6 @@ class SkeletalClipCall final : public SkeletalCall {
   std::vector<std::string> warnings_;
 };
 
-// A file the server reads and answers whole (glTF: .glb, .gltf, .vrm, .vrma; FBX): the
-// request is built and the answer written by that format's own functions, as `koma skeletal`
-// does for it.
-struct SkeletalFileFormat {
-  absl::StatusOr<v1::RetimeSkeletalRequest> (*build)(const SkeletalArgs&, std::string);
-  absl::Status (*write_outputs)(const SkeletalArgs&, const v1::RetimeSkeletalResponse&);
-  absl::Status (*write_report)(const std::string&, const v1::RetimeSkeletalRequest&,
-                               const v1::RetimeSkeletalResponse&, const std::string&);
-};
-constexpr SkeletalFileFormat kGltfFile{BuildGltfRequest, WriteGltfOutputs, WriteGltfReport};
-constexpr SkeletalFileFormat kFbxFile{BuildFbxRequest, WriteFbxOutputs, WriteFbxReport};
-
 class SkeletalFileCall final : public SkeletalCall {
  public:
   SkeletalFileCall(const SkeletalArgs& args, const SkeletalFileFormat& format,
@@ -150,9 +137,10 @@ class SkeletalRpc final : public Rpc {
   explicit SkeletalRpc(const SkeletalArgs& args) : args_(args) {}
 
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
-    const FileFormat named = FormatFromName(item.input);
-    if (named == FileFormat::kGltf || named == FileFormat::kFbx) {
-      const SkeletalFileFormat& format = named == FileFormat::kGltf ? kGltfFile : kFbxFile;
+    // A file the server reads and answers whole (glTF, FBX; by its name): the request is
+    // built and the answer written by that format's own functions, as `koma skeletal` does.
+    if (const SkeletalFileFormat* file = SkeletalFileFormatOf(item.input)) {
+      const SkeletalFileFormat& format = *file;
       absl::StatusOr<std::string> bytes = ReadFile(item.input);
       if (!bytes.ok()) return bytes.status();
       absl::StatusOr<v1::RetimeSkeletalRequest> request = format.build(args_, *std::move(bytes));

@@ -299,13 +299,13 @@ absl::StatusOr<std::unique_ptr<Message>> BuildFromCommandLine(const std::string&
     return absl::InvalidArgumentError("parse exit code " + std::to_string(code) + " for " +
                                       absl::StrJoin(argv, " "));
   }
-  if (line.command == "skeletal" && FormatFromName(line.skeletal.input) == FileFormat::kGltf) {
+  if (line.command == "skeletal" && FormatFromName(line.skeletal.input) == FormatId::kGltf) {
     absl::StatusOr<v1::RetimeSkeletalRequest> r =
         BuildGltfRequest(line.skeletal, FileBytes(line.skeletal.input));
     if (!r.ok()) return r.status();
     return std::unique_ptr<Message>(new v1::RetimeSkeletalRequest(*r));
   }
-  if (line.command == "skeletal" && FormatFromName(line.skeletal.input) == FileFormat::kFbx) {
+  if (line.command == "skeletal" && FormatFromName(line.skeletal.input) == FormatId::kFbx) {
     absl::StatusOr<v1::RetimeSkeletalRequest> r =
         BuildFbxRequest(line.skeletal, FileBytes(line.skeletal.input));
     if (!r.ok()) return r.status();
