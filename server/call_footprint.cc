@@ -1,8 +1,12 @@
 #include "server/call_footprint.h"
 
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/message.h>
+
 #include <algorithm>
 #include <cstdint>
 
+#include "formats/format_table.h"
 #include "formats/gltf.h"
 
 namespace koma::server {
@@ -25,59 +29,23 @@ int64_t CurvesFootprint(const v1::CurveSet& curves, int64_t request_bytes,
   return kFixedBytes + request_bytes + 2 * values * kDouble + frames * kPerFrameBytes;
 }
 
-// Memory per file byte, by format: bench/format_memory.py's measured peak above the idle
-// server, per MB of file (with the decoded request and the answer), rounded up with a quarter
-// to spare; the JSON formats at least 24, what a JSON document of nothing but empty strings
-// or objects costs nlohmann (16 bytes a value, and 40 more for the string or object, per
-// 3 bytes of text). Measured (MiB per MB): BVH 5.0 (whole call), motion3.json 22.6, curve
-// CSV 7.5, Spine JSON 12.1, Rhubarb JSON 16.4, WAV 2.8, a GLB's JSON chunk 58.
-constexpr int64_t kBvhParseFactor = 3;
-constexpr int64_t kBvhOverheadFactor = 2;
-constexpr int64_t kMotion3Factor = 28;
-constexpr int64_t kCsvFactor = 10;
-constexpr int64_t kSpineFactor = 24;
-constexpr int64_t kRhubarbFactor = 24;
-constexpr int64_t kAudioFactor = 4;
-// FBX: the file, koma's node tree (arrays stay encoded until asked for) and the written file.
-constexpr int64_t kFbxFactor = 8;
-// glTF: the bytes (and the buffers copied out of them) 3x, its JSON structure 72x.
-constexpr int64_t kGltfBytesFactor = 3;
+// glTF's JSON structure, beside its bytes (formats/format_table.cc's row): 72 bytes per byte,
+// tinygltf's model and nlohmann's document of the JSON without its data URIs and long strings
+// (measured: a GLB's JSON chunk 58 MiB per MB).
 constexpr int64_t kGltfJsonFactor = 72;
-
-int64_t Factor(FileKind kind, bool parse) {
-  switch (kind) {
-    case FileKind::kBvh:
-      return parse ? kBvhParseFactor : kBvhOverheadFactor;
-    case FileKind::kGltf:
-      return kGltfBytesFactor;
-    case FileKind::kFbx:
-      return kFbxFactor;
-    case FileKind::kMotion3:
-      return kMotion3Factor;
-    case FileKind::kCsv:
-      return kCsvFactor;
-    case FileKind::kSpine:
-      return kSpineFactor;
-    case FileKind::kRhubarb:
-      return kRhubarbFactor;
-    case FileKind::kAudio:
-      return kAudioFactor;
-  }
-  return kMotion3Factor;
-}
 
 }  // namespace
 
-int64_t FileParseFootprint(int64_t file_bytes, FileKind kind) {
-  return kFixedBytes + Factor(kind, /*parse=*/true) * file_bytes;
+int64_t FileParseFootprint(int64_t file_bytes, formats::FormatId format) {
+  return kFixedBytes + formats::FormatOf(format).parse_bytes_per_byte * file_bytes;
 }
 
-int64_t FileOverheadFootprint(int64_t file_bytes, FileKind kind) {
-  return kFixedBytes + Factor(kind, /*parse=*/false) * file_bytes;
+int64_t FileOverheadFootprint(int64_t file_bytes, formats::FormatId format) {
+  return kFixedBytes + formats::FormatOf(format).kept_bytes_per_byte * file_bytes;
 }
 
 int64_t GltfFootprint(std::string_view file) {
-  return FileParseFootprint(static_cast<int64_t>(file.size()), FileKind::kGltf) +
+  return FileParseFootprint(static_cast<int64_t>(file.size()), formats::FormatId::kGltf) +
          kGltfJsonFactor * formats::GltfJsonStructureBytes(file);
 }
 
@@ -86,13 +54,14 @@ int64_t ReceivedFootprint(int64_t request_bytes) { return kFixedBytes + 2 * requ
 int64_t ExpectedFootprint(const v1::RetimeSkeletalRequest& request, int64_t /*request_bytes*/,
                           const RequestLimits& limits) {
   if (request.input_case() == v1::RetimeSkeletalRequest::kBvhText) {
-    return FileParseFootprint(static_cast<int64_t>(request.bvh_text().size()), FileKind::kBvh);
+    return FileParseFootprint(static_cast<int64_t>(request.bvh_text().size()),
+                              formats::FormatId::kBvh);
   }
   if (request.input_case() == v1::RetimeSkeletalRequest::kGltf) {
     return GltfFootprint(request.gltf());
   }
   if (request.input_case() == v1::RetimeSkeletalRequest::kFbx) {
-    return FileParseFootprint(static_cast<int64_t>(request.fbx().size()), FileKind::kFbx);
+    return FileParseFootprint(static_cast<int64_t>(request.fbx().size()), formats::FormatId::kFbx);
   }
   // The received bytes are freed once parsed (ParseRequest in retime_service.cc); the
   // skeleton and options are small beside the values.
@@ -110,17 +79,25 @@ int64_t ExpectedFootprint(const v1::RetimeSkeletalRequest& request, int64_t /*re
 
 namespace {
 
-template <typename Request>
-FileKind CurveFileKindOf(const Request& request) {
-  if (request.input_case() == Request::kCsvText) return FileKind::kCsv;
-  if (request.input_case() == Request::kSpineJson) return FileKind::kSpine;
-  return FileKind::kMotion3;
+// The format of the file the request's `input` carries: the format table's row of the field
+// set (motion3.json when none is).
+formats::FormatId CurveFileKindOf(const google::protobuf::Message& request) {
+  const google::protobuf::Descriptor* message = request.GetDescriptor();
+  const google::protobuf::FieldDescriptor* set =
+      request.GetReflection()->GetOneofFieldDescriptor(request, message->FindOneofByName("input"));
+  const formats::FormatRow* row =
+      set == nullptr ? nullptr : formats::FormatOfRequestField(message->name(), set->name());
+  return row == nullptr ? formats::FormatId::kMotion3 : row->id;
 }
 
 }  // namespace
 
-FileKind CurveFileKind(const v1::RetimeCurvesRequest& request) { return CurveFileKindOf(request); }
-FileKind CurveFileKind(const v1::LipBlinkRequest& request) { return CurveFileKindOf(request); }
+formats::FormatId CurveFileKind(const v1::RetimeCurvesRequest& request) {
+  return CurveFileKindOf(request);
+}
+formats::FormatId CurveFileKind(const v1::LipBlinkRequest& request) {
+  return CurveFileKindOf(request);
+}
 
 int64_t ExpectedFootprint(const v1::RetimeCurvesRequest& request, int64_t request_bytes,
                           const RequestLimits& limits) {
@@ -140,8 +117,9 @@ int64_t ExpectedFootprint(const v1::LipBlinkRequest& request, int64_t request_by
   const int64_t cue_bytes = static_cast<int64_t>(request.rhubarb_cues().size());
   request_bytes -= audio_bytes + cue_bytes;
   // The motion koma writes for a voice alone is small beside the voice.
-  const int64_t voice = (audio_bytes > 0 ? FileParseFootprint(audio_bytes, FileKind::kAudio) : 0) +
-                        (cue_bytes > 0 ? FileParseFootprint(cue_bytes, FileKind::kRhubarb) : 0);
+  const int64_t voice =
+      (audio_bytes > 0 ? FileParseFootprint(audio_bytes, formats::FormatId::kAudio) : 0) +
+      (cue_bytes > 0 ? FileParseFootprint(cue_bytes, formats::FormatId::kRhubarb) : 0);
   if (request.input_case() == v1::LipBlinkRequest::INPUT_NOT_SET && voice > 0) return voice;
   if (request.input_case() != v1::LipBlinkRequest::kCurves &&
       request.input_case() != v1::LipBlinkRequest::INPUT_NOT_SET) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string_view>
 
+#include "formats/format_table.h"
 #include "koma/v1/retime.pb.h"
 #include "server/request_limits.h"
 
@@ -31,26 +32,25 @@ int64_t ExpectedFootprint(const v1::RetimeCurvesRequest& request, int64_t reques
 int64_t ExpectedFootprint(const v1::LipBlinkRequest& request, int64_t request_bytes,
                           const RequestLimits& limits);
 
-// The file formats a request may carry, each with its own memory per byte.
-enum class FileKind { kBvh, kGltf, kFbx, kMotion3, kCsv, kSpine, kRhubarb, kAudio };
-
 // A request carrying a file (server/file_requests.h) is sized by the file until it is parsed:
 // the bytes and what parsing builds (BVH: the numbers, ~1x the text; the JSON formats: a
 // document of several times the text; glTF: the JSON document and tinygltf's model, tens of
 // times its JSON, beside its binary buffers). Once parsed, the handler grows the call's
 // reservation to FileOverheadFootprint plus the decoded request's ExpectedFootprint. The
 // factors are upper bounds of the peaks bench/format_memory.py measures on the real server
-// (docs/reliability.md, "Memory per format").
-int64_t FileParseFootprint(int64_t file_bytes, FileKind kind);
+// (docs/reliability.md, "Memory per format"), kept in the format's row of the format table
+// (formats/format_table.h: parse_bytes_per_byte, kept_bytes_per_byte).
+int64_t FileParseFootprint(int64_t file_bytes, formats::FormatId format);
 // Beside the decoded request's footprint, until the answer is written: the text, the parsed
 // file (the JSON documents are kept to write the answer back) and the retimed file's text.
-int64_t FileOverheadFootprint(int64_t file_bytes, FileKind kind);
+int64_t FileOverheadFootprint(int64_t file_bytes, formats::FormatId format);
 // A glTF file's (GLB or .gltf text): its bytes plus its JSON's document and tinygltf's model,
 // counted on the JSON without its data URIs and long strings (a GLB's JSON chunk).
 int64_t GltfFootprint(std::string_view file);
-// The format of a RetimeCurves or LipBlink request's file (motion3.json when it has none).
-FileKind CurveFileKind(const v1::RetimeCurvesRequest& request);
-FileKind CurveFileKind(const v1::LipBlinkRequest& request);
+// The format of a RetimeCurves or LipBlink request's file: the format table's row of its
+// `input` field (motion3.json when it has none).
+formats::FormatId CurveFileKind(const v1::RetimeCurvesRequest& request);
+formats::FormatId CurveFileKind(const v1::LipBlinkRequest& request);
 
 }  // namespace koma::server
 

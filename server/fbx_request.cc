@@ -78,7 +78,7 @@ absl::Status HandleRetimeSkeletalFbx(const v1::RetimeSkeletalRequest& request,
   *decoded.mutable_motion() = convert::FbxMotion(*rig, frames);
   KOMA_RETURN_IF_ERROR(StopReason());  // a stopped evaluation left positions unfinished
   KOMA_RETURN_IF_ERROR(GrowCallReservation(
-      FileOverheadFootprint(static_cast<int64_t>(bytes.size()), FileKind::kFbx) +
+      FileOverheadFootprint(static_cast<int64_t>(bytes.size()), formats::FormatId::kFbx) +
           ExpectedFootprint(decoded, static_cast<int64_t>(bytes.size()), limits),
       "this FBX request (the parsed file, the sampled models, work, response)"));
   KOMA_RETURN_IF_ERROR(HandleRetimeSkeletal(decoded, limits, response));

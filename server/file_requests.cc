@@ -117,7 +117,7 @@ constexpr char kParsedFile[] =
 // from the text's estimate to the decoded request's footprint plus the file's own
 // (server/call_footprint.h); RESOURCE_EXHAUSTED naming the budget when that does not fit.
 template <typename Request>
-absl::Status ReserveDecoded(const Request& decoded, size_t file_bytes, FileKind kind,
+absl::Status ReserveDecoded(const Request& decoded, size_t file_bytes, formats::FormatId kind,
                             const RequestLimits& limits) {
   const auto bytes = static_cast<int64_t>(file_bytes);
   return GrowCallReservation(
@@ -193,7 +193,7 @@ absl::Status HandleRetimeSkeletalFile(const v1::RetimeSkeletalRequest& request,
     // --max_file_bytes decodes to tens of MB, held once here, not twice.
     std::vector<double>().swap(clip->values);
     KOMA_RETURN_IF_ERROR(
-        ReserveDecoded(decoded, request.bvh_text().size(), FileKind::kBvh, limits));
+        ReserveDecoded(decoded, request.bvh_text().size(), formats::FormatId::kBvh, limits));
     KOMA_RETURN_IF_ERROR(HandleRetimeSkeletal(decoded, limits, response));
   }  // `decoded` freed before the retimed clip and its text are built
   for (std::string& warning : warnings) response->add_warnings(std::move(warning));
@@ -263,7 +263,7 @@ absl::Status HandleLipBlinkFile(const v1::LipBlinkRequest& request, const Reques
 
 absl::Status ReserveDecodedLipBlink(const v1::LipBlinkRequest& decoded, size_t file_bytes,
                                     const RequestLimits& limits) {
-  return ReserveDecoded(decoded, file_bytes, FileKind::kSpine, limits);
+  return ReserveDecoded(decoded, file_bytes, formats::FormatId::kSpine, limits);
 }
 
 absl::Status PutLipBlinkFile(const CurveFile& file, v1::LipBlinkResponse* response) {

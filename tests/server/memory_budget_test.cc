@@ -4,6 +4,7 @@
 #include "server/memory_budget.h"
 
 #include <gmock/gmock.h>
+#include <google/protobuf/descriptor.h>
 #include <gtest/gtest.h>
 #include <prometheus/registry.h>
 
@@ -208,12 +209,40 @@ TEST(CallFootprintTest, ClaimedCountsAreCappedByMaxValues) {
   EXPECT_EQ(ExpectedFootprint(request, 10, limits), 64 * 1024 + 10 + 2 * 1000 * 8 + 1000 * 64);
 }
 
+// The format table's request fields (formats/format_table.h) are the proto's file fields:
+// bytes in a oneof, so the budget finds a file request's format by the field that is set.
+TEST(CallFootprintTest, TheFormatTablesRequestFieldsAreTheProtosFileFields) {
+  const google::protobuf::DescriptorPool* pool = google::protobuf::DescriptorPool::generated_pool();
+  for (const formats::FormatRow& row : formats::FormatTable()) {
+    for (const formats::RequestField& carried : row.request_fields) {
+      const std::string message = "koma.v1." + std::string(carried.message);
+      const google::protobuf::Descriptor* descriptor = pool->FindMessageTypeByName(message);
+      ASSERT_NE(descriptor, nullptr) << message;
+      const google::protobuf::FieldDescriptor* field =
+          descriptor->FindFieldByName(std::string(carried.field));
+      ASSERT_NE(field, nullptr) << message << "." << carried.field;
+      EXPECT_EQ(field->type(), google::protobuf::FieldDescriptor::TYPE_BYTES) << field->name();
+      EXPECT_NE(field->containing_oneof(), nullptr) << field->name();
+    }
+  }
+  // The curve requests' `input` files, each at its row's cost.
+  v1::RetimeCurvesRequest curves;
+  curves.set_spine_json("{}");
+  EXPECT_EQ(CurveFileKind(curves), formats::FormatId::kSpine);
+  curves.set_csv_text("frame,a");
+  EXPECT_EQ(CurveFileKind(curves), formats::FormatId::kCsv);
+  v1::LipBlinkRequest lip_blink;
+  EXPECT_EQ(CurveFileKind(lip_blink), formats::FormatId::kMotion3);  // no file: the default
+  lip_blink.set_spine_json("{}");
+  EXPECT_EQ(CurveFileKind(lip_blink), formats::FormatId::kSpine);
+}
+
 // Each file format at its own cost per byte (docs/reliability.md, "Memory per format").
 TEST(CallFootprintTest, FilesAreCountedAtTheirFormatsCostPerByte) {
   constexpr int64_t kFixed = 64 * 1024;
-  EXPECT_EQ(FileParseFootprint(1000, FileKind::kSpine), kFixed + 24 * 1000);
-  EXPECT_EQ(FileParseFootprint(1000, FileKind::kMotion3), kFixed + 28 * 1000);
-  EXPECT_EQ(FileParseFootprint(1000, FileKind::kAudio), kFixed + 4 * 1000);
+  EXPECT_EQ(FileParseFootprint(1000, formats::FormatId::kSpine), kFixed + 24 * 1000);
+  EXPECT_EQ(FileParseFootprint(1000, formats::FormatId::kMotion3), kFixed + 28 * 1000);
+  EXPECT_EQ(FileParseFootprint(1000, formats::FormatId::kAudio), kFixed + 4 * 1000);
   v1::RetimeCurvesRequest spine;
   spine.set_spine_json(std::string(1000, ' '));
   v1::RetimeCurvesRequest csv;
