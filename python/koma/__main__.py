@@ -24,6 +24,7 @@ import sys
 
 import koma
 from koma import _presets
+from koma import _format_table
 from koma._client import _is_spine
 
 
@@ -88,9 +89,14 @@ def _read_text(path):
         return f.read().decode("utf-8-sig", errors="replace")
 
 
+def _is_csv_path(path):
+    """*.csv, any case (the format table's CSV row, as `koma` tells a CSV by its name)."""
+    return _format_table.format_from_name(path) == "csv"
+
+
 def _is_spine_path(path):
     """A Spine skeleton JSON, told as koma tells it (formats/spine.h: first key "skeleton")."""
-    if path is None or path.lower().endswith(".csv"):
+    if path is None or _is_csv_path(path):
         return False
     try:
         with open(path, "rb") as f:
@@ -304,13 +310,13 @@ def _curve_overrides(entries):
 
 def _check_output_format(args, spine=False):
     if spine:
-        if args.output.lower().endswith(".csv"):
+        if _is_csv_path(args.output):
             _usage(f"-o {args.output}: a Spine skeleton is written back as Spine JSON "
                    "(-o OUT.json)")
         return
     if args.input is None:
         return  # a voice alone: -o NAME.csv writes a CSV, any other name a motion3.json
-    if args.input.lower().endswith(".csv") != args.output.lower().endswith(".csv"):
+    if _is_csv_path(args.input) != _is_csv_path(args.output):
         _usage(f"-o {args.output}: python3 -m koma writes the input's format "
                "(.csv for a CSV input, motion3.json otherwise)")
 
@@ -407,7 +413,7 @@ def _run(args):
                       f"{counts['curves']} curves, {counts['drawings']} drawings")
                 return 0
             result = client.retime_curves(
-                args.input, csv_fps=args.fps if args.input.lower().endswith(".csv") else None,
+                args.input, csv_fps=args.fps if _is_csv_path(args.input) else None,
                 **options)
             result.write(args.output)
             print(f"{args.input} -> {args.output}: {result.counts['curves']} curves, key poses "
@@ -422,7 +428,7 @@ def _run(args):
             # unset (the server follows the cues' drawings).
             mode = "MOUTH_FOLLOW" if args.mode == "follow" else \
                 "MOUTH_RANDOM" if args.mode == "random" or args.rhubarb is None else None
-            csv_input = args.input is not None and args.input.lower().endswith(".csv")
+            csv_input = args.input is not None and _is_csv_path(args.input)
             options = {}
             if spine:
                 options = dict(animation=args.animation, mouth_slot=args.mouth_slot,
@@ -433,7 +439,7 @@ def _run(args):
                 # A new motion: at --fps (default 30), the format -o names, as the C++ CLI.
                 options = dict(voice_motion_fps=args.fps if args.fps is not None else 30.0,
                                voice_output="VOICE_OUTPUT_CSV"
-                               if args.output.lower().endswith(".csv")
+                               if _is_csv_path(args.output)
                                else "VOICE_OUTPUT_MOTION3_JSON")
             result = client.lip_blink(
                 args.input, csv_fps=args.fps if csv_input else None,

@@ -4,7 +4,7 @@ import os
 
 import grpc
 
-from koma import _health_pb2, _options, _presets
+from koma import _format_table, _health_pb2, _options, _presets
 from koma._errors import KomaError
 from koma._results import CurvesResult, LipBlinkResult, SkeletalResult
 from koma.v1 import motion_pb2, retime_pb2, retime_pb2_grpc
@@ -80,23 +80,14 @@ def _read_source(source, text_starts):
     raise TypeError(f"expected a path, a file's text (str) or bytes, got {type(source).__name__}")
 
 
-_GLTF_SUFFIXES = (".glb", ".gltf", ".vrm", ".vrma")
-
-
-def _is_gltf(data, path):
-    """A glTF file: by its name, the GLB magic, or JSON with an "asset" member."""
-    if path is not None and path.lower().endswith(_GLTF_SUFFIXES):
-        return True
-    head = data.lstrip()
-    return data.startswith(b"glTF") or (head.startswith(b"{") and b'"asset"' in data)
-
-
-def _is_fbx(data, path):
-    """A binary FBX file: by its name or its header ("Kaydara FBX Binary"; an ASCII FBX goes
-    to the server, which says it reads binary ones only)."""
-    if path is not None and path.lower().endswith(".fbx"):
-        return True
-    return data.startswith(b"Kaydara FBX Binary") or data.startswith(b"; FBX")
+def _sent_whole_format(data, path):
+    """The key of a skeletal format the server reads whole (glTF, FBX), told as `koma skeletal`
+    tells it (formats/format_table.h): by the name, else the first bytes; None for BVH."""
+    named, sniffed = _format_table.format_from_name(path), _format_table.sniff(data)
+    for row in _format_table.FORMATS:
+        if row["sent_whole"] and row["key"] in (named, sniffed):
+            return row["key"]
+    return None
 
 
 def _is_csv(data, path, file_format):
@@ -105,22 +96,17 @@ def _is_csv(data, path, file_format):
             raise ValueError(f"format: {file_format!r} is not 'motion3', 'csv' or 'spine'")
         return file_format == "csv"
     if path is not None:
-        return path.lower().endswith(".csv")
-    # A UTF-8 byte order mark (Windows tools write one) says nothing about the format.
-    return not data.removeprefix(b"\xef\xbb\xbf").lstrip().startswith(b"{")
+        return _format_table.format_from_name(path) == "csv"
+    # Not JSON (a UTF-8 byte order mark, which Windows tools write, says nothing).
+    return not _format_table.is_json(data)
 
 
 def _is_spine(data, file_format):
     """A Spine skeleton JSON: its first key is "skeleton" (as Spine exports it), or it has a
-    "skeleton" key and no "Meta" (koma's reader makes the same guess, formats/spine.h)."""
+    "skeleton" key and no "Meta" (the format table's rule, as koma's reader guesses)."""
     if file_format is not None:
         return file_format == "spine"
-    text = data.lstrip(b"\xef\xbb\xbf \t\r\n")
-    if not text.startswith(b"{"):
-        return False
-    if text[1:].lstrip().startswith(b'"skeleton"'):
-        return True
-    return b'"skeleton"' in data and b'"Meta"' not in data
+    return _format_table.matches("spine", data)
 
 
 def _credentials(tls):
@@ -241,13 +227,10 @@ class Client:
         if isinstance(source, Positions):
             request.motion.CopyFrom(source.to_proto())
         else:
-            data, path = _read_source(source, ("HIERARCHY",))
-            if _is_fbx(data, path):
-                request.fbx = data
-            elif _is_gltf(data, path):
-                request.gltf = data
-            else:
-                request.bvh_text = data
+            bvh_starts = tuple(s.decode() for s in _format_table.row("bvh")["text_starts"])
+            data, path = _read_source(source, bvh_starts)
+            key = _sent_whole_format(data, path) or "bvh"
+            setattr(request, _format_table.request_field(key, "RetimeSkeletalRequest"), data)
         result = SkeletalResult(self._call(self._stub.RetimeSkeletal, request))
         result.source_path = path
         return result

@@ -21,7 +21,9 @@ source "$here/../e2e/lib.sh"
 import sys, zipfile
 wheel, version = sys.argv[1:]
 names = set(zipfile.ZipFile(wheel).namelist())
+# _formats.py: the format table the build exports from C++ (formats/format_table_export.cc).
 for want in ("koma/__init__.py", "koma/_client.py", "koma/_version.py", "koma/_health_pb2.py",
+             "koma/_formats.py", "koma/_format_table.py",
              "koma/v1/__init__.py", "koma/v1/retime_pb2.py", "koma/v1/retime_pb2_grpc.py",
              "koma/v1/motion_pb2.py", f"koma-{version}.dist-info/METADATA"):
     assert want in names, f"{want} not in the wheel: {sorted(names)}"
