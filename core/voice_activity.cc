@@ -1,10 +1,10 @@
 #include "core/voice_activity.h"
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "core/voice_gate.h"
 
 namespace koma {
 namespace {
@@ -45,45 +45,8 @@ double MeanSquareToDbfs(double mean_square) {
   return 10.0 * ln / kLn10;
 }
 
-namespace {
-
-// `fps` as num / den: the first continued-fraction convergent within 1e-12 of it (relative),
-// or the last one with den <= 10^6.
-void FpsFraction(double fps, int64_t* num, int64_t* den) {
-  int64_t p0 = 1, q0 = 0;
-  int64_t p1 = static_cast<int64_t>(std::floor(fps)), q1 = 1;
-  double rest = fps - std::floor(fps);
-  while (rest > 0 && std::fabs(static_cast<double>(p1) / static_cast<double>(q1) - fps) >
-                         1e-12 * fps) {
-    const double inverse = 1.0 / rest;
-    const int64_t a = static_cast<int64_t>(std::floor(inverse));
-    if (a > 1000000 || a * q1 + q0 > 1000000) break;
-    const int64_t p2 = a * p1 + p0, q2 = a * q1 + q0;
-    p0 = p1, q0 = q1, p1 = p2, q1 = q2;
-    rest = inverse - std::floor(inverse);
-  }
-  if (p1 < 1) {  // fps below 1e-6 of a frame per second: not a rate the server takes
-    p1 = 1;
-    q1 = 1000000;
-  }
-  *num = p1;
-  *den = q1;
-}
-
-}  // namespace
-
-FrameLoudness::FrameLoudness(int sample_rate, double frame_fps) : rate_(sample_rate) {
-  FpsFraction(frame_fps, &fps_num_, &fps_den_);
-}
-
-int64_t FrameLoudness::FirstSample(int64_t frame) const {
-  // ceil(frame x rate x den / num) without overflow: frame x rate < 2^31 x 10^6 fits, and
-  // splitting it by num keeps each product below 10^9 x 10^6.
-  if (frame >= INT32_MAX) return INT64_MAX;
-  const int64_t a = frame * rate_;
-  const int64_t whole = a / fps_num_, rest = a % fps_num_;
-  return whole * fps_den_ + (rest * fps_den_ + fps_num_ - 1) / fps_num_;
-}
+FrameLoudness::FrameLoudness(int sample_rate, double frame_fps)
+    : grid_(sample_rate, frame_fps) {}
 
 void FrameLoudness::Add(absl::Span<const float> mono) {
   size_t i = 0;
@@ -93,7 +56,7 @@ void FrameLoudness::Add(absl::Span<const float> mono) {
       // sample, stay empty: silence).
       sums_.push_back(0.0);
       counts_.push_back(0);
-      next_boundary_ = FirstSample(static_cast<int64_t>(sums_.size()));
+      next_boundary_ = grid_.FirstSample(static_cast<int64_t>(sums_.size()));
       continue;
     }
     const int64_t take =
@@ -154,6 +117,9 @@ absl::Status ValidateVoiceOptions(const VoiceOptions& o) {
         o.pause_above_floor_db <= 200.0)) {
     return invalid("pause_above_floor_db: ", o.pause_above_floor_db, " must be in [0, 200] dB");
   }
+  if (o.keep_tail_frames < 0) {
+    return invalid("keep_tail_frames: ", o.keep_tail_frames, " must be >= 0");
+  }
   if (o.min_speech_frames < 1) {
     return invalid("min_speech_frames: ", o.min_speech_frames, " must be >= 1");
   }
@@ -168,7 +134,7 @@ absl::Status ValidateVoiceOptions(const VoiceOptions& o) {
   if (!(std::isfinite(o.hysteresis_db) && o.hysteresis_db >= 0.0 && o.hysteresis_db <= 200.0)) {
     return invalid("hysteresis_db: ", o.hysteresis_db, " must be in [0, 200] dB");
   }
-  return absl::OkStatus();
+  return ValidateVoiceGateOptions(o.gate);
 }
 
 double Percentile(std::vector<double> values, double p) {
@@ -269,9 +235,42 @@ void Follow(absl::Span<const double> dbfs, const VoiceOptions& o, VoiceActivity&
   }
 }
 
+// The speech intervals the voice-like stretches allow: an interval with no stretch in it is
+// dropped (music, noise); one cut to its stretches, except that its parts outside them of at
+// most `keep_tail` frames at either end or between two stretches are kept: loudness places a
+// word's soft end better than the gate, so a clean or noisy take keeps the loudness's
+// boundaries, while speech over music, whose loud interval runs on through the music, ends
+// where the voice does. Then pieces shorter than `min_speech_frames` are dropped.
+std::vector<FrameInterval> GateIntervals(const std::vector<FrameInterval>& speech,
+                                         const std::vector<FrameInterval>& voice_like,
+                                         const VoiceOptions& o) {
+  const int keep_tail = o.keep_tail_frames;
+  std::vector<FrameInterval> out;
+  for (const FrameInterval& interval : speech) {
+    std::vector<FrameInterval> pieces =
+        Intersect(absl::MakeConstSpan(&interval, 1), voice_like);
+    if (pieces.empty()) continue;
+    if (pieces.front().begin - interval.begin <= keep_tail) pieces.front().begin = interval.begin;
+    if (interval.end - pieces.back().end <= keep_tail) pieces.back().end = interval.end;
+    std::vector<FrameInterval> joined;
+    for (const FrameInterval& p : pieces) {
+      if (!joined.empty() && p.begin - joined.back().end <= keep_tail) {
+        joined.back().end = p.end;
+      } else {
+        joined.push_back(p);
+      }
+    }
+    for (const FrameInterval& p : joined) {
+      if (p.end - p.begin >= o.min_speech_frames) out.push_back(p);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
-VoiceActivity DetectVoice(absl::Span<const double> dbfs, const VoiceOptions& options) {
+VoiceActivity DetectVoice(absl::Span<const double> dbfs, const VoiceOptions& options,
+                          const std::vector<FrameInterval>* voice_like) {
   VoiceActivity v;
   v.noise_floor_dbfs =
       options.noise_floor_dbfs.value_or(Percentile({dbfs.begin(), dbfs.end()},
@@ -285,6 +284,11 @@ VoiceActivity DetectVoice(absl::Span<const double> dbfs, const VoiceOptions& opt
       std::max(v.noise_floor_dbfs + stay_db, options.min_speech_dbfs - (start_db - stay_db));
   v.speech = BridgeAndDrop(dbfs, Runs(dbfs, v.start_dbfs, v.stay_dbfs), options,
                            v.noise_floor_dbfs + options.pause_above_floor_db);
+  if (voice_like != nullptr) {
+    // After the bridging, so a pause the gate finds in music (which never falls to the room
+    // noise) stays a pause.
+    v.speech = GateIntervals(v.speech, *voice_like, options);
+  }
   std::vector<double> speaking;
   for (const FrameInterval& i : v.speech) {
     speaking.insert(speaking.end(), dbfs.begin() + i.begin, dbfs.begin() + i.end);

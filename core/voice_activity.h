@@ -14,7 +14,9 @@
 #include "absl/status/status.h"
 #include "absl/types/span.h"
 #include "core/film_grid.h"
+#include "core/grid_samples.h"
 #include "core/lip_blink.h"
+#include "core/voice_gate.h"
 
 namespace koma {
 
@@ -32,10 +34,8 @@ inline constexpr double kMinStayAboveFloorDb = 2.0;
 double MeanSquareToDbfs(double mean_square);
 
 // Mono samples (full scale +-1) in blocks -> the mean square of each analysis frame. Frame g
-// (at `frame_fps`, the film grid's rate) holds samples [first(g), first(g + 1)), first(g) =
-// ceil(g x sample_rate / frame_fps), in integers on frame_fps as a fraction num / den (exact
-// for integer rates and NTSC's 24000 / 1001; else the nearest with den <= 10^6), so the
-// boundaries are the same on every machine and do not drift over an hour. Sums run in sample
+// (at `frame_fps`, the film grid's rate) holds samples [first(g), first(g + 1)) of
+// core/grid_samples.h: the same on every machine, no drift over an hour. Sums run in sample
 // order.
 class FrameLoudness {
  public:
@@ -53,10 +53,7 @@ class FrameLoudness {
   std::vector<double> Dbfs(int frames) const;
 
  private:
-  int64_t FirstSample(int64_t frame) const;
-
-  int64_t rate_ = 1;              // samples per second
-  int64_t fps_num_ = 1, fps_den_ = 1;  // frame_fps = fps_num_ / fps_den_
+  GridSamples grid_;
   std::vector<double> sums_;      // per frame touched: the sum of squares
   std::vector<int64_t> counts_;   // per frame touched: samples summed
   int64_t samples_ = 0;
@@ -95,6 +92,14 @@ struct VoiceOptions {
   double open_below_peak_db = 6.0;
   double closed_below_peak_db = 15.0;
   double hysteresis_db = 3.0;
+  // Voice, not sound: which loud stretches can be speech at all (core/voice_gate.h; on by
+  // default, off for a singer). Used by the caller that computes the voice features.
+  VoiceGateOptions gate;
+  // DetectVoice with voice-like stretches: a speech interval's parts outside them of at most
+  // this many frames, at its ends or between two stretches, are kept (a word's soft end that
+  // loudness places better than the gate); longer ones are cut (the music a voice stops over).
+  // >= 0.
+  int keep_tail_frames = 4;
 };
 
 // INVALID_ARGUMENT naming the option ("stay_above_floor_db: 12 must be in (0,
@@ -109,9 +114,13 @@ struct VoiceActivity {
   std::vector<MouthShape> follow;            // per frame: the drawing its loudness asks for
 };
 
-// The speech of per-frame loudness `dbfs` (FrameLoudness::Dbfs). Outside speech `follow` is
-// closed; each speech interval starts from closed.
-VoiceActivity DetectVoice(absl::Span<const double> dbfs, const VoiceOptions& options);
+// The speech of per-frame loudness `dbfs` (FrameLoudness::Dbfs). With `voice_like`
+// (core/voice_gate.h's stretches), the bridged intervals are cut to it and what is left
+// shorter than min_speech_frames dropped: loudness finds where, the gate says whether it is a
+// voice. Outside speech
+// `follow` is closed; each speech interval starts from closed.
+VoiceActivity DetectVoice(absl::Span<const double> dbfs, const VoiceOptions& options,
+                          const std::vector<FrameInterval>* voice_like = nullptr);
 
 // The percentile p (0 < p < 100) of `values`: the element of rank floor(p / 100 x (n - 1))
 // in ascending order; kSilenceDbfs for none.

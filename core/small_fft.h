@@ -1,0 +1,36 @@
+// A small radix-2 FFT that gives the same bits on every machine: its twiddle factors come from
+// half-angle formulas and products (+ - * / and sqrt only, each correctly rounded by IEEE 754),
+// never from libm's cos and sin (whose last bit may differ between libraries and CPUs), and its
+// butterflies run in one fixed order. For the short spectra of the voice features (256 points
+// per grid frame), where FFTW's run-time SIMD choice would change the bits.
+#ifndef KOMA_CORE_SMALL_FFT_H_
+#define KOMA_CORE_SMALL_FFT_H_
+
+#include <vector>
+
+#include "absl/types/span.h"
+
+namespace koma {
+
+class SmallFft {
+ public:
+  // n a power of two, 2 .. 4096.
+  explicit SmallFft(int n);
+
+  int size() const { return n_; }
+  // cos(2 pi k / n) and sin(2 pi k / n) for k in [0, n), deterministic (within 1e-12 of exact).
+  double Cos(int k) const { return cos_[k]; }
+  double Sin(int k) const { return sin_[k]; }
+
+  // In place: re + i im -> sum_t (re[t] + i im[t]) e^(-2 pi i k t / n). Both spans of size().
+  void Forward(absl::Span<double> re, absl::Span<double> im) const;
+
+ private:
+  int n_ = 0;
+  std::vector<double> cos_, sin_;  // per k in [0, n)
+  std::vector<int> reversed_;      // bit-reversed index of each t
+};
+
+}  // namespace koma
+
+#endif  // KOMA_CORE_SMALL_FFT_H_
