@@ -1,7 +1,8 @@
 // LipBlink from a voice (docs/semantics.md, "LipBlink from a voice"): one minute of 48 kHz
 // stereo 16-bit WAV through the whole RPC (an in-process koma server: the request's bytes,
 // decoding, the analysis, the mouth, the motion3.json and cues written, the response's bytes),
-// and the core analysis alone on the decoded samples. Results: docs/benchmarks.md.
+// and the core analysis alone on the decoded samples (loudness, voice features, speech gate).
+// Results: docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -11,6 +12,8 @@
 #include <vector>
 
 #include "core/voice_activity.h"
+#include "core/voice_features.h"
+#include "core/voice_gate.h"
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/server.h"
 #include "tests/testing/wav_bytes.h"
@@ -87,11 +90,21 @@ void BM_VoiceCoreMinute48k(benchmark::State& state) {
   std::vector<float> mono;
   for (size_t i = 0; i < stereo.size(); i += 2) mono.push_back(static_cast<float>(stereo[i]));
   for (auto _ : state) {
+    // What server/lip_blink_voice.cc runs: the loudness and the voice features (issue 44's
+    // speech gate) over the same blocks, then the stretches and the speech.
     FrameLoudness loudness(kRate, 24.0);
+    VoiceFeatures features(kRate, 24.0);
     for (size_t i = 0; i < mono.size(); i += 4096) {
-      loudness.Add(absl::MakeConstSpan(mono.data() + i, std::min<size_t>(4096, mono.size() - i)));
+      const auto block =
+          absl::MakeConstSpan(mono.data() + i, std::min<size_t>(4096, mono.size() - i));
+      loudness.Add(block);
+      features.Add(block);
     }
-    const VoiceActivity v = DetectVoice(loudness.Dbfs(loudness.frames_touched()), VoiceOptions{});
+    features.Finish();
+    const VoiceOptions options;
+    const std::vector<FrameInterval> voice_like = VoiceLikeStretches(features, 24.0, options.gate);
+    const VoiceActivity v =
+        DetectVoice(loudness.Dbfs(loudness.frames_touched()), options, &voice_like);
     benchmark::DoNotOptimize(v.speech.data());
   }
   state.counters["x_real_time"] = benchmark::Counter(

@@ -14,6 +14,8 @@
 #include "core/status_macros.h"
 #include "core/stop_check.h"
 #include "core/voice_activity.h"
+#include "core/voice_features.h"
+#include "core/voice_gate.h"
 #include "formats/audio_reader.h"
 #include "formats/number_format.h"
 #include "formats/rhubarb_cues.h"
@@ -28,9 +30,9 @@ namespace {
 
 constexpr const char* kDefaultMouthId = "ParamMouthOpenY";
 constexpr const char* kDefaultEyeIds[] = {"ParamEyeLOpen", "ParamEyeROpen"};
-// Per analysis frame kept while decoding and answering: the sums, the loudness, the drawing,
-// the response's loudness (bytes, rounded up).
-constexpr int64_t kBytesPerAnalysisFrame = 64;
+// Per analysis frame kept while decoding and answering: the sums, the loudness, the voice
+// features, the drawing, the response's loudness (bytes, rounded up).
+constexpr int64_t kBytesPerAnalysisFrame = 96;
 // libsndfile's and its codecs' state and the decoder's blocks, bytes (generous).
 constexpr int64_t kDecoderBytes = 8 << 20;
 
@@ -85,12 +87,14 @@ absl::StatusOr<Voice> AnalyseAudio(const v1::LipBlinkRequest& request, double fp
           kDecoderBytes + static_cast<int64_t>(max_frames) * kBytesPerAnalysisFrame,
       "this LipBlink recording (its bytes, the decoder, the per-frame loudness)"));
   FrameLoudness loudness(info.sample_rate, fps);
+  VoiceFeatures features(info.sample_rate, fps);
   StopPoll stop(/*steps_between_checks=*/1 << 20);  // samples: a check every ~1 ms of decoding
   for (;;) {
     absl::StatusOr<absl::Span<const float>> block = (*decoder)->Next();
     if (!block.ok()) return InAudio(block.status());
     if (block->empty()) break;
     loudness.Add(*block);
+    features.Add(*block);
     if (stop.Stop(static_cast<int64_t>(block->size()) * info.channels)) return stop.status();
   }
   if (loudness.samples() == 0) return absl::InvalidArgumentError("audio: holds no samples");
@@ -98,7 +102,9 @@ absl::StatusOr<Voice> AnalyseAudio(const v1::LipBlinkRequest& request, double fp
   v.frames = loudness.frames_touched();
   v.duration_s = static_cast<double>(loudness.samples()) / info.sample_rate;
   const std::vector<double> dbfs = loudness.Dbfs(v.frames);
-  v.activity = DetectVoice(dbfs, options);
+  features.Finish();
+  const std::vector<FrameInterval> voice_like = VoiceLikeStretches(features, fps, options.gate);
+  v.activity = DetectVoice(dbfs, options, &voice_like);
   v.analysis.set_sample_rate(info.sample_rate);
   v.analysis.set_channels(info.channels);
   v.analysis.mutable_loudness_dbfs()->Add(dbfs.begin(), dbfs.end());

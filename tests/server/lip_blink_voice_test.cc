@@ -22,14 +22,16 @@ namespace {
 using ::koma::testing::CallRpc;
 using ::koma::testing::InProcessServer;
 using ::koma::testing::ToneAndSilence;
+using ::koma::testing::VoiceLikeAndSilence;
 using ::koma::testing::WavBytes;
 using ::koma::testing::WavHeader;
 using ::testing::HasSubstr;
 
-// Silence 0.5 s, tone 0.5 s, silence 0.5 s, tone 0.75 s, silence 0.25 s (2.5 s): speech at
-// 24 fps grid frames [12, 24) and [36, 54).
+// Silence 0.5 s, voice 0.5 s, silence 0.5 s, voice 0.75 s, silence 0.25 s (2.5 s): speech at
+// 24 fps grid frames [12, 24) and [36, 54). Voice-like (VoiceLikeAndSilence), not a held tone,
+// which is music since issue 44 (AHeldToneIsMusicNotSpeech).
 std::string Recording(WavHeader h = {}, double noise = 0.0) {
-  std::vector<double> mono = ToneAndSilence(
+  std::vector<double> mono = VoiceLikeAndSilence(
       h.sample_rate, {{0.5, 0.0}, {0.5, 0.5}, {0.5, 0.0}, {0.75, 0.5}, {0.25, 0.0}});
   uint64_t state = 12345;
   for (double& x : mono) {  // white noise from a fixed LCG: the same every run
@@ -118,6 +120,18 @@ TEST_F(LipBlinkVoiceTest, AudioAloneGivesATalkingMotion) {
   EXPECT_EQ(json->back().end_s, 2.5);
 }
 
+TEST_F(LipBlinkVoiceTest, AHeldToneIsMusicNotSpeech) {
+  // The same parts as Recording() with a 220 Hz tone: loud, but a held note, not a voice
+  // (before issue 44 it was found as speech at [12, 24) and [36, 54)); the mouth stays closed.
+  WavHeader h;
+  const v1::LipBlinkResponse r = Call(VoiceRequest(WavBytes(
+      h, ToneAndSilence(16000, {{0.5, 0.0}, {0.5, 0.5}, {0.5, 0.0}, {0.75, 0.5}, {0.25, 0.0}}))));
+  EXPECT_TRUE(Speech(r).empty());
+  for (const v1::MouthHold& hold : r.mouths(0).holds()) {
+    EXPECT_EQ(hold.shape(), v1::MOUTH_CLOSED) << hold.begin();
+  }
+}
+
 TEST_F(LipBlinkVoiceTest, SameRequestSameBytes) {
   v1::LipBlinkRequest request = VoiceRequest(Recording(WavHeader{}, 0.01));
   request.mutable_eyes()->mutable_auto_blink()->set_enabled(true);
@@ -182,7 +196,7 @@ TEST_F(LipBlinkVoiceTest, FollowOpensOnLoudAndHalfOpensOnQuiet) {
   // Loud 0.5 s, then 0.5 s 10 dB quieter (between 6 and 15 dB below the loud level: mid).
   WavHeader h;
   const std::vector<double> x =
-      ToneAndSilence(16000, {{0.5, 0.0}, {0.5, 0.6}, {0.5, 0.19}, {0.5, 0.0}});
+      VoiceLikeAndSilence(16000, {{0.5, 0.0}, {0.5, 0.6}, {0.5, 0.19}, {0.5, 0.0}});
   v1::LipBlinkRequest request = VoiceRequest(WavBytes(h, x));
   request.mutable_mouth()->set_mode(v1::MOUTH_FOLLOW);
   const v1::LipBlinkResponse r = Call(request);

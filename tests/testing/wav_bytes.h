@@ -74,6 +74,34 @@ inline std::vector<double> ToneAndSilence(int sample_rate,
   return out;
 }
 
+// The same parts, but voice-like where ToneAndSilence holds a tone (a held tone is music, not
+// speech: docs/semantics.md, "Voice, not sound"): 12 harmonics of a pitch gliding between 100
+// and 180 Hz three times a second, their loudest harmonic (a formant) sweeping from the 1st to
+// the 9th 2.5 times a second, scaled to a sine's RMS at `amplitude` (amplitude / sqrt 2).
+inline std::vector<double> VoiceLikeAndSilence(
+    int sample_rate, const std::vector<std::pair<double, double>>& parts) {
+  constexpr double kPi = 3.14159265358979;
+  constexpr int kHarmonics = 12;
+  std::vector<double> out;
+  double phase = 0.0;  // of the fundamental, radians
+  for (const auto& [seconds, amplitude] : parts) {
+    const int n = static_cast<int>(seconds * sample_rate + 0.5);
+    for (int i = 0; i < n; ++i) {
+      const double t = static_cast<double>(out.size()) / sample_rate;
+      phase += 2 * kPi * (140 + 40 * std::sin(2 * kPi * 3 * t)) / sample_rate;
+      const double formant = 5 + 4 * std::sin(2 * kPi * 2.5 * t);
+      double sum = 0.0, weights = 0.0;
+      for (int h = 1; h <= kHarmonics; ++h) {
+        const double w = 1.0 / (1.0 + (h - formant) * (h - formant));
+        sum += w * std::sin(h * phase);
+        weights += w * w;
+      }
+      out.push_back(amplitude * sum / std::sqrt(weights));
+    }
+  }
+  return out;
+}
+
 }  // namespace koma::testing
 
 #endif  // KOMA_TESTS_TESTING_WAV_BYTES_H_
