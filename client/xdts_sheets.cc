@@ -1,6 +1,7 @@
 #include "client/xdts_sheets.h"
 
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <optional>
 #include <string>
@@ -11,6 +12,7 @@
 #include "absl/strings/str_join.h"
 #include "convert/curves_convert.h"
 #include "core/film_grid.h"
+#include "formats/format_table.h"
 
 namespace koma::client {
 namespace {
@@ -23,15 +25,16 @@ using formats::XdtsSheet;
 std::string BaseName(const std::string& path) {
   const size_t slash = path.find_last_of('/');
   std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-  for (const char* extension :
-       {".motion3.json", ".bvh", ".csv", ".json", ".xdts", ".glb", ".gltf", ".vrma", ".vrm",
-        ".wav", ".flac", ".ogg", ".oga", ".opus", ".mp3", ".tsv"}) {
-    if (base.size() > std::string(extension).size() &&
-        absl::EndsWithIgnoreCase(base, extension)) {
-      base.resize(base.size() - std::string(extension).size());
-      break;
+  // An input format's extension (formats/format_table.h), else a sheet's own (the fallback
+  // is the -o or --xdts path).
+  size_t extension = formats::FormatExtensionLength(base);
+  for (const char* sheet : {".xdts", ".tsv"}) {
+    if (extension == 0 && base.size() > std::strlen(sheet) &&
+        absl::EndsWithIgnoreCase(base, sheet)) {
+      extension = std::strlen(sheet);
     }
   }
+  base.resize(base.size() - extension);
   return base;
 }
 

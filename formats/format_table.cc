@@ -255,6 +255,21 @@ FormatId FormatFromName(std::string_view path) {
   return FormatId::kUnknown;
 }
 
+size_t FormatExtensionLength(std::string_view name) {
+  size_t longest = 0;
+  for (const FormatRow& row : FormatTable()) {
+    for (const auto* list : {&row.extensions, &row.folder_extensions}) {
+      for (std::string_view extension : *list) {
+        if (extension.size() > longest && name.size() > extension.size() &&
+            EndsWithIgnoreCase(name, extension)) {
+          longest = extension.size();
+        }
+      }
+    }
+  }
+  return longest;
+}
+
 FormatId SniffFormat(std::string_view raw) {
   for (const FormatRow& row : FormatTable()) {
     if (MatchesMagic(row, raw)) return row.id;

@@ -9,6 +9,7 @@
 #ifndef KOMA_FORMATS_FORMAT_TABLE_H_
 #define KOMA_FORMATS_FORMAT_TABLE_H_
 
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 #include <vector>
@@ -103,6 +104,10 @@ const FormatRow* FormatByKey(std::string_view key);
 // From the name: the row one of whose extensions ends `path` (any case); kUnknown for "-" and
 // names no row claims.
 FormatId FormatFromName(std::string_view path);
+
+// The length of the longest extension or folder extension of any row that ends `name` (any
+// case) and leaves something before it ("take.motion3.json": 13); 0 when none does.
+size_t FormatExtensionLength(std::string_view name);
 
 // From the first bytes: the first row (in table order) whose magic starts `text`; else, after
 // a UTF-8 byte order mark and ASCII white space, the first whose text_starts start it; else,

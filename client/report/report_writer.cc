@@ -1,11 +1,14 @@
 #include "client/report/report_writer.h"
 
+#include <algorithm>
+#include <fstream>
 #include <string>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_replace.h"
 #include "client/files.h"
 #include "client/report/templates.h"
+#include "formats/format_table.h"
 #include "koma/version.h"
 
 namespace koma::client::report {
@@ -22,6 +25,23 @@ std::string EscapeHtml(const std::string& text) {
   return absl::StrReplaceAll(text, {{"&", "&amp;"}, {"<", "&lt;"}, {">", "&gt;"}});
 }
 
+// The input's format as `koma` reads it (formats/format_table.h): sniffed from the file's
+// first bytes (a Spine skeleton and a motion3.json are both .json), else by its name (a voice
+// recording, which libsndfile tells apart); "" for standard input and what no row claims.
+std::string InputFormat(std::string_view input_name) {
+  formats::FormatId format = formats::FormatId::kUnknown;
+  if (!input_name.empty() && input_name != "-") {
+    std::ifstream in{std::string(input_name), std::ios::binary};
+    std::string head(64 * 1024, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+    format = formats::SniffFormat(head);
+    if (format == formats::FormatId::kUnknown) format = formats::FormatFromName(input_name);
+  }
+  return format == formats::FormatId::kUnknown ? ""
+                                                : std::string(formats::FormatOf(format).name);
+}
+
 }  // namespace
 
 nlohmann::json Header(std::string_view rpc, std::string_view input_name,
@@ -29,6 +49,9 @@ nlohmann::json Header(std::string_view rpc, std::string_view input_name,
   nlohmann::json header;
   header["rpc"] = rpc;
   header["input"] = InputName(input_name);
+  if (const std::string format = InputFormat(input_name); !format.empty()) {
+    header["format"] = format;
+  }
   header["options"] = options;
   header["counts"] = counts;
   header["version"] = kVersion;

@@ -27,8 +27,9 @@ class ReportWriter {
   virtual nlohmann::json Data() const = 0;
 };
 
-// The header every report starts with: the input file, the options used, the counts, and
-// koma's version. options and counts are [label, value] pairs in display order.
+// The header every report starts with: the input file and its format (the format table's
+// name for it, when the file is there to sniff or its name says), the options used, the
+// counts, and koma's version. options and counts are [label, value] pairs in display order.
 nlohmann::json Header(std::string_view rpc, std::string_view input_name,
                       const nlohmann::json& options, const nlohmann::json& counts);
 

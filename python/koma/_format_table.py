@@ -29,6 +29,15 @@ def format_from_name(path):
     return None
 
 
+def extension_length(name):
+    """formats::FormatExtensionLength: the length of the longest extension or folder extension
+    of any row that ends `name` (any case) and leaves something before it; 0 when none does."""
+    lower = str(name).lower()
+    return max((len(extension) for r in FORMATS
+                for extension in r["extensions"] + r["folder_extensions"]
+                if len(lower) > len(extension) and lower.endswith(extension)), default=0)
+
+
 def _text_start(data):
     """After a UTF-8 byte order mark and ASCII white space."""
     return data.removeprefix(_BOM).lstrip(_ASCII_SPACE)

@@ -8,6 +8,8 @@ import json
 import math
 import os
 
+from koma import _format_table
+
 IDENTIFIER = "exchangeDigitalTimeSheet Save Data"
 NULL_CELL = "SYMBOL_NULL_CELL"
 HYPHEN = "SYMBOL_HYPHEN"
@@ -71,12 +73,12 @@ def clip_name(source_path, fallback):
         if not path or path == "-":
             continue
         base = os.fspath(path).rsplit("/", 1)[-1]
-        for extension in (".motion3.json", ".bvh", ".csv", ".json", ".xdts", ".glb", ".gltf",
-                          ".vrma", ".vrm", ".wav", ".flac", ".ogg", ".oga", ".opus", ".mp3",
-                          ".tsv"):
-            if len(base) > len(extension) and base.lower().endswith(extension):
-                base = base[:-len(extension)]
-                break
+        # An input format's extension (the format table), else a sheet's own.
+        extension = _format_table.extension_length(base)
+        for sheet in (".xdts", ".tsv"):
+            if not extension and len(base) > len(sheet) and base.lower().endswith(sheet):
+                extension = len(sheet)
+        base = base[:len(base) - extension]
         if base:
             return base
     return "koma"

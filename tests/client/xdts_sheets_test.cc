@@ -31,6 +31,10 @@ TEST(XdtsClipNameTest, FileNameWithoutFolderAndExtension) {
   EXPECT_EQ(XdtsClipName("rec/line_042.WAV", "x.xdts"), "line_042");
   EXPECT_EQ(XdtsClipName("line.cues.tsv", ""), "line.cues");
   EXPECT_EQ(XdtsClipName("take.opus", ""), "take");
+  // Every input format's extension, from the format table (an FBX take was "take.fbx").
+  EXPECT_EQ(XdtsClipName("mocap/take.FBX", ""), "take");
+  EXPECT_EQ(XdtsClipName("wave.glb", ""), "wave");
+  EXPECT_EQ(XdtsClipName(".bvh", "out/s.xdts"), ".bvh");  // nothing before the extension
 }
 
 TEST(SkeletalXdtsSheetTest, DrawingsNumberedWhereTheSourceFrameChanges) {

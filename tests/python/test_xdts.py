@@ -427,3 +427,17 @@ def test_gltf_sheet_is_the_first_animations_timing(server, client, tmp_path):
     out = tmp_path / "py.xdts"
     client.retime_skeletal(clip).write_xdts(out)
     assert out.read_bytes() == xdts.read_bytes()
+
+
+def test_clip_name_is_the_cli_s_for_every_input_format():
+    """koma._xdts.clip_name names a sheet as client/xdts_sheets.cc XdtsClipName does
+    (tests/client/xdts_sheets_test.cc): the folder and any input format's extension off, from
+    the format table, then a sheet's own extension."""
+    from koma import _xdts
+    cases = {("samples/pitch.bvh", "out/x.xdts"): "pitch", ("a/talk.motion3.json", ""): "talk",
+             ("a/arm.CSV", ""): "arm", ("-", "out/sheet.xdts"): "sheet", ("-", "-"): "koma",
+             ("rec/line_042.WAV", "x.xdts"): "line_042", ("line.cues.tsv", ""): "line.cues",
+             ("mocap/take.FBX", ""): "take", ("wave.glb", ""): "wave",
+             (".bvh", "out/s.xdts"): ".bvh"}
+    for (source, fallback), want in cases.items():
+        assert _xdts.clip_name(source, fallback) == want, (source, fallback)

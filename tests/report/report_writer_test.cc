@@ -235,6 +235,24 @@ TEST(Report, FileNamesCannotBreakOutOfThePage) {
   EXPECT_THAT(page, HasSubstr("function skeletalReport"));
 }
 
+// The header names the input's format as the format table has it: sniffed from the file when
+// it is there (a Spine skeleton and a motion3.json are both .json), else by its name.
+TEST(Report, HeaderNamesTheInputFormatFromTheFormatTable) {
+  const auto format = [](const std::string& input) {
+    const nlohmann::json header = PageData(RenderReport(
+        SkeletalReportWriter(PositionsRequest(4), SkeletalResponse(), input)))["header"];
+    return header.contains("format") ? header["format"].get<std::string>() : "(none)";
+  };
+  EXPECT_EQ(format(std::string(KOMA_SAMPLES_DIR) + "/pitch.bvh"), "BVH");
+  EXPECT_EQ(format(std::string(KOMA_SAMPLES_DIR) + "/wave.glb"), "glTF");
+  EXPECT_EQ(format(std::string(KOMA_TESTDATA_DIR) + "/fbx/assimp_huesitos.fbx"), "FBX");
+  EXPECT_EQ(format(std::string(KOMA_TESTDATA_DIR) + "/spine/hero-4.1.json"), "Spine JSON");
+  EXPECT_EQ(format("not/there/clip.bvh"), "BVH");  // by its name
+  EXPECT_EQ(format("not/there/voice.FLAC"), "audio");
+  EXPECT_EQ(format("-"), "(none)");
+  EXPECT_EQ(format("notes.txt"), "(none)");
+}
+
 TEST(Report, StandardInputIsNamed) {
   const nlohmann::json data =
       PageData(RenderReport(SkeletalReportWriter(PositionsRequest(4), SkeletalResponse(), "-")));

@@ -40,7 +40,7 @@ function renderHeader(h) {
   header.append(el('p', {class: 'muted'}, h.rpc + ' · koma ' + h.version));
   const facts = (rows) => el('dl', {class: 'facts'}, ...rows.flatMap(([k, v]) =>
     [el('dt', {}, k), el('dd', {}, String(v))]));
-  header.append(facts([['input', h.input]]));
+  header.append(facts(h.format ? [['input', h.input], ['format', h.format]] : [['input', h.input]]));
   // Where the input file bent a rule and was read anyway (a BVH with more frames than its
   // Frames: line): said before anything else.
   for (const warning of h.warnings || []) {

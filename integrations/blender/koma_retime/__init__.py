@@ -242,10 +242,26 @@ class KOMA_OT_retime_action(bpy.types.Operator):
         return {"FINISHED"}
 
 
-# File mode: each format the server takes as a file, by the file's extension, with Blender's
-# importer for the retimed file the server returns in the same format.
-FILE_FORMATS = {".fbx": "FBX", ".glb": "glTF", ".gltf": "glTF", ".vrm": "glTF", ".vrma": "glTF",
-                ".bvh": "BVH"}
+# File mode: the formats `koma skeletal` reads as its IN that Blender can import back (the
+# retimed file comes in the same format), by their keys in the koma package's format table
+# (formats/format_table.h), which says the rest: names, extensions, what takes them.
+IMPORTED_FORMATS = ("fbx", "gltf", "bvh")
+
+
+def file_extensions(koma):
+    """The file names the file mode takes, from the format table: ".fbx", ".glb", ..."""
+    table = koma._format_table
+    return [extension for key in IMPORTED_FORMATS for extension in table.row(key)["extensions"]]
+
+
+def file_format_of(koma, source):
+    """The format name of `source` ("FBX", "glTF", "BVH") by its file name, as `koma skeletal`
+    finds it; None when it is not one the file mode takes."""
+    table = koma._format_table
+    key = table.format_from_name(source)
+    if key not in IMPORTED_FORMATS or ("skeletal", "") not in table.row(key)["inputs"]:
+        return None
+    return table.row(key)["name"]
 
 
 def output_path(source, chosen=""):
@@ -364,6 +380,9 @@ class KOMA_OT_retime_file(bpy.types.Operator):
     def invoke(self, context, event):
         if self.filepath or context.scene.koma.motion_file:
             return self.execute(context)
+        koma = _koma_or_none(self, context)
+        if koma is not None:  # else the default above
+            self.filter_glob = ";".join("*" + e for e in file_extensions(koma))
         context.window_manager.fileselect_add(self)
         return {"RUNNING_MODAL"}
 
@@ -376,19 +395,20 @@ class KOMA_OT_retime_file(bpy.types.Operator):
         settings = context.scene.koma
         if self.filepath:
             settings.motion_file = self.filepath
-        if not settings.motion_file:
-            return self.fail("koma: choose a motion file (.fbx, .glb, .gltf, .vrm, .vrma, .bvh)")
-        source = bpy.path.abspath(settings.motion_file)
-        file_format = FILE_FORMATS.get(os.path.splitext(source)[1].lower())
-        if file_format is None:
-            return self.fail(f"koma: {os.path.basename(source)}: not a motion file koma "
-                             "takes (.fbx, .glb, .gltf, .vrm, .vrma, .bvh)")
-        out_path = output_path(source, settings.output_file)
-        if os.path.abspath(out_path) == os.path.abspath(source):
-            return self.fail(f"koma: the output {out_path} is the motion file itself")
         koma = _koma_or_none(self, context)
         if koma is None:
             return {"CANCELLED"}
+        extensions = ", ".join(file_extensions(koma))
+        if not settings.motion_file:
+            return self.fail(f"koma: choose a motion file ({extensions})")
+        source = bpy.path.abspath(settings.motion_file)
+        file_format = file_format_of(koma, source)
+        if file_format is None:
+            return self.fail(f"koma: {os.path.basename(source)}: not a motion file koma "
+                             f"takes ({extensions})")
+        out_path = output_path(source, settings.output_file)
+        if os.path.abspath(out_path) == os.path.abspath(source):
+            return self.fail(f"koma: the output {out_path} is the motion file itself")
         try:
             options = file_request_options(settings, file_format)
             # By its path, as `koma skeletal FILE` sends it: the package reads the file and
