@@ -67,4 +67,27 @@ void SmallFft::Forward(absl::Span<double> re, absl::Span<double> im) const {
   }
 }
 
+RealFft::RealFft(int n) : n_(n), twiddles_(n), half_(n / 2), zr_(n / 2), zi_(n / 2) {}
+
+void RealFft::Forward(absl::Span<const double> x, absl::Span<double> re,
+                      absl::Span<double> im) {
+  const int m = n_ / 2;
+  for (int t = 0; t < m; ++t) {
+    zr_[t] = x[2 * t];
+    zi_[t] = x[2 * t + 1];
+  }
+  half_.Forward(absl::MakeSpan(zr_), absl::MakeSpan(zi_));
+  // With Z the transform of z[t] = x[2t] + i x[2t + 1]: the even samples' spectrum is
+  // E = (Z[k] + conj Z[m - k]) / 2, the odd's O = (Z[k] - conj Z[m - k]) / 2i, and
+  // X[k] = E + e^(-2 pi i k / n) O.
+  for (int k = 0; k <= m; ++k) {
+    const int a = k % m, b = (m - k) % m;
+    const double er = 0.5 * (zr_[a] + zr_[b]), ei = 0.5 * (zi_[a] - zi_[b]);
+    const double orr = 0.5 * (zi_[a] + zi_[b]), oi = -0.5 * (zr_[a] - zr_[b]);
+    const double wr = twiddles_.Cos(k), wi = -twiddles_.Sin(k);
+    re[k] = er + (orr * wr - oi * wi);
+    im[k] = ei + (orr * wi + oi * wr);
+  }
+}
+
 }  // namespace koma

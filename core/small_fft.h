@@ -31,6 +31,26 @@ class SmallFft {
   std::vector<int> reversed_;      // bit-reversed index of each t
 };
 
+// The spectrum of n real samples through one complex FFT of n / 2 points (the even samples
+// as real parts, the odd as imaginary, then untangled): half SmallFft's work, the same
+// determinism.
+class RealFft {
+ public:
+  // n a power of two, 4 .. 4096.
+  explicit RealFft(int n);
+
+  int size() const { return n_; }
+  // x (size()) -> bins 0 .. size() / 2 of sum_t x[t] e^(-2 pi i k t / n) into re and im (each
+  // size() / 2 + 1).
+  void Forward(absl::Span<const double> x, absl::Span<double> re, absl::Span<double> im);
+
+ private:
+  int n_ = 0;
+  SmallFft twiddles_;  // of n: e^(2 pi i k / n)
+  SmallFft half_;      // the transform of n / 2
+  std::vector<double> zr_, zi_;
+};
+
 }  // namespace koma
 
 #endif  // KOMA_CORE_SMALL_FFT_H_

@@ -62,7 +62,7 @@ class VoiceFeatures {
   int min_lag_ = 1, max_lag_ = 1;  // pitch periods, decimated samples
   int min_window_ = 1, max_window_ = 1;  // the autocorrelation's window, decimated samples
   int step_ = 1;
-  SmallFft fft_;
+  RealFft fft_;
   std::vector<double> hann_;  // the spectrum's window
 
   int64_t samples_ = 0;       // original samples seen
@@ -74,7 +74,8 @@ class VoiceFeatures {
   int64_t decimated_ = 0;     // decimated samples produced
   int64_t next_end_ = 0;      // the first decimated index past frame frames_.size()
   std::vector<std::vector<double>> spectra_;  // the last step() magnitude spectra, a ring
-  std::vector<double> re_, im_, segment_, r_;  // scratch, reused frame to frame
+  // Scratch, reused block to block.
+  std::vector<double> windowed_, re_, im_, segment_, r_, means_;
   std::vector<VoiceFrame> frames_;
 };
 
