@@ -44,7 +44,7 @@ def _write_mono16(path, samples, rate):
 
 
 def make_clean(folder, sentences=SENTENCES, silences=SILENCES, name="clean.wav"):
-    """The joined recording at 22.05 kHz 16-bit mono (folder/clean.wav), scaled to half of
+    """The joined recording at 22.05 kHz 16-bit mono (folder/name), scaled to half of
     full scale so added noise never clips, and the known speech intervals in seconds.
     `sentences` are (voice, text) or (voice, text, words per minute: espeak-ng's -s, 175 by
     default); `silences` one more than them."""
