@@ -83,6 +83,7 @@ v1::LipBlinkRequest BuildLipBlinkRequest(const LipBlinkArgs& args, const CurveSe
   if (args.open_below_peak_db) voice->set_open_below_peak_db(*args.open_below_peak_db);
   if (args.closed_below_peak_db) voice->set_closed_below_peak_db(*args.closed_below_peak_db);
   if (args.hysteresis_db) voice->set_hysteresis_db(*args.hysteresis_db);
+  if (args.any_sound) voice->set_any_sound(true);
   if (voice->ByteSizeLong() == 0) request.clear_voice_settings();
   if (args.voice_motion_fps) request.set_voice_motion_fps(*args.voice_motion_fps);
   if (!args.voice_output.empty()) {
@@ -97,7 +98,7 @@ bool HasVoiceFlags(const LipBlinkArgs& args) {
   return args.noise_floor_dbfs || args.noise_percentile || args.start_above_floor_db ||
          args.stay_above_floor_db || args.min_speech_dbfs || args.bridge_gap_frames ||
          args.faint_gap_frames || args.pause_above_floor_db || args.min_speech_frames || args.open_below_peak_db || args.closed_below_peak_db ||
-         args.hysteresis_db || args.voice_motion_fps || !args.voice_output.empty() ||
+         args.hysteresis_db || args.any_sound || args.voice_motion_fps || !args.voice_output.empty() ||
          !args.motion.empty() || !args.cues.empty();
 }
 

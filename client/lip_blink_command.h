@@ -55,6 +55,7 @@ struct LipBlinkArgs : CurveFileArgs {
       stay_above_floor_db, min_speech_dbfs, open_below_peak_db, closed_below_peak_db,
       hysteresis_db, pause_above_floor_db;
   std::optional<int> bridge_gap_frames, faint_gap_frames, min_speech_frames;
+  bool any_sound = false;  // --voice-settings-any-sound: speech by loudness alone
   std::optional<double> voice_motion_fps;  // --voice-motion-fps; unset: --fps
   std::string voice_output;                // --voice-output motion3|csv; empty: from -o
   // --report-audio-max-bytes: a recording up to this size is embedded in --report's page,

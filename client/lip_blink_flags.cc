@@ -104,6 +104,9 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
      "follow: closed more than this many dB below it (default 15)");
   db("--voice-settings-hysteresis-db", &args.hysteresis_db, AtLeast(0),
      "follow: a frame changes drawing only past a boundary by half of this (default 3)");
+  cmd->add_flag("--voice-settings-any-sound", args.any_sound,
+                "speech by loudness alone: any loud sound opens the mouth (singing, a "
+                "synthesised voice); default: only what sounds like a voice, not music or noise");
   AddNumber(cmd, "--voice-motion-fps", &args.voice_motion_fps, Above(0),
             "frames per second of the motion written for a voice alone (default --fps, 30)");
   AddChoice(cmd, "--voice-output", &args.voice_output, {"motion3", "csv"},

@@ -50,6 +50,7 @@ VoiceOptions VoiceOptionsFromProto(const v1::LipBlinkVoiceSettings& in) {
   if (in.has_open_below_peak_db()) o.open_below_peak_db = in.open_below_peak_db();
   if (in.has_closed_below_peak_db()) o.closed_below_peak_db = in.closed_below_peak_db();
   if (in.has_hysteresis_db()) o.hysteresis_db = in.hysteresis_db();
+  if (in.has_any_sound()) o.gate.enabled = !in.any_sound();
   return o;
 }
 

@@ -129,6 +129,9 @@ nlohmann::json LipBlinkVoiceReportWriter::Data() const {
                        Setting(s.has_pause_above_floor_db(),
                                s.has_pause_above_floor_db() ? s.pause_above_floor_db() : 1,
                                "dB of the floor")});
+    options.push_back({"speech is", s.has_any_sound() && s.any_sound()
+                                        ? std::string("any loud sound")
+                                        : std::string("a voice, not music or noise (default)")});
     options.push_back({"shortest speech",
                        Setting(s.has_min_speech_frames(),
                                s.has_min_speech_frames() ? s.min_speech_frames() : 2, "frames")});

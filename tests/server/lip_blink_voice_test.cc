@@ -130,6 +130,13 @@ TEST_F(LipBlinkVoiceTest, AHeldToneIsMusicNotSpeech) {
   for (const v1::MouthHold& hold : r.mouths(0).holds()) {
     EXPECT_EQ(hold.shape(), v1::MOUTH_CLOSED) << hold.begin();
   }
+  // any_sound: loudness alone, as before issue 44 (a singer): the tone is speech again.
+  v1::LipBlinkRequest any_sound = VoiceRequest(WavBytes(
+      h, ToneAndSilence(16000, {{0.5, 0.0}, {0.5, 0.5}, {0.5, 0.0}, {0.75, 0.5}, {0.25, 0.0}})));
+  any_sound.mutable_voice_settings()->set_any_sound(true);
+  EXPECT_EQ(Speech(Call(any_sound)), (std::vector<std::pair<int, int>>{{12, 24}, {36, 54}}));
+  any_sound.mutable_voice_settings()->set_any_sound(false);  // said, as unset
+  EXPECT_TRUE(Speech(Call(any_sound)).empty());
 }
 
 TEST_F(LipBlinkVoiceTest, SameRequestSameBytes) {
