@@ -11,7 +11,6 @@
 #include "core/split_mix64.h"
 
 namespace koma::lip_blink_internal {
-namespace {
 
 // Frames from the end of one blink to the start of the next inserted one:
 // round((mean + spread (2u - 1)) fps) with u = rng.Unit(), uniform in [0, 1). Clamped to
@@ -19,7 +18,8 @@ namespace {
 // as a flicker), and to at most frame_count + 1, which already ends past the clip, so the
 // int64 positions of the walk cannot overflow. std::round is exact; no libm function with
 // machine-dependent last bits is used.
-int64_t DrawInterval(SplitMix64& rng, const AutoBlinkOptions& a, double fps, int frame_count) {
+int64_t DrawBlinkInterval(SplitMix64& rng, const AutoBlinkOptions& a, double fps,
+                          int frame_count) {
   const double u = rng.Unit();
   const double seconds = a.mean_interval_s + a.spread_s * (2.0 * u - 1.0);  // > 0: spread < mean
   const double frames = std::round(seconds * fps);
@@ -27,6 +27,8 @@ int64_t DrawInterval(SplitMix64& rng, const AutoBlinkOptions& a, double fps, int
   const double longest = static_cast<double>(frame_count) + 1.0;
   return static_cast<int64_t>(std::max(shortest, std::min(frames, longest)));
 }
+
+namespace {
 
 Blink Inserted(int start, int hold) {
   Blink b;
@@ -60,10 +62,10 @@ std::vector<Blink> InsertAutoBlinks(std::vector<Blink> blinks, int frame_count,
   std::vector<Blink> inserted;
   size_t j = 0;  // the next detected blink
   size_t q = 0;  // the next keep interval
-  int64_t start = DrawInterval(rng, a, options.fps, frame_count);
+  int64_t start = DrawBlinkInterval(rng, a, options.fps, frame_count);
   while (start + span <= frame_count) {
     if (j < blinks.size() && blinks[j].closing_begin <= start + span) {  // before or touching
-      start = ends[j] + DrawInterval(rng, a, options.fps, frame_count);
+      start = ends[j] + DrawBlinkInterval(rng, a, options.fps, frame_count);
       ++j;
     } else if (q < keep.size() && keep[q].end < start) {  // wholly before start - 1
       ++q;
@@ -71,7 +73,7 @@ std::vector<Blink> InsertAutoBlinks(std::vector<Blink> blinks, int frame_count,
       start = keep[q].end + 1;
     } else {
       inserted.push_back(Inserted(static_cast<int>(start), a.hold));
-      start += span + DrawInterval(rng, a, options.fps, frame_count);
+      start += span + DrawBlinkInterval(rng, a, options.fps, frame_count);
     }
   }
   std::vector<Blink> all;

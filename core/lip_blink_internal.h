@@ -11,6 +11,7 @@
 #include "absl/strings/string_view.h"
 #include "absl/types/span.h"
 #include "core/lip_blink.h"
+#include "core/split_mix64.h"
 
 namespace koma::lip_blink_internal {
 
@@ -72,6 +73,11 @@ std::vector<Blink> DetectBlinks(absl::Span<const double> signal, double closed_a
 // Per blink (sorted, as DetectBlinks returns them): one past the last frame its repaint
 // writes, clipped at the next blink's closing_begin and at frame_count.
 std::vector<int> PaintEnds(const std::vector<Blink>& blinks, int frame_count);
+
+// Frames from the end of one blink to the start of the next inserted one (see
+// lip_blink_auto.cc), drawn from `rng`; also the live analysis's walk (core/live_voice.h).
+int64_t DrawBlinkInterval(SplitMix64& rng, const AutoBlinkOptions& a, double fps,
+                          int frame_count);
 
 // `blinks` (sorted, detected) plus the auto-blinks options.auto_blink asks for, all sorted
 // by frame; unchanged when auto-blink is disabled. See lip_blink_auto.cc for the walk.

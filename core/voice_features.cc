@@ -127,8 +127,8 @@ void VoiceFeatures::Decimated(double d) {
     base_ = decimated_;
   }
   while (decimated_ >= next_end_) {
-    Decide(static_cast<int64_t>(frames_.size()), next_end_);
-    next_end_ = grid_.FirstSample(static_cast<int64_t>(frames_.size()) + 1) / factor_;
+    Decide(decided(), next_end_);
+    next_end_ = grid_.FirstSample(decided() + 1) / factor_;
   }
   // Keep what the next windows reach back to, and drop the rest in large steps.
   const int64_t keep = std::max<int64_t>(max_window_ + max_lag_, kSpectrumSize) + 1;
@@ -145,9 +145,13 @@ void VoiceFeatures::Finish() {
     block_sum_ = 0.0;
     block_count_ = 0;
   }
-  while (grid_.FirstSample(static_cast<int64_t>(frames_.size())) < samples_) {
-    Decide(static_cast<int64_t>(frames_.size()), decimated_);
-  }
+  while (grid_.FirstSample(decided()) < samples_) Decide(decided(), decimated_);
+}
+
+void VoiceFeatures::TakeFrames(std::vector<VoiceFrame>& into) {
+  into.clear();
+  into.swap(frames_);
+  taken_ += static_cast<int64_t>(into.size());
 }
 
 void VoiceFeatures::Decide(int64_t frame, int64_t end) {

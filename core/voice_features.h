@@ -41,8 +41,14 @@ class VoiceFeatures {
   // The recording ends: the frames it reaches into (the last may be partial) are decided.
   void Finish();
 
-  // Frames decided so far, from frame 0.
+  // Frames decided and not yet taken, from frame decided() - frames().size().
   const std::vector<VoiceFrame>& frames() const { return frames_; }
+  // Moves the frames of frames() into `into` (cleared first; its buffer is reused for the
+  // next ones, so a live stream's state stays bounded without allocating: core/live_voice.h).
+  // The frame numbering goes on.
+  void TakeFrames(std::vector<VoiceFrame>& into);
+  // Frames decided so far, taken or not.
+  int64_t decided() const { return taken_ + static_cast<int64_t>(frames_.size()); }
   // Whether the rate can show a pitch up to 400 Hz (>= 4 kHz); below it every frame keeps
   // the defaults and the speech gate lets everything through (core/voice_gate.h).
   bool usable() const { return usable_; }
@@ -77,6 +83,7 @@ class VoiceFeatures {
   // Scratch, reused block to block.
   std::vector<double> windowed_, re_, im_, segment_, r_, means_;
   std::vector<VoiceFrame> frames_;
+  int64_t taken_ = 0;         // frames moved out by TakeFrames
 };
 
 }  // namespace koma
