@@ -83,11 +83,10 @@ double LiveVoice::Histogram::Percentile(double p) const {
   if (total_ == 0) return kSilenceDbfs;
   const auto rank = static_cast<int64_t>(p / 100.0 * static_cast<double>(total_ - 1));
   int64_t seen = 0;
-  int bin = 0;
-  for (; bin < kLastBin; ++bin) {
-    seen += counts_[bin];
-    if (seen > rank) break;
-  }
+  int group = 0;
+  while (seen + groups_[group] <= rank) seen += groups_[group++];
+  int bin = group * kGroup;
+  while (seen + counts_[bin] <= rank) seen += counts_[bin++];
   // The bin's middle: within 0.05 dB of every value in it.
   return bin == 0 ? kSilenceDbfs : kSilenceDbfs + (bin + 0.5) / kBinsPerDb;
 }
