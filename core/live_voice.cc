@@ -228,6 +228,7 @@ void LiveVoice::Decide(int64_t g, int64_t last, int64_t late_samples) {
   out.time_s = static_cast<double>(g) / options_.frame_fps;
   out.dbfs = dbfs_[static_cast<size_t>(g % kLiveWindowFrames)];
   out.speech = SpeechAt(g, last);
+  out.noise_floor_dbfs = floor_dbfs_;
   out.late_samples = late_samples;
   if (out.speech) {
     uint16_t& slot = history_[static_cast<size_t>(g % history_size_)];

@@ -83,6 +83,7 @@ struct LiveFrame {
   // was): the decision's latency at the audio's rate, before any transport.
   int64_t late_samples = 0;
   double dbfs = kSilenceDbfs;                 // the frame's loudness (for reports)
+  double noise_floor_dbfs = kSilenceDbfs;     // the running floor the decision used
 };
 
 class LiveVoice {

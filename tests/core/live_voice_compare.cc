@@ -3,8 +3,10 @@
 // one JSON line per lookahead (0 .. 3): the frames, both speech tracks as [begin, end)
 // intervals, the largest boundary difference from the first second on (-1: the intervals do
 // not pair up), the frames whose mouth is not closed, and the first broken drawing rule ("" for
-// none). The audio goes in blocks of 1,000 samples and then of 333 samples, which must give
-// the same frames.
+// none), and the noise floors (offline: the whole file's; live: the least and most the
+// decisions used after the first second). The audio goes in blocks of 1,000 samples and then
+// of 333 samples, which must give the same frames.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -50,6 +52,10 @@ int main(int argc, char** argv) {
   }
   constexpr double kFps = 24.0;
   const std::vector<bool> offline = koma::testing::OfflineSpeech(mono, rate, kFps, {});
+  koma::FrameLoudness loudness(rate, kFps);
+  loudness.Add(mono);
+  const double offline_floor =
+      koma::Percentile(loudness.Dbfs(loudness.frames_touched()), koma::VoiceOptions{}.noise_percentile);
   for (int lookahead = 0; lookahead <= koma::kMaxLookaheadFrames; ++lookahead) {
     koma::LiveVoiceOptions o;
     o.sample_rate = rate;
@@ -60,19 +66,26 @@ int main(int argc, char** argv) {
     const std::vector<koma::LiveFrame> again = koma::testing::RunLive(mono, o, {333});
     std::vector<bool> speech;
     int open = 0;
+    double floor_min = 0.0, floor_max = koma::kSilenceDbfs;  // after the first second
     bool same = again.size() == live.size();
     for (size_t i = 0; i < live.size(); ++i) {
       speech.push_back(live[i].speech);
       open += live[i].mouth != koma::MouthShape::kClosed;
+      if (i >= 24) {
+        floor_min = std::min(floor_min, live[i].noise_floor_dbfs);
+        floor_max = std::max(floor_max, live[i].noise_floor_dbfs);
+      }
       same = same && again[i].speech == live[i].speech && again[i].mouth == live[i].mouth;
     }
     std::string rules = koma::testing::CheckDrawingRules(live, o, static_cast<int64_t>(mono.size()));
     if (!same) rules = "another block size gives other frames";
     std::printf(
         "{\"lookahead\": %d, \"rate\": %d, \"frames\": %zu, \"offline\": %s, \"live\": %s, "
-        "\"boundary_error\": %d, \"open_frames\": %d, \"rules\": \"%s\"}\n",
+        "\"boundary_error\": %d, \"open_frames\": %d, \"offline_floor\": %.2f, "
+        "\"live_floor\": [%.2f, %.2f], \"rules\": \"%s\"}\n",
         lookahead, rate, live.size(), Intervals(offline).c_str(), Intervals(speech).c_str(),
-        koma::testing::BoundaryError(speech, offline, 24), open, rules.c_str());
+        koma::testing::BoundaryError(speech, offline, 24), open, offline_floor, floor_min,
+        floor_max, rules.c_str());
   }
   return 0;
 }
