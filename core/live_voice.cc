@@ -120,6 +120,7 @@ LiveVoice::LiveVoice(const LiveVoiceOptions& options)
 }
 
 void LiveVoice::Add(absl::Span<const float> mono) {
+  if (finished_) return;  // the stream has ended: its last frames are decided
   size_t i = 0;
   for (;;) {
     while (samples_ == next_boundary_) CompleteFrame();

@@ -94,7 +94,7 @@ class LiveVoice {
   // Mono samples, full scale +-1, any block size (empty too).
   void Add(absl::Span<const float> mono);
   // The stream ends: the frames left (the last may be partial) are decided on what there is.
-  // Add must not be called after it.
+  // Add does nothing after it.
   void Finish();
 
   // The next decided frame in order, false when none is waiting. Decided frames wait here

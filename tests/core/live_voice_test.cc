@@ -240,6 +240,9 @@ TEST(LiveVoiceTest, DecidesEachFrameTheLookaheadAfterItsEnd) {
     live.Finish();
     while (live.Pop(&f)) ++popped;
     EXPECT_EQ(popped, 24);
+    live.Add(one);  // after the end: nothing
+    EXPECT_FALSE(live.Pop(&f));
+    EXPECT_EQ(live.samples(), 48000);
   }
 }
 
