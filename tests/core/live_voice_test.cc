@@ -8,6 +8,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <malloc.h>
+
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -281,6 +283,37 @@ TEST(LiveVoiceTest, TheRunningFloorIsTheNaivePercentileOfTheHistory) {
     const double naive = Percentile({dbfs.begin() + s.first, dbfs.begin() + s.last + 1}, 25.0);
     ASSERT_NEAR(s.floor, naive, 0.05 + 1e-9) << "frames " << s.first << ".." << s.last;
   }
+}
+
+// Bounded state: after the first two minutes (the 60 s history full, every ring and scratch
+// buffer grown), eight more minutes of talk and pauses allocate nothing that stays. glibc's
+// count of the heap's bytes in use, which only this thread moves between the two readings.
+TEST(LiveVoiceTest, TheStateStaysBoundedOverTenMinutes) {
+  const int rate = 8000;
+  LiveVoice live(Options(rate, 3));
+  std::vector<float> block(static_cast<size_t>(rate / 50));  // 20 ms
+  LiveFrame f;
+  int64_t i = 0, speech = 0;
+  const auto feed = [&](int seconds) {
+    for (int b = 0; b < seconds * 50; ++b) {
+      for (float& x : block) {
+        const double t = static_cast<double>(i++) / rate;
+        // 1.3 s of a 4 Hz-modulated 180 Hz vowel-like tone in every 2 s.
+        x = static_cast<float>(std::fmod(t, 2.0) < 1.3
+                                   ? 0.3 * std::sin(2 * 3.14159 * 180 * t *
+                                                    (1 + 0.05 * std::sin(2 * 3.14159 * 4 * t)))
+                                   : 0.0003 * std::sin(i * 1.7));
+      }
+      live.Add(block);
+      while (live.Pop(&f)) speech += f.speech;
+    }
+  };
+  feed(120);
+  const size_t before = mallinfo2().uordblks;
+  feed(480);
+  const size_t after = mallinfo2().uordblks;
+  EXPECT_LE(after, before) << "grew by " << after - before << " bytes";
+  EXPECT_GT(speech, 0);
 }
 
 TEST(LiveVoiceTest, ValidatesItsOptions) {
