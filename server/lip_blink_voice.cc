@@ -95,7 +95,7 @@ absl::StatusOr<Voice> AnalyseAudio(const v1::LipBlinkRequest& request, double fp
     if (!block.ok()) return InAudio(block.status());
     if (block->empty()) break;
     loudness.Add(*block);
-    features.Add(*block);
+    if (options.gate.enabled) features.Add(*block);  // any_sound: loudness alone
     if (stop.Stop(static_cast<int64_t>(block->size()) * info.channels)) return stop.status();
   }
   if (loudness.samples() == 0) return absl::InvalidArgumentError("audio: holds no samples");
@@ -103,9 +103,12 @@ absl::StatusOr<Voice> AnalyseAudio(const v1::LipBlinkRequest& request, double fp
   v.frames = loudness.frames_touched();
   v.duration_s = static_cast<double>(loudness.samples()) / info.sample_rate;
   const std::vector<double> dbfs = loudness.Dbfs(v.frames);
-  features.Finish();
-  const std::vector<FrameInterval> voice_like = VoiceLikeStretches(features, fps, options.gate);
-  v.activity = DetectVoice(dbfs, options, &voice_like);
+  std::vector<FrameInterval> voice_like;
+  if (options.gate.enabled) {
+    features.Finish();
+    voice_like = VoiceLikeStretches(features, fps, options.gate);
+  }
+  v.activity = DetectVoice(dbfs, options, options.gate.enabled ? &voice_like : nullptr);
   v.analysis.set_sample_rate(info.sample_rate);
   v.analysis.set_channels(info.channels);
   v.analysis.mutable_loudness_dbfs()->Add(dbfs.begin(), dbfs.end());
