@@ -4,7 +4,8 @@
 set -euo pipefail
 
 # What building koma_server and koma needs (ninja-build, lld and ccache: faster builds, links
-# and rebuilds, scripts/build.sh).
+# and rebuilds, scripts/build.sh; liblo-dev and libasound2-dev: `koma live` sends VMC's OSC
+# through liblo and captures the microphone through ALSA).
 packages=(
   cmake g++ make ninja-build lld ccache pkg-config
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
@@ -14,6 +15,7 @@ packages=(
   prometheus-cpp-dev
   libsndfile1-dev
   zlib1g-dev
+  liblo-dev libasound2-dev
 )
 # What the tests and benchmarks add (python3-grpcio: the interop test's second client;
 # buildah, podman, runc, debootstrap: deploy/test-image.sh builds and runs the image;
@@ -57,6 +59,10 @@ if [ "${1:-}" != "--build-only" ]; then
   # (blender.fbx_retimed builds tests/e2e/fbx/assimp_poses against it, pivots off, beside
   # Blender's importer and three.js's FBXLoader).
   packages+=(libassimp-dev)
+  # liblo-tools (oscdump), python3-liblo: the live tests receive koma live's VMC bundles with a
+  # real OSC receiver; python3-websockets: the stand-in for VTube Studio's API server;
+  # alsa-utils: aplay/arecord and the ALSA configuration the capture test's null device uses.
+  packages+=(liblo-tools python3-liblo python3-websockets alsa-utils)
 fi
 
 # The tests' npm packages, exactly as tests/e2e/gltf/package-lock.json pins them (into

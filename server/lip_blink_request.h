@@ -49,6 +49,11 @@ absl::StatusOr<LipBlinkJob> LipBlinkJobFor(CurveSet set, const v1::MouthSettings
                                            const RequestLimits& limits, bool need_curves,
                                            absl::string_view set_name);
 
+// MouthSettings and EyeSettings as core options for curves of `frame_count` frames (eyes at
+// `fps`), checked; errors name "mouth.<field>" / "eyes.<field>". The ids are not looked at.
+absl::StatusOr<MouthOptions> MouthOptionsFromProto(const v1::MouthSettings& in, int frame_count);
+absl::StatusOr<EyeOptions> EyeOptionsFromProto(const v1::EyeSettings& in, double fps, int frame_count);
+
 // Every field checked before any work; INVALID_ARGUMENT / RESOURCE_EXHAUSTED naming the
 // field path ("mouth.mid_ratio", "eyes.auto_blink.hold", "mouth.ids[1]") and value.
 absl::StatusOr<LipBlinkJob> ValidateLipBlinkRequest(const v1::LipBlinkRequest& request,

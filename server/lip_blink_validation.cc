@@ -63,7 +63,9 @@ std::vector<FrameInterval> Intervals(
   return out;
 }
 
-absl::StatusOr<MouthOptions> ConvertMouth(const v1::MouthSettings& in, int frame_count) {
+}  // namespace
+
+absl::StatusOr<MouthOptions> MouthOptionsFromProto(const v1::MouthSettings& in, int frame_count) {
   MouthOptions out;
   switch (in.mode()) {
     case v1::MOUTH_MODE_UNSPECIFIED:
@@ -87,9 +89,9 @@ absl::StatusOr<MouthOptions> ConvertMouth(const v1::MouthSettings& in, int frame
   return out;
 }
 
-absl::StatusOr<EyeOptions> ConvertEyes(const v1::EyeSettings& in, const CurveSet& set) {
+absl::StatusOr<EyeOptions> EyeOptionsFromProto(const v1::EyeSettings& in, double fps, int frame_count) {
   EyeOptions out;
-  out.fps = set.fps;
+  out.fps = fps;
   if (in.has_mid_ratio()) out.mid_ratio = in.mid_ratio();
   if (in.has_threshold()) out.threshold = in.threshold();
   if (in.has_min()) out.min = in.min();
@@ -105,9 +107,11 @@ absl::StatusOr<EyeOptions> ConvertEyes(const v1::EyeSettings& in, const CurveSet
                                 : std::min(1.0, out.auto_blink.mean_interval_s / 4.0);
   if (auto_blink.has_hold()) out.auto_blink.hold = auto_blink.hold();
   out.auto_blink.keep = Intervals(auto_blink.keep());
-  KOMA_RETURN_IF_ERROR(Prefixed(ValidateEyeOptions(out, set.frame_count), "eyes."));
+  KOMA_RETURN_IF_ERROR(Prefixed(ValidateEyeOptions(out, frame_count), "eyes."));
   return out;
 }
+
+namespace {
 
 // The film grid of timing_fps (unset: 24): checked, and the mouth and eye options moved onto
 // it (they were checked on the source frames, where their intervals are given).
@@ -156,8 +160,8 @@ absl::StatusOr<LipBlinkJob> LipBlinkJobFor(CurveSet set, const v1::MouthSettings
         "mouth.ids, eyes.ids: no mouth or eye curve to convert (none named, and the set has "
         "none of ParamMouthOpenY, ParamEyeLOpen, ParamEyeROpen)");
   }
-  KOMA_ASSIGN_OR_RETURN(job.mouth, ConvertMouth(mouth, job.set.frame_count));
-  KOMA_ASSIGN_OR_RETURN(job.eyes, ConvertEyes(eyes, job.set));
+  KOMA_ASSIGN_OR_RETURN(job.mouth, MouthOptionsFromProto(mouth, job.set.frame_count));
+  KOMA_ASSIGN_OR_RETURN(job.eyes, EyeOptionsFromProto(eyes, job.set.fps, job.set.frame_count));
   KOMA_RETURN_IF_ERROR(ConvertGrid(timing_fps.value_or(kDefaultTimingFps), limits, &job));
   if (seed) job.seed = *seed;
   return job;

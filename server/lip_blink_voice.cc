@@ -36,23 +36,6 @@ constexpr int64_t kBytesPerAnalysisFrame = 96;
 // libsndfile's and its codecs' state and the decoder's blocks, bytes (generous).
 constexpr int64_t kDecoderBytes = 8 << 20;
 
-VoiceOptions VoiceOptionsFromProto(const v1::LipBlinkVoiceSettings& in) {
-  VoiceOptions o;
-  if (in.has_noise_floor_dbfs()) o.noise_floor_dbfs = in.noise_floor_dbfs();
-  if (in.has_noise_percentile()) o.noise_percentile = in.noise_percentile();
-  if (in.has_start_above_floor_db()) o.start_above_floor_db = in.start_above_floor_db();
-  if (in.has_stay_above_floor_db()) o.stay_above_floor_db = in.stay_above_floor_db();
-  if (in.has_min_speech_dbfs()) o.min_speech_dbfs = in.min_speech_dbfs();
-  if (in.has_bridge_gap_frames()) o.bridge_gap_frames = in.bridge_gap_frames();
-  if (in.has_faint_gap_frames()) o.faint_gap_frames = in.faint_gap_frames();
-  if (in.has_pause_above_floor_db()) o.pause_above_floor_db = in.pause_above_floor_db();
-  if (in.has_min_speech_frames()) o.min_speech_frames = in.min_speech_frames();
-  if (in.has_open_below_peak_db()) o.open_below_peak_db = in.open_below_peak_db();
-  if (in.has_closed_below_peak_db()) o.closed_below_peak_db = in.closed_below_peak_db();
-  if (in.has_hysteresis_db()) o.hysteresis_db = in.hysteresis_db();
-  if (in.has_any_sound()) o.gate.enabled = !in.any_sound();
-  return o;
-}
 
 // The analysis of the recording on frames of `fps`, before it is fitted to the motion.
 struct Voice {
@@ -262,6 +245,24 @@ absl::Status CheckVoiceRequest(const v1::LipBlinkRequest& request) {
 }
 
 }  // namespace
+
+VoiceOptions VoiceOptionsFromProto(const v1::LipBlinkVoiceSettings& in) {
+  VoiceOptions o;
+  if (in.has_noise_floor_dbfs()) o.noise_floor_dbfs = in.noise_floor_dbfs();
+  if (in.has_noise_percentile()) o.noise_percentile = in.noise_percentile();
+  if (in.has_start_above_floor_db()) o.start_above_floor_db = in.start_above_floor_db();
+  if (in.has_stay_above_floor_db()) o.stay_above_floor_db = in.stay_above_floor_db();
+  if (in.has_min_speech_dbfs()) o.min_speech_dbfs = in.min_speech_dbfs();
+  if (in.has_bridge_gap_frames()) o.bridge_gap_frames = in.bridge_gap_frames();
+  if (in.has_faint_gap_frames()) o.faint_gap_frames = in.faint_gap_frames();
+  if (in.has_pause_above_floor_db()) o.pause_above_floor_db = in.pause_above_floor_db();
+  if (in.has_min_speech_frames()) o.min_speech_frames = in.min_speech_frames();
+  if (in.has_open_below_peak_db()) o.open_below_peak_db = in.open_below_peak_db();
+  if (in.has_closed_below_peak_db()) o.closed_below_peak_db = in.closed_below_peak_db();
+  if (in.has_hysteresis_db()) o.hysteresis_db = in.hysteresis_db();
+  if (in.has_any_sound()) o.gate.enabled = !in.any_sound();
+  return o;
+}
 
 absl::Status HandleLipBlinkVoice(const v1::LipBlinkRequest& request, const RequestLimits& limits,
                                  v1::LipBlinkResponse* response, LipBlinkMotionShape* shape) {

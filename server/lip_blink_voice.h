@@ -8,6 +8,7 @@
 #define KOMA_SERVER_LIP_BLINK_VOICE_H_
 
 #include "absl/status/status.h"
+#include "core/voice_activity.h"
 #include "koma/v1/retime.pb.h"
 #include "server/request_limits.h"
 
@@ -15,6 +16,9 @@ namespace koma::server {
 
 // The motion rate of a voice-only request whose voice_motion_fps is unset.
 inline constexpr double kDefaultVoiceMotionFps = 30.0;
+
+// LipBlinkVoiceSettings as core options (unchecked: ValidateVoiceOptions).
+VoiceOptions VoiceOptionsFromProto(const v1::LipBlinkVoiceSettings& in);
 
 struct LipBlinkMotionShape;  // server/lip_blink_request.h
 

@@ -57,6 +57,19 @@ ABSL_FLAG(int64_t, max_gltf_animations, 4096,
 ABSL_FLAG(double, max_call_seconds, 300,
           "longest one call may compute, whatever its client's deadline; then its work stops "
           "and it is answered DEADLINE_EXCEEDED (0: no bound)");
+ABSL_FLAG(int, live_max_streams, 1000,
+          "LiveLipBlink streams at once; more are answered RESOURCE_EXHAUSTED");
+ABSL_FLAG(double, live_max_seconds, 6 * 3600,
+          "longest audio one LiveLipBlink stream may send, seconds; the stream then ends with "
+          "RESOURCE_EXHAUSTED after its frames");
+ABSL_FLAG(int64_t, live_max_message_bytes, 1 << 20,
+          "largest LiveLipBlink audio message, bytes (gRPC's --max_message_bytes still applies)");
+ABSL_FLAG(int, live_max_queued_frames, 240,
+          "decided LiveLipBlink frames that may wait for a client that reads none; then the "
+          "stream ends with RESOURCE_EXHAUSTED");
+ABSL_FLAG(double, live_idle_seconds, 30,
+          "longest a LiveLipBlink stream may go without a message, seconds (0: no bound); then "
+          "it ends with DEADLINE_EXCEEDED");
 ABSL_FLAG(int64_t, max_gltf_nodes, 65536,
           "most nodes a glTF file (RetimeSkeletalRequest.gltf) may have; more get "
           "INVALID_ARGUMENT naming nodes");
@@ -111,7 +124,9 @@ constexpr const char* kEnvironmentFlags[] = {
     "tls_client_ca",       "metrics_address",     "metrics_port_file",   "shutdown_delay_ms",
     "inline_max_bytes",    "huge_page_cache_mb",  "threads_per_call",    "idle_trim_ms",
     "max_memory_mb",       "max_file_bytes",      "max_gltf_nodes",      "max_audio_seconds",
-    "max_audio_channels",  "max_audio_samples",   "max_gltf_animations", "max_call_seconds"};
+    "max_audio_channels",  "max_audio_samples",   "max_gltf_animations", "max_call_seconds",
+    "live_max_streams",    "live_max_seconds",    "live_max_message_bytes",
+    "live_max_queued_frames",                     "live_idle_seconds"};
 // clang-format on
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
@@ -165,6 +180,11 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.limits.max_audio_samples = absl::GetFlag(FLAGS_max_audio_samples);
   config.limits.max_gltf_animations = absl::GetFlag(FLAGS_max_gltf_animations);
   config.limits.max_call_seconds = absl::GetFlag(FLAGS_max_call_seconds);
+  config.limits.live_max_streams = absl::GetFlag(FLAGS_live_max_streams);
+  config.limits.live_max_seconds = absl::GetFlag(FLAGS_live_max_seconds);
+  config.limits.live_max_message_bytes = absl::GetFlag(FLAGS_live_max_message_bytes);
+  config.limits.live_max_queued_frames = absl::GetFlag(FLAGS_live_max_queued_frames);
+  config.limits.live_idle_seconds = absl::GetFlag(FLAGS_live_idle_seconds);
   const int threads_per_call = absl::GetFlag(FLAGS_threads_per_call);
   config.limits.threads_per_call =
       threads_per_call > 0 ? threads_per_call

@@ -41,6 +41,16 @@ struct RequestLimits {
   // Longest one call may compute, in seconds, whatever its client's deadline (0: no bound).
   // The handlers' loops poll it (server/call_stop.h) and stop with DEADLINE_EXCEEDED.
   double max_call_seconds = 300.0;
+  // LiveLipBlink (server/live_stream.h): streams at once; the longest audio one stream may
+  // send, in seconds (a stream that never stops is ended, its frames answered first); the
+  // largest audio message, bytes; the decided frames that may wait for a client that does not
+  // read (10 s at 24 fps; gRPC's flow-control window holds some more before them); and the
+  // longest a stream may go without a message, seconds.
+  int live_max_streams = 1000;
+  double live_max_seconds = 6 * 3600.0;
+  int64_t live_max_message_bytes = 1 << 20;
+  int live_max_queued_frames = 240;
+  double live_idle_seconds = 30.0;
 };
 
 // With a film grid, the work is counted in grid frames: RESOURCE_EXHAUSTED when `grid_frames`

@@ -10,6 +10,7 @@
 
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/idle_trim.h"
+#include "server/live_stream.h"
 #include "server/logging.h"
 #include "server/memory_budget.h"
 #include "server/metrics.h"
@@ -42,7 +43,8 @@ class RetimeService final
         metrics_(metrics),
         inline_max_bytes_(inline_max_bytes),
         trimmer_(trimmer),
-        budget_(budget) {}
+        budget_(budget),
+        live_streams_(limits) {}
 
   grpc::ServerUnaryReactor* RetimeSkeletal(grpc::CallbackServerContext* context,
                                            const grpc::ByteBuffer* request,
@@ -53,6 +55,16 @@ class RetimeService final
   grpc::ServerUnaryReactor* LipBlink(grpc::CallbackServerContext* context,
                                      const grpc::ByteBuffer* request,
                                      grpc::ByteBuffer* response) override;
+  // A typed bidirectional stream (server/live_stream.h); the analysis of a message is
+  // microseconds, so it runs on gRPC's callback thread.
+  grpc::ServerBidiReactor<v1::LiveLipBlinkRequest, v1::LiveLipBlinkFrame>* LiveLipBlink(
+      grpc::CallbackServerContext* context) override {
+    return live_streams_.Open(context);
+  }
+  // Shutdown: every live stream ends with UNAVAILABLE after the frames decided so far, and new
+  // ones are refused, so a stream does not hold the drain for its whole grace.
+  void EndLiveStreams() { live_streams_.EndAll(); }
+  int live_streams_in_flight() const { return live_streams_.in_flight(); }
 
  private:
   // Runs `call` (its Run, FreeRequest, then Answer or DropAnswer; see retime_service.cc):
@@ -77,6 +89,7 @@ class RetimeService final
   const int64_t inline_max_bytes_;
   IdleTrimmer* const trimmer_;
   MemoryBudget* const budget_;
+  LiveStreams live_streams_;
 };
 
 }  // namespace koma::server

@@ -71,6 +71,26 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
     return invalid("--max_call_seconds: ", config.limits.max_call_seconds,
                    " must be in [0, 1000000] (0: no bound)");
   }
+  if (config.limits.live_max_streams < 0) {
+    return invalid("--live_max_streams: ", config.limits.live_max_streams,
+                   " must be >= 0 (0 refuses every live stream)");
+  }
+  if (!(config.limits.live_max_seconds > 0 && config.limits.live_max_seconds <= 1e7)) {
+    return invalid("--live_max_seconds: ", config.limits.live_max_seconds,
+                   " must be in (0, 10000000]");
+  }
+  if (config.limits.live_max_message_bytes < 64) {
+    return invalid("--live_max_message_bytes: ", config.limits.live_max_message_bytes,
+                   " must be >= 64");
+  }
+  if (config.limits.live_max_queued_frames < 1) {
+    return invalid("--live_max_queued_frames: ", config.limits.live_max_queued_frames,
+                   " must be >= 1");
+  }
+  if (!(config.limits.live_idle_seconds >= 0 && config.limits.live_idle_seconds <= 1e6)) {
+    return invalid("--live_idle_seconds: ", config.limits.live_idle_seconds,
+                   " must be in [0, 1000000] (0: no bound)");
+  }
   if (config.limits.max_gltf_nodes < 1) {
     return invalid("--max_gltf_nodes: ", config.limits.max_gltf_nodes,
                    " must be >= 1 (it would refuse every glTF file)");
@@ -200,6 +220,7 @@ void KomaServer::Shutdown(absl::Duration grace) {
   if (shut_down_ || server_ == nullptr) return;
   shut_down_ = true;
   StopServing();
+  if (service_ != nullptr) service_->EndLiveStreams();
   const auto deadline = std::chrono::system_clock::now() + absl::ToChronoMilliseconds(grace);
   server_->Shutdown(deadline);
   pool_.reset();  // runs what was accepted; every reactor gets its Finish
