@@ -13,6 +13,8 @@ from koma._version import __version__  # the project's one version, written by t
 from koma._client import Client, Positions
 from koma._errors import KomaError
 from koma._results import CurvesResult, LipBlinkResult, SkeletalResult
+from koma._live import LiveFrame
+from koma._live_sources import AudioFile, AudioSourceError, Microphone
 
 __all__ = ["__version__", "Client", "Positions", "KomaError", "SkeletalResult", "CurvesResult",
-           "LipBlinkResult"]
+           "LipBlinkResult", "LiveFrame", "AudioFile", "Microphone", "AudioSourceError"]

@@ -9,6 +9,8 @@ the Python package (the file goes over the wire; the server parses and writes it
     python3 -m koma lipblink SKELETON.json --animation NAME --mouth-slot SLOT
         [--audio VOICE.wav|--rhubarb CUES|--speech B-E,...] [--eye-slot SLOT,...] -o OUT.json
     python3 -m koma health [--server HOST:PORT]
+    python3 -m koma live [--input FILE] [--json] [--vmc [HOST:PORT]] [--record OUT.motion3.json]
+        [--seconds S] [--speed X] [--lookahead N] ...   (koma/_live_cli.py)
 
 The flags are the C++ `koma` CLI's, with its syntax (lists comma-separated, --speech as
 BEGIN-END frame intervals), and write the same bytes. Exit status: 0 done, 1 the call failed
@@ -23,7 +25,7 @@ import os
 import sys
 
 import koma
-from koma import _presets
+from koma import _live_cli, _presets
 from koma import _format_table
 from koma._client import _is_spine
 
@@ -170,7 +172,9 @@ def _common(parser, deadline=60.0):
     parser.add_argument("--server", default=os.environ.get("KOMA_SERVER", "127.0.0.1:50051"),
                         help="server host:port (default $KOMA_SERVER or 127.0.0.1:50051)")
     parser.add_argument("--deadline", type=_positive, default=deadline,
-                        help=f"RPC deadline in seconds (default {deadline:g})")
+                        help=f"RPC deadline in seconds (default {deadline:g})"
+                        if deadline is not None else "the stream's deadline in seconds "
+                        "(default none)")
     parser.add_argument("--tls-ca", default=os.environ.get("KOMA_TLS_CA"),
                         help="PEM CA of the server's certificate: use TLS")
     parser.add_argument("--tls-cert", default=os.environ.get("KOMA_TLS_CERT"),
@@ -288,6 +292,8 @@ def _parser():
     p = commands.add_parser("health", help="ask the server's grpc.health.v1 service")
     p.add_argument("--service", default="", help="service name (default: the whole server)")
     _common(p, deadline=5.0)
+
+    _live_cli.add_parser(commands, _common)
     return parser
 
 
@@ -295,7 +301,8 @@ def _client(args):
     tls = False
     if args.tls_ca or args.tls_cert:
         tls = (args.tls_ca, args.tls_cert, args.tls_key)
-    return koma.Client(args.server, timeout=args.deadline, tls=tls)
+    return koma.Client(args.server, timeout=args.deadline or koma._client.DEFAULT_TIMEOUT_S,
+                       tls=tls)
 
 
 def _curve_overrides(entries):
@@ -373,6 +380,8 @@ def _retime_spine(client, args, options):
 
 
 def _run(args):
+    if args.command == "live":
+        return _live_cli.run(args, _client)
     if args.command == "health":
         with _client(args) as client:
             status = client.health(args.service)

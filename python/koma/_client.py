@@ -1,10 +1,11 @@
-"""koma.Client: the three koma RPCs and the health check, from a file path or its text."""
+"""koma.Client: the koma RPCs and the health check, from a file path or its text; live()
+streams a voice (koma/_live.py)."""
 import json
 import os
 
 import grpc
 
-from koma import _format_table, _health_pb2, _options, _presets
+from koma import _format_table, _health_pb2, _live, _live_sources, _options, _presets
 from koma._errors import KomaError
 from koma._results import CurvesResult, LipBlinkResult, SkeletalResult
 from koma.v1 import motion_pb2, retime_pb2, retime_pb2_grpc
@@ -388,6 +389,58 @@ class Client:
         result.source_path = path
         result._source_fps = fps
         return result
+
+    def live(self, audio_chunks, sample_rate, channels, sample_format="s16le", *, lookahead=2,
+             seed=None, timing_fps=None, mouth=None, eyes=None, voice_settings=None,
+             timeout=None):
+        """Mouth flaps and blinks from a live voice (LiveLipBlink): a bidirectional stream.
+
+        Args:
+            audio_chunks: an iterable of bytes: interleaved little-endian samples in
+                sample_format, each chunk whole sample frames (channels x 2 or 4 bytes), sent
+                as it comes (e.g. 10 ms at a time: AudioFile(...).chunks() or
+                Microphone().chunks()). The stream ends (the client half-closes) when it ends.
+            sample_rate: samples per second (1000-384000); channels: interleaved channels
+                (mixed to mono by the server; at most its --max_audio_channels).
+            sample_format: "s16le" (16-bit integers) or "f32le" (32-bit floats).
+            lookahead: grid frames of audio past a frame's end the server waits for before
+                deciding it, 0-3 (each costs 41.7 ms of delay and agrees better with
+                lip_blink(audio=...)).
+            seed: the random mouth shapes' and auto-blinks' seed (unset: the server's).
+            timing_fps: the film grid (unset: 24).
+            mouth, eyes, voice_settings: as lip_blink's (dicts of MouthSettings,
+                EyeSettings, LipBlinkVoiceSettings fields), e.g. mouth={"mode":
+                "MOUTH_FOLLOW"}, eyes={"auto_blink": {"enabled": True}}; no ids, no speech,
+                no eye threshold or linked (there are no curves).
+            timeout: the whole stream's deadline in seconds; default none (a live stream
+                lasts as long as its audio), not the client's per-call timeout.
+
+        Returns:
+            an iterator of LiveFrame, one per film-grid frame from grid_frame 0, each as soon
+            as the server decides it. Stopping early (break, close()) cancels the stream.
+
+        Raises (while iterating): KomaError with the server's code and message, which names the
+        setup's field ("setup.sample_rate: 0 must be in [1000, 384000] ...") or the audio
+        message; what audio_chunks raised, re-raised. TypeError / ValueError for a wrong option
+        before anything is sent.
+        """
+        options = {"timing_fps": timing_fps, "mouth": mouth, "eyes": eyes,
+                   "voice_settings": voice_settings}
+        setup = _live.setup_request(sample_rate, channels, sample_format, lookahead, seed,
+                                    options)
+        if timeout is not None and not timeout > 0:
+            raise ValueError(f"timeout: {timeout!r} must be a number of seconds > 0, or None")
+        return _live.stream(self._stub, setup, audio_chunks, timeout)
+
+    def live_file(self, path, speed=1.0, seconds=None, chunk_ms=10, **options):
+        """live() on a recording played at real time (speed 1; 2 twice as fast; 0 as fast as
+        the server takes it): 10 ms chunks paced by time.monotonic. WAV through Python's wave
+        module, other formats (FLAC, Ogg, MP3) through sox when it is on PATH
+        (koma.AudioFile). seconds: play only that much. **options: as live()'s."""
+        source = _live_sources.AudioFile(path)
+        chunks = source.chunks(chunk_ms=chunk_ms, speed=speed, seconds=seconds)
+        return self.live(chunks, source.sample_rate, source.channels, source.sample_format,
+                         **options)
 
     def health(self, service=""):
         """The server's grpc.health.v1 status: "SERVING" when it takes calls ("NOT_SERVING"

@@ -1,0 +1,174 @@
+"""Client.live: LipBlink from a live voice (the LiveLipBlink bidirectional stream).
+
+The requests (the setup, then the audio chunks) go out from gRPC's own thread as the caller's
+chunk iterator gives them; the frames come back to the caller's thread as the server decides
+them (one per film-grid frame, in order from 0). docs/python.md, "Live".
+"""
+import threading
+
+import grpc
+
+from koma import _options
+from koma._errors import KomaError
+from koma.v1 import retime_pb2
+
+SAMPLE_FORMATS = {"s16le": retime_pb2.LIVE_SAMPLE_S16LE, "f32le": retime_pb2.LIVE_SAMPLE_F32LE}
+_SHAPES = {retime_pb2.MOUTH_CLOSED: "closed", retime_pb2.MOUTH_MID: "half",
+           retime_pb2.MOUTH_OPEN: "open"}
+# Audio sent ahead of the frames read back, at most (seconds): the server ends a stream whose
+# client reads none of its last --live_max_queued_frames (240: 10 s at 24 fps), so a caller that
+# sends faster than real time (a file at speed 0) or reads slowly waits here instead.
+MAX_AHEAD_S = 4.0
+
+# The fields of a frame's JSON line, as the C++ `koma live --json` writes them.
+JSON_FIELDS = ("grid_frame", "time_s", "mouth", "mouth_level", "speech", "blink", "eye_level",
+               "new_drawing", "late_ms")
+
+
+class LiveFrame:
+    """One decided film-grid frame of a live stream (koma.v1.LiveLipBlinkFrame).
+
+    Attributes:
+        grid_frame: its number, from 0; it covers [grid_frame, grid_frame + 1) / timing_fps
+            seconds of the audio.
+        time_s: its start, seconds of audio from the stream's first sample.
+        mouth: the mouth drawing, "closed", "half" or "open".
+        mouth_level: the value to write for it (the mouth settings' min, mid or max).
+        speech: True in speech, False in a pause (the mouth closed).
+        blink: True while the eyes are not open (an auto-blink's half or closed drawing).
+        eyes: the eyes' drawing, "open", "half" or "closed".
+        eye_level: the value to write for them (the eye settings' max, mid or min).
+        new_drawing: the mouth's drawing differs from the previous frame's.
+        hold_start: a mouth hold starts here (speech only).
+        blink_start: an auto-blink closes the eyes here.
+        late_ms: milliseconds of audio past the frame's end the server had when it decided
+            it (the lookahead; less at the stream's end).
+        loudness_dbfs, noise_floor_dbfs: the frame's RMS and the running noise floor, dBFS.
+        message: the koma.v1.LiveLipBlinkFrame itself.
+    """
+
+    __slots__ = ("grid_frame", "time_s", "mouth", "mouth_level", "speech", "blink", "eyes",
+                 "eye_level", "new_drawing", "hold_start", "blink_start", "late_ms",
+                 "loudness_dbfs", "noise_floor_dbfs", "message")
+
+    def __init__(self, message):
+        self.message = message
+        self.grid_frame = message.grid_frame
+        self.time_s = message.time_s
+        self.mouth = _SHAPES.get(message.mouth, "closed")
+        self.mouth_level = message.mouth_level
+        self.speech = message.speech
+        self.eyes = _SHAPES.get(message.eyes, "closed")
+        self.blink = message.eyes != retime_pb2.MOUTH_OPEN
+        self.eye_level = message.eye_level
+        self.new_drawing = message.new_drawing
+        self.hold_start = message.hold_start
+        self.blink_start = message.blink_start
+        self.late_ms = message.late_ms
+        self.loudness_dbfs = message.loudness_dbfs
+        self.noise_floor_dbfs = message.noise_floor_dbfs
+
+    def to_dict(self):
+        """The frame's JSON line fields (as `koma live --json`): grid_frame, time_s, mouth,
+        mouth_level, speech, blink, eye_level, new_drawing, late_ms."""
+        return {name: getattr(self, name) for name in JSON_FIELDS}
+
+    def __repr__(self):
+        return (f"LiveFrame(grid_frame={self.grid_frame}, mouth={self.mouth!r}, "
+                f"speech={self.speech}, eyes={self.eyes!r}, late_ms={self.late_ms:.1f})")
+
+
+def setup_request(sample_rate, channels, sample_format, lookahead, seed, options):
+    """The stream's first message. Wrong option names and types raise here (TypeError,
+    ValueError); values out of range come back from the server as a KomaError naming the
+    setup's field (setup.sample_rate, setup.channels, ...)."""
+    if sample_format not in SAMPLE_FORMATS:
+        raise ValueError(f"sample_format: {sample_format!r} is not one of "
+                         f"{', '.join(SAMPLE_FORMATS)}")
+    request = retime_pb2.LiveLipBlinkRequest()
+    setup = request.setup
+    _options.fill(setup, {"sample_rate": sample_rate, "channels": channels,
+                          "lookahead_frames": lookahead, "seed": seed})
+    setup.sample_format = SAMPLE_FORMATS[sample_format]
+    _options.fill(setup, options, skip=("sample_rate", "channels", "sample_format",
+                                        "lookahead_frames", "seed"))
+    return request
+
+
+class _Pacer:
+    """Holds the request thread back while the audio sent is MAX_AHEAD_S ahead of the frames
+    read; wakes it when the caller stops reading."""
+
+    def __init__(self, sample_rate, channels, bytes_per_sample, fps):
+        self._bytes_per_second = max(1, sample_rate) * max(1, channels) * bytes_per_sample
+        self._fps = fps if fps and fps > 0 else 24.0
+        self._sent_s = 0.0
+        self._read_s = 0.0
+        self._stopped = False
+        self._cv = threading.Condition()
+
+    def sent(self, byte_count):
+        with self._cv:
+            self._sent_s += byte_count / self._bytes_per_second
+            while not self._stopped and self._sent_s - self._read_s > MAX_AHEAD_S:
+                self._cv.wait(0.5)
+            return not self._stopped
+
+    def read(self, grid_frame):
+        with self._cv:
+            self._read_s = (grid_frame + 1) / self._fps
+            self._cv.notify_all()
+
+    def stop(self):
+        with self._cv:
+            self._stopped = True
+            self._cv.notify_all()
+
+    @property
+    def stopped(self):
+        return self._stopped
+
+
+def stream(stub, setup, audio_chunks, timeout, metadata=None):
+    """Runs the call: a generator of LiveFrame. Raises KomaError when the server ends the
+    stream with an error, and re-raises what the caller's chunk iterator raised."""
+    fields = setup.setup
+    pacer = _Pacer(fields.sample_rate, fields.channels,
+                   2 if fields.sample_format == retime_pb2.LIVE_SAMPLE_S16LE else 4,
+                   fields.timing_fps if fields.HasField("timing_fps") else 24.0)
+    failure = []
+
+    def requests():
+        yield setup
+        try:
+            for chunk in audio_chunks:
+                if pacer.stopped:
+                    return
+                yield retime_pb2.LiveLipBlinkRequest(audio=bytes(chunk))
+                if not pacer.sent(len(chunk)):
+                    return
+        except Exception as error:  # noqa: BLE001  (re-raised in the caller's thread)
+            failure.append(error)
+            call.cancel()
+        finally:
+            close = getattr(audio_chunks, "close", None)
+            if close is not None:
+                try:
+                    close()
+                except Exception:  # noqa: BLE001
+                    pass
+
+    call = stub.LiveLipBlink(requests(), timeout=timeout, metadata=metadata)
+    try:
+        for message in call:
+            pacer.read(message.grid_frame)
+            yield LiveFrame(message)
+    except grpc.RpcError as error:
+        if failure:
+            raise failure[0]
+        raise KomaError.from_rpc_error(error) from None
+    finally:
+        pacer.stop()
+        call.cancel()  # the caller stopped reading early: end the stream (no-op when done)
+    if failure:
+        raise failure[0]
