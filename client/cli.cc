@@ -243,8 +243,8 @@ int ExpandPreset(const std::string& command, size_t command_index, std::vector<s
 const std::vector<std::string>& CommandNames() {
   // batch runs before this parser sees the line (client/main.cc, batch/batch_command.h); it
   // is listed so the messages about commands name it.
-  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "health",
-                                              "batch"};
+  static const std::vector<std::string> names{"skeletal", "curves", "lipblink", "live",
+                                              "health",   "batch"};
   return names;
 }
 
@@ -259,6 +259,7 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
   AddSkeletalCommand(app, out->skeletal);
   AddCurvesCommand(app, out->curves);
   AddLipBlinkCommand(app, out->lip_blink);
+  AddLiveCommand(app, out->live);
   AddHealthCommand(app, out->health);
   // Listed for --help only: main() hands `koma batch ...` to batch::RunIfBatch before this
   // parser sees the line (client/batch/batch_command.h).
@@ -293,6 +294,7 @@ int RunCommandLine(const KomaCommandLine& line) {
   if (line.command == "skeletal") return RunSkeletal(line.skeletal);
   if (line.command == "curves") return RunCurves(line.curves);
   if (line.command == "lipblink") return RunLipBlink(line.lip_blink);
+  if (line.command == "live") return RunLive(line.live);
   return RunHealth(line.health);
 }
 

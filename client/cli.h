@@ -11,16 +11,18 @@
 #include "client/curves_command.h"
 #include "client/health_command.h"
 #include "client/lip_blink_command.h"
+#include "client/live_command.h"
 #include "client/skeletal_command.h"
 
 namespace koma::client {
 
 struct KomaCommandLine {
-  std::string command;  // "skeletal", "curves", "lipblink" or "health" after a parse
+  std::string command;  // "skeletal", "curves", "lipblink", "live" or "health" after a parse
   TlsFiles tls;
   SkeletalArgs skeletal;
   CurvesArgs curves;
   LipBlinkArgs lip_blink;
+  LiveArgs live;
   HealthArgs health;
 };
 

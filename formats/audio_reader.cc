@@ -145,6 +145,8 @@ absl::StatusOr<std::unique_ptr<AudioDecoder>> AudioDecoder::Open(std::string_vie
   const bool named = sf_command(nullptr, SFC_GET_FORMAT_INFO, &major, sizeof(major)) == 0 &&
                      sf_command(nullptr, SFC_GET_FORMAT_INFO, &subtype, sizeof(subtype)) == 0;
   d->info_.format = named ? absl::StrCat(major.name, " / ", subtype.name) : "unknown";
+  const int sub = sf_info.format & SF_FORMAT_SUBMASK;
+  d->info_.pcm16 = sub == SF_FORMAT_PCM_S8 || sub == SF_FORMAT_PCM_U8 || sub == SF_FORMAT_PCM_16;
   if (sf_info.samplerate < 1 || sf_info.samplerate > kMaxAudioSampleRate) {
     return absl::InvalidArgumentError(absl::StrCat("sample rate ", sf_info.samplerate,
                                                    " Hz is outside 1 .. ", kMaxAudioSampleRate));
@@ -195,16 +197,38 @@ AudioDecoder::~AudioDecoder() {
   if (file_ != nullptr) sf_close(static_cast<SNDFILE*>(file_));
 }
 
-absl::StatusOr<absl::Span<const float>> AudioDecoder::Next() {
+absl::StatusOr<int64_t> AudioDecoder::ReadBlock() {
   SNDFILE* file = static_cast<SNDFILE*>(file_);
   const sf_count_t got = sf_readf_float(file, interleaved_.data(), kBlockFrames);
   if (got < 0 || (got == 0 && sf_error(file) != SF_ERR_NO_ERROR)) {
     return absl::InvalidArgumentError(
         absl::StrCat("decoding failed after ", decoded_, " samples: ", sf_strerror(file)));
   }
+  return static_cast<int64_t>(got);
+}
+
+absl::Status AudioDecoder::CheckDecodedLimits() const {
+  const int channels = info_.channels;
+  if (static_cast<double>(decoded_) > limits_.max_seconds * info_.sample_rate) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("more than ", limits_.max_seconds, " s of samples at ", info_.sample_rate,
+                     " Hz, over the server limit --max_audio_seconds=", limits_.max_seconds));
+  }
+  if (static_cast<double>(decoded_) * channels > static_cast<double>(limits_.max_samples)) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "more than ", limits_.max_samples, " samples (", decoded_, " frames x ", channels,
+        " channels) decoded, over the server limit --max_audio_samples=", limits_.max_samples));
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<absl::Span<const float>> AudioDecoder::Next() {
+  absl::StatusOr<int64_t> read = ReadBlock();
+  if (!read.ok()) return read.status();
+  const int64_t got = *read;
   const int channels = info_.channels;
   const float scale = 1.0f / static_cast<float>(channels);
-  for (sf_count_t f = 0; f < got; ++f) {
+  for (int64_t f = 0; f < got; ++f) {
     const float* frame = interleaved_.data() + f * channels;
     float sum = 0.0f;
     for (int c = 0; c < channels; ++c) sum += frame[c];  // channel order: the same every run
@@ -216,17 +240,26 @@ absl::StatusOr<absl::Span<const float>> AudioDecoder::Next() {
     mono_[static_cast<size_t>(f)] = x;
   }
   decoded_ += got;
-  if (static_cast<double>(decoded_) > limits_.max_seconds * info_.sample_rate) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat("more than ", limits_.max_seconds, " s of samples at ", info_.sample_rate,
-                     " Hz, over the server limit --max_audio_seconds=", limits_.max_seconds));
-  }
-  if (static_cast<double>(decoded_) * channels > static_cast<double>(limits_.max_samples)) {
-    return absl::ResourceExhaustedError(absl::StrCat(
-        "more than ", limits_.max_samples, " samples (", decoded_, " frames x ", channels,
-        " channels) decoded, over the server limit --max_audio_samples=", limits_.max_samples));
-  }
+  if (absl::Status s = CheckDecodedLimits(); !s.ok()) return s;
   return absl::Span<const float>(mono_.data(), static_cast<size_t>(got));
+}
+
+absl::StatusOr<absl::Span<const float>> AudioDecoder::NextInterleaved() {
+  absl::StatusOr<int64_t> read = ReadBlock();
+  if (!read.ok()) return read.status();
+  const int64_t got = *read;
+  const int channels = info_.channels;
+  for (int64_t f = 0; f < got; ++f) {
+    for (int c = 0; c < channels; ++c) {
+      if (!std::isfinite(interleaved_[static_cast<size_t>(f * channels + c)])) {
+        return absl::InvalidArgumentError(absl::StrCat("sample frame ", decoded_ + f, " channel ",
+                                                       c, " is not a finite number"));
+      }
+    }
+  }
+  decoded_ += got;
+  if (absl::Status s = CheckDecodedLimits(); !s.ok()) return s;
+  return absl::Span<const float>(interleaved_.data(), static_cast<size_t>(got * channels));
 }
 
 }  // namespace koma::formats

@@ -32,6 +32,9 @@ struct AudioInfo {
   int sample_rate = 0;  // Hz
   int channels = 0;
   int64_t frames = 0;  // sample frames the header claims (libsndfile's count)
+  // True when the samples are 8- or 16-bit PCM integers (WAV's, FLAC's, ...): decoded as
+  // x / 32768, so a 16-bit integer holds each decoded sample exactly.
+  bool pcm16 = false;
   std::string format;  // e.g. "WAV (Microsoft) / Signed 16 bit PCM"
 };
 
@@ -49,14 +52,24 @@ class AudioDecoder {
   AudioDecoder& operator=(const AudioDecoder&) = delete;
 
   const AudioInfo& info() const { return info_; }
-  int64_t decoded() const { return decoded_; }  // mono samples handed out so far
+  int64_t decoded() const { return decoded_; }  // sample frames handed out so far
 
   // The next block of mono samples (the channels' mean, full scale +-1); empty at the end.
   // INVALID_ARGUMENT for a decoding error or a sample that is not finite, RESOURCE_EXHAUSTED
   // past limits.max_seconds or limits.max_samples.
   absl::StatusOr<absl::Span<const float>> Next();
 
+  // The next block of sample frames not mixed: info().channels floats per sample frame,
+  // interleaved, full scale +-1; empty at the end. The same errors as Next, a sample that is
+  // not finite named by its frame and channel. Use Next or NextInterleaved on one decoder.
+  absl::StatusOr<absl::Span<const float>> NextInterleaved();
+
  private:
+  // Decodes the next block into interleaved_: the sample frames read (0 at the end).
+  absl::StatusOr<int64_t> ReadBlock();
+  // The limits on decoded_ (after a block).
+  absl::Status CheckDecodedLimits() const;
+
   struct Memory;
   AudioDecoder() = default;
 
