@@ -1,5 +1,6 @@
 #include "server/live_lip_blink.h"
 
+#include <cmath>
 #include <cstring>
 #include <utility>
 
@@ -124,7 +125,14 @@ absl::Status LiveAudioDecoder::Decode(const std::string& bytes, int64_t message_
   for (size_t f = 0; f < frames; ++f) {
     float sum = 0.0f;
     for (int c = 0; c < channels_; ++c, p += sample_bytes) sum += sample(p);
-    (*mono)[start + f] = channels_ == 1 ? sum : sum * scale;
+    const float x = channels_ == 1 ? sum : sum * scale;
+    if (!std::isfinite(x)) {  // F32 only: as the offline decoder, a NaN or infinity is refused
+      mono->resize(start);
+      return absl::InvalidArgumentError(absl::StrCat("audio (message ", message_index,
+                                                     "): sample frame ", f,
+                                                     " is not a finite number"));
+    }
+    (*mono)[start + f] = x;
   }
   return absl::OkStatus();
 }

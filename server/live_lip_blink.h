@@ -30,7 +30,8 @@ absl::StatusOr<LiveVoiceOptions> LiveOptionsFromSetup(const v1::LiveLipBlinkSetu
 
 // An audio message's interleaved samples mixed to mono (the mean of the channels, full scale
 // +-1, as the offline decoder), appended to `mono`. INVALID_ARGUMENT when the bytes are not
-// whole sample frames, naming the message's index and the frame size.
+// whole sample frames, naming the message's index and the frame size, or when a mixed sample is
+// not finite (F32 NaN or infinity), naming the message and the sample frame.
 class LiveAudioDecoder {
  public:
   LiveAudioDecoder(v1::LiveSampleFormat format, int channels)

@@ -1,6 +1,7 @@
 #include "server/live_stream.h"
 
 #include <chrono>
+#include <condition_variable>
 #include <deque>
 #include <optional>
 #include <string>
@@ -18,8 +19,8 @@ namespace koma::server {
 using Clock = std::chrono::steady_clock;
 
 namespace {
-// How often the ticker looks at the streams, and how long a finished stream's status may wait
-// for a client that reads nothing before its call is cancelled, seconds.
+// How often the ticker looks at the streams, and how long an ending stream's last frames and
+// status may wait for a client that reads nothing before its call is cancelled, seconds.
 constexpr double kLiveTickSeconds = 0.25;
 constexpr double kUnreadFinishSeconds = 5.0;
 
@@ -61,8 +62,7 @@ class LiveStream final
         ++messages_;
         const absl::Status s = TakeLocked();
         if (!s.ok()) EndLocked(s, s.code() == absl::StatusCode::kResourceExhausted);
-        next = NextLocked();
-        next.read = !ending_;
+        next = NextLocked(/*read=*/true);
       }
     }
     Run(next);
@@ -74,7 +74,7 @@ class LiveStream final
       std::lock_guard<std::mutex> lock(mu_);
       writing_ = false;
       if (ok) ++frames_out_;
-      if (!ok) EndLocked(absl::CancelledError("the client is gone (a write failed)"), false);
+      if (!ok) AbortLocked(absl::CancelledError("the client is gone (a write failed)"));
       next = NextLocked();
     }
     Run(next);
@@ -84,13 +84,21 @@ class LiveStream final
     Next next;
     {
       std::lock_guard<std::mutex> lock(mu_);
-      EndLocked(absl::CancelledError("the client cancelled the stream or went away"), false);
+      AbortLocked(absl::CancelledError("the client cancelled the stream or went away"));
       next = NextLocked();
     }
     Run(next);
   }
 
   void OnDone() override {
+    {
+      // The call's context goes when this returns: the ticker must not be cancelling it.
+      std::unique_lock<std::mutex> lock(mu_);
+      done_reacting_ = true;
+      cancel_done_.wait(lock, [this] {
+        return !cancelling_ || cancel_thread_ == std::this_thread::get_id();
+      });
+    }
     record_.latency_ms = 1000.0 * SecondsSince(start_, Clock::now());
     record_.frames = frames_out_;
     if (RpcLineLogged(record_)) {
@@ -100,8 +108,9 @@ class LiveStream final
     if (streams_->Remove(this)) delete this;
   }
 
-  // From the ticker: a stream without a message for --live_idle_seconds ends; a finished
-  // stream whose client reads nothing is cancelled after kUnreadFinishSeconds.
+  // From the ticker: a stream without a message for --live_idle_seconds ends; an ending
+  // stream whose client reads nothing (its last frames or its status are stuck behind gRPC's
+  // flow control) is cancelled kUnreadFinishSeconds after it began to end.
   void Tick(Clock::time_point now) {
     Next next;
     {
@@ -113,9 +122,19 @@ class LiveStream final
                       " s (the server limit --live_idle_seconds); send audio, even silence, "
                       "or half-close the stream")),
                   false);
-      } else if (finished_ && !cancelled_ && SecondsSince(finish_time_, now) > kUnreadFinishSeconds) {
+      } else if (ending_ && !cancelled_ && !done_reacting_ &&
+                 SecondsSince(end_time_, now) > kUnreadFinishSeconds) {
         cancelled_ = true;
+        cancelling_ = true;
+        cancel_thread_ = std::this_thread::get_id();
         next.cancel = true;
+        record_.code = grpc::StatusCode::CANCELLED;
+        record_.error = absl::StrCat("the client read nothing for ", kUnreadFinishSeconds,
+                                     " s after the stream ended (",
+                                     end_status_.error_message().empty()
+                                         ? std::string("OK")
+                                         : end_status_.error_message(),
+                                     "): the call was cancelled");
       }
       if (!next.cancel) next = NextLocked();
     }
@@ -134,7 +153,10 @@ class LiveStream final
   }
 
  private:
-  // What to start once the lock is released: gRPC's operations are never started under it.
+  // What to start once the lock is released: gRPC's operations are never started under it
+  // (they may run reactions inline). Reactions, the ticker and EndAll run concurrently, so
+  // Finish waits for every read or write another thread decided to start and has not yet
+  // (`starting_`): gRPC forbids a write after Finish.
   struct Next {
     bool read = false;
     bool write = false;
@@ -145,8 +167,21 @@ class LiveStream final
   void Run(const Next& next) {
     if (next.write) StartWrite(&out_);
     if (next.read) StartRead(&request_);
-    if (next.finish) Finish(*next.finish);
-    if (next.cancel) context_->TryCancel();
+    std::optional<grpc::Status> finish = next.finish;
+    if (next.write || next.read) {
+      std::lock_guard<std::mutex> lock(mu_);
+      if (--starting_ == 0 && finish_pending_) {
+        finish_pending_ = false;
+        finish = end_status_;
+      }
+    }
+    if (finish) Finish(*finish);
+    if (next.cancel) {
+      context_->TryCancel();  // OnDone waits for this (or runs inside it, on this thread)
+      std::lock_guard<std::mutex> lock(mu_);
+      cancelling_ = false;
+      cancel_done_.notify_all();
+    }
   }
 
   // The message just read: the setup, or audio for the analysis.
@@ -165,9 +200,13 @@ class LiveStream final
       request_.Clear();
       return absl::OkStatus();
     }
-    if (request_.message_case() != v1::LiveLipBlinkRequest::kAudio) {
+    if (request_.message_case() == v1::LiveLipBlinkRequest::kSetup) {
       return absl::InvalidArgumentError(absl::StrCat(
           "setup: message ", messages_ - 1, " is a second setup; a stream has one, first"));
+    }
+    if (request_.message_case() != v1::LiveLipBlinkRequest::kAudio) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "message ", messages_ - 1, " has neither setup nor audio"));
     }
     const std::string& audio = request_.audio();
     record_.bytes_in += static_cast<int64_t>(audio.size());
@@ -194,11 +233,13 @@ class LiveStream final
     }
     PopLocked();
     if (static_cast<int64_t>(queue_.size()) > limits_.live_max_queued_frames) {
-      queue_.clear();
-      return absl::ResourceExhaustedError(absl::StrCat(
+      // Not drained: the frames are dropped and the status follows the write in flight.
+      const absl::Status s = absl::ResourceExhaustedError(absl::StrCat(
           "the client read none of the last ", limits_.live_max_queued_frames,
           " frames (the server limit --live_max_queued_frames); read the stream's messages as "
           "they come"));
+      EndLocked(s, false);
+      return s;
     }
     return absl::OkStatus();
   }
@@ -213,6 +254,7 @@ class LiveStream final
   void EndLocked(const absl::Status& status, bool drain) {
     if (ending_) return;
     ending_ = true;
+    end_time_ = Clock::now();
     drain_ = drain;
     if (!drain) queue_.clear();
     end_status_ = ToGrpcStatus(status);
@@ -220,20 +262,34 @@ class LiveStream final
     record_.error = end_status_.error_message();
   }
 
-  Next NextLocked() {
+  // The client is gone: end now (or, if already ending, stop draining); nothing more is written.
+  void AbortLocked(const absl::Status& status) {
+    EndLocked(status, false);
+    drain_ = false;
+    queue_.clear();
+  }
+
+  // What to start next; `read`: another read, unless the stream is ending.
+  Next NextLocked(bool read = false) {
     Next next;
-    if (finished_) return next;
-    if (!writing_ && !queue_.empty()) {
-      LiveFrameToProto(queue_.front(), sample_rate_, &out_);
-      queue_.pop_front();
-      writing_ = true;
-      next.write = true;
+    next.read = read && !ending_;
+    if (!finished_) {
+      if (!writing_ && !queue_.empty()) {
+        LiveFrameToProto(queue_.front(), sample_rate_, &out_);
+        queue_.pop_front();
+        writing_ = true;
+        next.write = true;
+      }
+      // An error ends the stream at once, even with a write in flight (gRPC sends the status
+      // after it); a drained stream after its last frame is written.
+      if (ending_ && (!drain_ || (queue_.empty() && !writing_))) {
+        finished_ = true;
+        finish_pending_ = true;
+      }
     }
-    // An error ends the stream at once, even with a write in flight (gRPC sends the status
-    // after it); a drained stream after its last frame is written.
-    if (ending_ && (!drain_ || (queue_.empty() && !writing_))) {
-      finished_ = true;
-      finish_time_ = Clock::now();
+    if (next.read || next.write) ++starting_;
+    if (finish_pending_ && starting_ == 0) {
+      finish_pending_ = false;
       next.finish = end_status_;
     }
     return next;
@@ -258,8 +314,15 @@ class LiveStream final
   Clock::time_point last_message_ = Clock::now();
   bool writing_ = false;
   bool ending_ = false, drain_ = false;
-  bool finished_ = false, cancelled_ = false;
-  Clock::time_point finish_time_;
+  Clock::time_point end_time_;
+  bool finished_ = false;        // Finish is decided (issued, or pending on `starting_`)
+  bool finish_pending_ = false;  // decided, waiting for the reads and writes being started
+  int starting_ = 0;             // threads between deciding a read or write and starting it
+  bool cancelled_ = false;       // the ticker cancelled the call
+  bool cancelling_ = false;      // ... and is inside TryCancel, on cancel_thread_
+  std::thread::id cancel_thread_;
+  bool done_reacting_ = false;   // OnDone began: the context is about to go
+  std::condition_variable cancel_done_;
   grpc::Status end_status_;
   RpcRecord record_;
   int pins_ = 0;      // LiveStreams' mu_: the ticker holds the stream (it must not be deleted)
