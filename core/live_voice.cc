@@ -202,17 +202,27 @@ bool LiveVoice::SpeechAt(int64_t g, int64_t last) {
     window_dbfs_.push_back(dbfs_[static_cast<size_t>(f % kLiveWindowFrames)]);
     window_voice_.push_back(voice_[static_cast<size_t>(f % kLiveWindowFrames)]);
   }
-  if (!finished_) {
+  VoiceGateOptions gate = vo.gate;
+  if (!features_.usable()) gate.enabled = false;
+  // A held sound at the window's end (its two newest frames voiced and steady: music's notes)
+  // ends a voice's stretch for the offline analysis too, which never widens a stretch into it.
+  const auto held = [&](size_t i) {
+    return window_voice_[i].voicing >= gate.min_voicing &&
+           !(window_voice_[i].change >= gate.min_change);
+  };
+  const size_t n = window_voice_.size();
+  const bool held_at_end = n >= 2 && held(n - 1) && held(n - 2);
+  if (!finished_ && !held_at_end) {
     // The future, for the gate only: a stretch being built at the window's end counts as kept
     // when kLiveProvisionalFrames more voice-like frames would keep it (a voice's onset, 2 grid
-    // frames sooner), and a stretch that may still go on is not ended early.
+    // frames sooner), and a stretch that may still go on is not ended early. Not past a held
+    // sound: assumed frames would join the voice's stretch across it and keep the mouth open
+    // over music for up to 3 frames after the voice.
     VoiceFrame pad;
     pad.voicing = 1.0;
     pad.change = 1.0;
     window_voice_.insert(window_voice_.end(), kLiveProvisionalFrames, pad);
   }
-  VoiceGateOptions gate = vo.gate;
-  if (!features_.usable()) gate.enabled = false;
   const std::vector<FrameInterval> voice_like =
       VoiceLikeStretches(window_voice_, features_.step(), options_.frame_fps, gate);
   const VoiceActivity v = DetectVoice(window_dbfs_, o, &voice_like);
