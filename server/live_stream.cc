@@ -219,6 +219,8 @@ class LiveStream final
     mono_.clear();
     if (absl::Status s = decoder_->Decode(audio, messages_ - 1, &mono_); !s.ok()) return s;
     request_.Clear();
+    // The frames still waiting from earlier messages: those the client could have read.
+    const size_t unread = queue_.size();
     absl::Span<const float> samples(mono_);
     const int64_t room = max_samples_ - voice_->samples();
     const bool over = static_cast<int64_t>(samples.size()) > room;
@@ -232,7 +234,7 @@ class LiveStream final
           " s of audio, the server limit --live_max_seconds; start a new stream"));
     }
     PopLocked();
-    if (static_cast<int64_t>(queue_.size()) > limits_.live_max_queued_frames) {
+    if (static_cast<int64_t>(unread) > limits_.live_max_queued_frames) {
       // Not drained: the frames are dropped and the status follows the write in flight.
       const absl::Status s = absl::ResourceExhaustedError(absl::StrCat(
           "the client read none of the last ", limits_.live_max_queued_frames,

@@ -269,6 +269,19 @@ TEST_F(LiveStreamTest, IrregularAndEmptyMessagesGiveTheSameFrames) {
   ExpectSameFrames(r.frames, Reference(LiveSetup(), voice), "irregular messages");
 }
 
+// --live_max_queued_frames counts the frames a client left unread, not those one message
+// decides at once: 3.8 s in one message is 92 frames, more than 10, for a client that reads.
+TEST_F(LiveStreamTest, OneMessageMayDecideMoreFramesThanMayWait) {
+  server::ServerConfig config = Config();
+  config.limits.live_max_queued_frames = 10;
+  Restart(config);
+  const std::vector<float>& voice = Voice();
+  const std::string bytes = Bytes(voice, 1, v1::LIVE_SAMPLE_S16LE);
+  const StreamResult r = RunStream(stub(), Messages(LiveSetup(), bytes, bytes.size()));
+  ASSERT_TRUE(r.status.ok()) << r.status.error_message();
+  ExpectSameFrames(r.frames, Reference(LiveSetup(), voice), "one message");
+}
+
 TEST_F(LiveStreamTest, NoAudioGivesNoFramesAndOk) {
   const StreamResult r = RunStream(stub(), {SetupMessage(LiveSetup())});
   EXPECT_TRUE(r.status.ok()) << r.status.error_message();
