@@ -4,7 +4,10 @@ The requests (the setup, then the audio chunks) go out from gRPC's own thread as
 chunk iterator gives them; the frames come back to the caller's thread as the server decides
 them (one per film-grid frame, in order from 0). docs/python.md, "Live".
 """
+import collections
+import math
 import threading
+import time
 
 import grpc
 
@@ -20,9 +23,11 @@ _SHAPES = {retime_pb2.MOUTH_CLOSED: "closed", retime_pb2.MOUTH_MID: "half",
 # sends faster than real time (a file at speed 0) or reads slowly waits here instead.
 MAX_AHEAD_S = 4.0
 
-# The fields of a frame's JSON line, as the C++ `koma live --json` writes them.
-JSON_FIELDS = ("grid_frame", "time_s", "mouth", "mouth_level", "speech", "blink", "eye_level",
-               "new_drawing", "late_ms")
+# The fields of a frame's JSON line, in the C++ `koma live --json`'s order
+# (client/live_output.cc).
+JSON_FIELDS = ("grid_frame", "time_s", "speech", "mouth", "mouth_level", "new_drawing",
+               "hold_start", "eyes", "blink", "blink_start", "eye_level", "loudness_dbfs",
+               "noise_floor_dbfs", "late_ms", "wall_late_ms", "wall_s")
 
 
 class LiveFrame:
@@ -44,14 +49,18 @@ class LiveFrame:
         late_ms: milliseconds of audio past the frame's end the server had when it decided
             it (the lookahead; less at the stream's end).
         loudness_dbfs, noise_floor_dbfs: the frame's RMS and the running noise floor, dBFS.
+        wall_late_ms: milliseconds from sending the audio chunk that completed the frame's
+            audio to receiving the frame (the lookahead plus the chunk, the transport and the
+            analysis; after the audio ended, from the last chunk).
+        wall_s: seconds from the stream's start to receiving the frame.
         message: the koma.v1.LiveLipBlinkFrame itself.
     """
 
     __slots__ = ("grid_frame", "time_s", "mouth", "mouth_level", "speech", "blink", "eyes",
                  "eye_level", "new_drawing", "hold_start", "blink_start", "late_ms",
-                 "loudness_dbfs", "noise_floor_dbfs", "message")
+                 "loudness_dbfs", "noise_floor_dbfs", "wall_late_ms", "wall_s", "message")
 
-    def __init__(self, message):
+    def __init__(self, message, wall_late_ms=0.0, wall_s=0.0):
         self.message = message
         self.grid_frame = message.grid_frame
         self.time_s = message.time_s
@@ -67,10 +76,11 @@ class LiveFrame:
         self.late_ms = message.late_ms
         self.loudness_dbfs = message.loudness_dbfs
         self.noise_floor_dbfs = message.noise_floor_dbfs
+        self.wall_late_ms = round(wall_late_ms, 3)  # as `koma live`: to 0.001 ms
+        self.wall_s = round(wall_s, 6)
 
     def to_dict(self):
-        """The frame's JSON line fields (as `koma live --json`): grid_frame, time_s, mouth,
-        mouth_level, speech, blink, eye_level, new_drawing, late_ms."""
+        """The frame's JSON line, as `koma live --json` writes it (JSON_FIELDS, in order)."""
         return {name: getattr(self, name) for name in JSON_FIELDS}
 
     def __repr__(self):
@@ -100,24 +110,38 @@ class _Pacer:
     read; wakes it when the caller stops reading."""
 
     def __init__(self, sample_rate, channels, bytes_per_sample, fps):
-        self._bytes_per_second = max(1, sample_rate) * max(1, channels) * bytes_per_sample
+        self._rate = max(1, sample_rate)
+        self._frame_bytes = max(1, channels) * bytes_per_sample
         self._fps = fps if fps and fps > 0 else 24.0
-        self._sent_s = 0.0
+        self._sent_frames = 0
         self._read_s = 0.0
         self._stopped = False
         self._cv = threading.Condition()
+        # (sample frames sent after a chunk, when it was sent), for LiveFrame.wall_late_ms.
+        self._log = collections.deque()
+        self.start = time.monotonic()
 
     def sent(self, byte_count):
         with self._cv:
-            self._sent_s += byte_count / self._bytes_per_second
-            while not self._stopped and self._sent_s - self._read_s > MAX_AHEAD_S:
+            self._sent_frames += byte_count // self._frame_bytes
+            self._log.append((self._sent_frames, time.monotonic()))
+            while not self._stopped and \
+                    self._sent_frames / self._rate - self._read_s > MAX_AHEAD_S:
                 self._cv.wait(0.5)
             return not self._stopped
 
-    def read(self, grid_frame):
+    def read(self, message):
+        """(wall_late_ms, wall_s) of a frame just received."""
+        now = time.monotonic()
         with self._cv:
-            self._read_s = (grid_frame + 1) / self._fps
+            self._read_s = (message.grid_frame + 1) / self._fps
             self._cv.notify_all()
+            # The chunk completing the frame's audio (the last one when the audio ended first).
+            end = math.ceil((message.time_s + 1.0 / self._fps) * self._rate - 1e-6)
+            while len(self._log) > 1 and self._log[0][0] < end:
+                self._log.popleft()
+            sent_at = self._log[0][1] if self._log else None
+        return (0.0 if sent_at is None else (now - sent_at) * 1000.0), now - self.start
 
     def stop(self):
         with self._cv:
@@ -161,8 +185,7 @@ def stream(stub, setup, audio_chunks, timeout, metadata=None):
     call = stub.LiveLipBlink(requests(), timeout=timeout, metadata=metadata)
     try:
         for message in call:
-            pacer.read(message.grid_frame)
-            yield LiveFrame(message)
+            yield LiveFrame(message, *pacer.read(message))
     except grpc.RpcError as error:
         if failure:
             raise failure[0]

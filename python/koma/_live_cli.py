@@ -7,6 +7,7 @@ frames as JSON lines (--json), VMC blend shapes (--vmc) and a motion3.json (--re
 """
 import argparse
 import json
+import math
 import os
 import signal
 import sys
@@ -14,7 +15,7 @@ import threading
 
 from koma import _live_sources
 from koma._live_record import Motion3Recorder
-from koma._vmc import VmcSender, parse_target
+from koma._vmc import VmcSender, levels, parse_target
 
 MIC_RATE = 48000
 
@@ -34,6 +35,7 @@ def _not_negative(text):
 
 
 def add_parser(commands, common):
+    """The subcommand's flags: the C++ `koma live`'s names (client/live_flags.cc), a subset."""
     p = commands.add_parser(
         "live", help="mouth flaps and blinks from a live voice (LiveLipBlink)",
         description="Streams a voice to the server and gets one frame per 24 fps grid frame "
@@ -43,33 +45,52 @@ def add_parser(commands, common):
                    help="a recording played at real time: WAV, or FLAC, Ogg, MP3 through sox "
                         "(default: the microphone)")
     p.add_argument("--device", default="default",
-                   help="the microphone's ALSA device (arecord -D; default \"default\"; "
-                        "\"null\" for no sound card)")
-    p.add_argument("--json", action="store_true",
-                   help="one JSON object per frame on stdout, as `koma live --json`")
-    p.add_argument("--vmc", nargs="?", const="", metavar="HOST:PORT",
-                   help="send VMC blend shapes A and Blink per frame over OSC (default "
-                        "127.0.0.1:39539; needs python3-liblo)")
-    p.add_argument("--record", metavar="OUT.motion3.json",
-                   help="write the frames as a motion3.json (ParamMouthOpenY, ParamEyeLOpen, "
-                        "ParamEyeROpen stepped on the grid)")
+                   help="the microphone's ALSA device, 48 kHz mono (arecord -D; default "
+                        "\"default\"; \"null\" for no sound card)")
     p.add_argument("--seconds", type=_not_negative,
                    help="stop after this many seconds of audio (default: the whole file, or "
                         "until Ctrl-C)")
     p.add_argument("--speed", type=_not_negative,
                    help="--input: play at this many times real time (default 1; 0: as fast "
-                        "as the server takes it)")
-    p.add_argument("--lookahead", type=_lookahead, default=2,
+                        "as the stream takes it)")
+    p.add_argument("--lookahead", "--lookahead-frames", type=_lookahead, default=2,
                    help="grid frames the server waits past a frame before deciding it, 0-3 "
                         "(default 2; each 41.7 ms)")
-    p.add_argument("--mode", choices=["random", "follow"],
+    p.add_argument("--mode", "--mouth-mode", choices=["random", "follow"],
                    help="mouth drawings: random (the paper, default) or follow the loudness")
-    p.add_argument("--on", type=int, help="frames each mouth drawing is held (default 3)")
-    p.add_argument("--seed", type=int, help="seed of the random mouth shapes and auto-blinks")
+    p.add_argument("--on", "--mouth-frames-per-shape", type=int,
+                   help="grid frames each mouth drawing is held (default 3)")
+    p.add_argument("--mouth-min", type=float, help="the closed mouth level (default 0)")
+    p.add_argument("--mouth-max", type=float,
+                   help="the open mouth level (default max(1, --mouth-min + 1))")
+    p.add_argument("--eyes-min", type=float, help="the closed eye level (default 0)")
+    p.add_argument("--eyes-max", type=float, help="the open eye level (default 1)")
     p.add_argument("--auto-blink", type=float, metavar="MEAN_S",
-                   help="blink every MEAN_S seconds on average")
+                   help="blink every MEAN_S seconds on average (default: the eyes stay open)")
+    p.add_argument("--voice-settings-any-sound", action="store_true",
+                   help="speech by loudness alone (singing, a synthesised voice)")
+    p.add_argument("--seed", type=int, help="seed of the random mouth shapes and auto-blinks")
     p.add_argument("--timing-fps", type=float, help="film grid in frames per second (default 24)")
+    p.add_argument("--record", metavar="OUT.motion3.json",
+                   help="write the frames as a motion3.json (ParamMouthOpenY, ParamEyeLOpen, "
+                        "ParamEyeROpen stepped on the grid) when the stream ends")
+    p.add_argument("--vmc", nargs="?", const="", metavar="HOST:PORT",
+                   help="send VMC blend shapes per frame over OSC/UDP (default "
+                        "127.0.0.1:39539; needs python3-liblo)")
+    p.add_argument("--vmc-mouth-clip", default="A",
+                   help="VRM blend shape clip of the open mouth (default A; VRM 1.0: aa)")
+    p.add_argument("--vmc-blink-clip", default="Blink",
+                   help="VRM blend shape clip of the closed eyes (default Blink; VRM 1.0: "
+                        "blink)")
+    p.add_argument("--json", action="store_true",
+                   help="one JSON object per frame on stdout, as `koma live --json`; the human "
+                        "lines go to stderr")
+    p.add_argument("-q", "--quiet", action="store_true", help="no human lines or summary")
     common(p, deadline=None)
+
+
+class _Usage(Exception):
+    pass
 
 
 def _source(args):
@@ -80,45 +101,99 @@ def _source(args):
     return _live_sources.Microphone(args.device, MIC_RATE, 1)
 
 
-class _Usage(Exception):
-    pass
-
-
-def _summary(count, speech, blinks, late, fps):
-    late = sorted(late)
-    median = late[len(late) // 2] if late else 0.0
-    return (f"koma live: {count} frames ({count / fps:.2f} s), speech in {speech}, "
-            f"{blinks} blinks, decided {median:.1f} ms after a frame's end (median)\n")
-
-
-def _write_line(text):
-    """Writes and flushes a line to stdout; False when its reader has gone (then stdout points
-    at /dev/null, so the interpreter's own flush at exit does not fail)."""
+def _write_line(out, text):
+    """Writes and flushes a line; False when its reader has gone (then it points at
+    /dev/null, so the interpreter's own flush at exit does not fail)."""
     try:
-        sys.stdout.write(text + "\n")
-        sys.stdout.flush()
+        out.write(text + "\n")
+        out.flush()
         return True
     except BrokenPipeError:
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        os.dup2(os.open(os.devnull, os.O_WRONLY), out.fileno())
         return False
+
+
+class _Text:
+    """The human lines, as the C++ `koma live` writes them: one per second of audio, then a
+    summary."""
+
+    def __init__(self, out, fps):
+        self.out, self.fps = out, fps
+        self.frames = self.speech = self.runs = self.drawings = self.blinks = 0
+        self.in_speech = False
+        self.late_ms = 0.0
+        self.wall = []
+        self.second = []
+
+    def frame(self, f):
+        self.frames += 1
+        if f.speech and not self.in_speech:
+            self.runs += 1
+        self.in_speech = f.speech
+        self.speech += f.speech
+        self.drawings += f.new_drawing
+        self.blinks += f.blink_start
+        self.late_ms = max(self.late_ms, f.late_ms)
+        self.wall.append(f.wall_late_ms)
+        self.second.append(f)
+        end_s = (f.grid_frame + 1) / self.fps
+        if math.floor(end_s + 1e-9) > math.floor(f.grid_frame / self.fps + 1e-9):
+            return self._flush(end_s)
+        return True
+
+    def _flush(self, end_s):
+        s = self.second
+        self.second = []
+        wall = [f.wall_late_ms for f in s]
+        return _write_line(self.out, (
+            f"{end_s:7.1f} s  speech {sum(f.speech for f in s):2d}/{len(s)} frames, "
+            f"{sum(f.new_drawing for f in s)} new drawings, {sum(f.blink_start for f in s)} "
+            f"blinks; received {sum(wall) / len(s):.0f} ms after the audio (max "
+            f"{max(wall):.0f})"))
+
+    def close(self):
+        if self.second:
+            self._flush(self.frames / self.fps)
+        wall = sorted(self.wall)
+        median = wall[len(wall) // 2] if wall else 0.0
+        _write_line(self.out, (
+            f"koma live: {self.frames} frames ({self.frames / self.fps:.2f} s at "
+            f"{self.fps:g} fps): speech in {self.speech} frames ({self.runs} runs), "
+            f"{self.drawings} new mouth drawings, {self.blinks} blinks; decided "
+            f"{self.late_ms:.1f} ms after a frame's end (lookahead), received {median:.1f} ms "
+            f"after its audio was sent (median; max {wall[-1] if wall else 0.0:.1f})"))
+
+
+def _settings(args):
+    mode = {"random": "MOUTH_RANDOM", "follow": "MOUTH_FOLLOW"}.get(args.mode)
+    auto = {"enabled": True, "mean_interval_s": args.auto_blink} \
+        if args.auto_blink is not None else None
+    return dict(
+        lookahead=args.lookahead, seed=args.seed, timing_fps=args.timing_fps,
+        mouth={"mode": mode, "frames_per_shape": args.on, "min": args.mouth_min,
+               "max": args.mouth_max},
+        eyes={"min": args.eyes_min, "max": args.eyes_max, "auto_blink": auto},
+        voice_settings={"any_sound": True} if args.voice_settings_any_sound else None,
+        timeout=args.deadline)
 
 
 def run(args, make_client):
     """The subcommand; returns the exit status (KomaError and OSError reach main())."""
     try:
-        vmc = VmcSender(*parse_target(args.vmc)) if args.vmc is not None else None
-    except ValueError as error:
+        vmc = None
+        if args.vmc is not None:
+            mouth, eyes = levels(args.mouth_min, args.mouth_max, args.eyes_min, args.eyes_max)
+            vmc = VmcSender(*parse_target(args.vmc), mouth_range=mouth, eye_range=eyes,
+                            mouth_clip=args.vmc_mouth_clip, blink_clip=args.vmc_blink_clip)
+        source = _source(args)
+    except (ValueError, _Usage) as error:
         sys.stderr.write(f"koma: {error}\n")
         return 2
     except ImportError as error:
         sys.stderr.write(f"koma: {error}\n")
         return 1
-    try:
-        source = _source(args)
-    except _Usage as error:
-        sys.stderr.write(f"koma: {error}\n")
-        return 2
     fps = args.timing_fps or 24.0
+    text = None if args.quiet else _Text(sys.stderr if args.json else sys.stdout, fps)
     recorder = Motion3Recorder(fps) if args.record is not None else None
     stop = threading.Event()
     previous = None
@@ -130,33 +205,29 @@ def run(args, make_client):
                 raise KeyboardInterrupt
             stop.set()
         previous = signal.signal(signal.SIGINT, interrupt)
-    count = speech = blinks = 0
-    late = []
+    if text is not None:
+        _write_line(text.out, (
+            f"koma live: {source.description}, {source.sample_rate} Hz, {source.channels} "
+            f"channel{'' if source.channels == 1 else 's'}, {source.sample_format.upper()} -> "
+            f"{args.server}{' (Ctrl-C ends)' if args.input is None else ''}"))
     try:
         chunks = source.chunks(speed=1.0 if args.speed is None else args.speed,
                                seconds=args.seconds, stop=stop)
-        auto = {"enabled": True, "mean_interval_s": args.auto_blink} \
-            if args.auto_blink is not None else None
-        mode = {"random": "MOUTH_RANDOM", "follow": "MOUTH_FOLLOW"}.get(args.mode)
         with make_client(args) as client:
-            frames = client.live(
-                chunks, source.sample_rate, source.channels, source.sample_format,
-                lookahead=args.lookahead, seed=args.seed, timing_fps=args.timing_fps,
-                mouth={"mode": mode, "frames_per_shape": args.on},
-                eyes={"auto_blink": auto}, timeout=args.deadline)
-            for frame in frames:
-                count += 1
-                speech += frame.speech
-                blinks += frame.blink_start
-                late.append(frame.late_ms)
-                if args.json and not _write_line(json.dumps(frame.to_dict())):
-                    break  # stdout closed (| head): stop the stream, quietly
-                if vmc is not None:
-                    vmc.send(frame)
+            for frame in client.live(chunks, source.sample_rate, source.channels,
+                                     source.sample_format, **_settings(args)):
                 if recorder is not None:
                     recorder.add(frame)
+                if vmc is not None:
+                    vmc.send(frame)
+                shown = text.frame(frame) if text is not None else True
+                if args.json:
+                    line = json.dumps(frame.to_dict(), separators=(",", ":"))  # as `koma`'s
+                    shown = _write_line(sys.stdout, line) and shown
+                if not shown:
+                    break  # the output's reader has gone (| head): stop the stream, quietly
     except BaseException:
-        if recorder is not None and count:
+        if recorder is not None and recorder.mouth:
             recorder.write(args.record)  # the frames that came before the error
         raise
     finally:
@@ -164,6 +235,11 @@ def run(args, make_client):
         if previous is not None:
             signal.signal(signal.SIGINT, previous)
     if recorder is not None:
+        if not recorder.mouth:
+            sys.stderr.write(f"koma: --record {args.record}: no frame was streamed: nothing "
+                             "to write\n")
+            return 1
         recorder.write(args.record)
-    sys.stderr.write(_summary(count, speech, blinks, late, fps))
+    if text is not None:
+        text.close()
     return 0

@@ -19,6 +19,7 @@ class AudioSourceError(OSError):
 
 
 class _Source:
+    description = ""  # what the audio is, for the CLI's first line
     sample_rate = 0
     channels = 0
     sample_format = S16
@@ -97,6 +98,7 @@ class _Wav(_Source):
         self.sample_rate = reader.getframerate()
         self.channels = reader.getnchannels()
         self._width = reader.getsampwidth()
+        self.description = f"{path}: WAV, {8 * self._width}-bit PCM (Python's wave)"
 
     def _read(self, frames):
         return _to_s16(self._reader.readframes(frames), self._width)
@@ -154,8 +156,10 @@ class _Sox(_Process):
         self.path = path
         self.sample_rate = _sox_info(sox, path, "-r")
         self.channels = _sox_info(sox, path, "-c")
-        super().__init__([sox, "-q", path, "-t", "raw", "-e", "signed-integer", "-b", "16",
-                          "-L", "-"], f"sox decoding {path}")
+        self.description = f"{path}: decoded by sox"
+        # -D: no dither, so a float or 24-bit file gives the samples koma's own reader would.
+        super().__init__([sox, "-q", "-D", path, "-t", "raw", "-e", "signed-integer", "-b",
+                          "16", "-L", "-"], f"sox decoding {path}")
 
 
 def AudioFile(path):
@@ -192,6 +196,7 @@ class Microphone(_Process):
         self.device = device
         self.sample_rate = int(sample_rate)
         self.channels = int(channels)
+        self.description = f"ALSA device {device} (arecord)"
         super().__init__([arecord, "-q", "-D", device, "-f", "S16_LE", "-r",
                           str(self.sample_rate), "-c", str(self.channels), "-t", "raw"],
                          f"arecord -D {device}")

@@ -10,6 +10,7 @@ import os
 import subprocess
 import sys
 import time
+import wave
 
 import pytest
 
@@ -21,6 +22,12 @@ FPS = 24
 VOICE = source_path("samples", "voice.flac")
 VOICE_SAMPLES, VOICE_RATE = 61191, 16000  # soxi samples/voice.flac
 VOICE_FRAMES = math.ceil(VOICE_SAMPLES * FPS / VOICE_RATE)  # 92 grid frames
+
+
+def decided(frames):
+    """The frames' JSON lines without the client's own clock (wall_late_ms, wall_s)."""
+    return [{k: v for k, v in (f if isinstance(f, dict) else f.to_dict()).items()
+             if not k.startswith("wall_")} for f in frames]
 
 
 def runs(flags):
@@ -78,8 +85,8 @@ def _voice_s16():
 def test_the_generator_api_any_chunks_and_f32le(client, voice_frames):
     raw = _voice_s16()
     chunks = [raw[i:i + 2 * 333] for i in range(0, len(raw), 2 * 333)]  # odd sizes, whole samples
-    s16 = [f.to_dict() for f in client.live(iter(chunks), VOICE_RATE, 1, lookahead=3)]
-    assert s16 == [f.to_dict() for f in voice_frames]
+    s16 = decided(client.live(iter(chunks), VOICE_RATE, 1, lookahead=3))
+    assert s16 == decided(voice_frames)
     samples = array.array("h", raw)
     floats = array.array("f", (s / 32768.0 for s in samples)).tobytes()
     f32 = list(client.live([floats[:4000], floats[4000:]], VOICE_RATE, 1, "f32le", lookahead=3))
@@ -113,8 +120,12 @@ def test_cli_json_lines(server, client):
     lines = [json.loads(line) for line in done.stdout.splitlines()]
     assert [line["grid_frame"] for line in lines] == list(range(VOICE_FRAMES))
     assert all(tuple(line) == JSON_FIELDS for line in lines)
-    assert lines == [f.to_dict() for f in client.live_file(VOICE, speed=0)]  # lookahead 2
-    assert f"{VOICE_FRAMES} frames" in done.stderr
+    assert decided(lines) == decided(client.live_file(VOICE, speed=0))  # lookahead 2
+    assert all(0 <= line["wall_late_ms"] < 10000 and line["wall_s"] >= 0 for line in lines)
+    assert "\n    1.0 s  speech " in done.stderr  # the human lines: stderr
+    assert f"koma live: {VOICE_FRAMES} frames (3.83 s at 24 fps)" in done.stderr
+    quiet = live_cli(server, "--input", VOICE, "--speed", "0", "-q")
+    assert quiet.returncode == 0 and quiet.stdout == "" and quiet.stderr == ""
 
 
 def test_cli_record_is_a_motion3_koma_reads_back(server, tmp_path):
@@ -166,8 +177,9 @@ def test_cli_vmc_bundles_per_frame(server):
         (path, types, tuple(args))))
     receiver.start()
     try:
+        # The mouth's levels 0, 1, 2: sent as 0, 0.5, 1 (the setup's range mapped to 0..1).
         done = live_cli(server, "--input", VOICE, "--json", "--speed", "0", "--auto-blink", "1",
-                        "--vmc", f"127.0.0.1:{receiver.port}")
+                        "--mouth-max", "2", "--vmc", f"127.0.0.1:{receiver.port}")
         assert done.returncode == 0, done.stderr
         deadline = time.monotonic() + 5
         lines = [json.loads(line) for line in done.stdout.splitlines()]
@@ -182,9 +194,10 @@ def test_cli_vmc_bundles_per_frame(server):
         assert a[:2] == ("/VMC/Ext/Blend/Val", "sf") and a[2][0] == "A"
         assert blink[:2] == ("/VMC/Ext/Blend/Val", "sf") and blink[2][0] == "Blink"
         assert apply == ("/VMC/Ext/Blend/Apply", "", ())
-        assert a[2][1] == pytest.approx(line["mouth_level"], abs=1e-6)
+        assert a[2][1] == pytest.approx(line["mouth_level"] / 2, abs=1e-6)
         assert blink[2][1] == pytest.approx(1 - line["eye_level"], abs=1e-6)
     assert any(r[2][1] > 0 for r in received[1::3])  # the auto-blinks were sent
+    assert {r[2][1] for r in received[0::3]} == {0.0, 0.5, 1.0}
 
 
 def test_cli_vmc_without_liblo_names_the_package(server, tmp_path):
@@ -215,15 +228,24 @@ def test_missing_tools_are_named(server, tmp_path):
 
 
 def test_wav_files_through_the_wave_module(client, tmp_path):
-    # 24-bit stereo WAV, read without sox: the same frames as the FLAC's samples.
+    # The FLAC's samples as a 24-bit stereo WAV (each sample in both channels, a zero byte
+    # below it), read without sox: the same frames.
+    raw = _voice_s16()
+    frames = bytearray(len(raw) * 3)
+    for channel in (0, 3):
+        frames[channel + 1::6] = raw[0::2]
+        frames[channel + 2::6] = raw[1::2]
     wav = tmp_path / "voice24.wav"
-    subprocess.run(["sox", VOICE, "-b", "24", "-c", "2", str(wav)], check=True)
+    with wave.open(str(wav), "wb") as w:
+        w.setnchannels(2)
+        w.setsampwidth(3)
+        w.setframerate(VOICE_RATE)
+        w.writeframes(bytes(frames))
     source = koma.AudioFile(wav)
     assert (source.sample_rate, source.channels, source.sample_format) == \
         (VOICE_RATE, 2, "s16le")
     source.close()
-    frames = [f.to_dict() for f in client.live_file(wav, speed=0)]
-    assert frames == [f.to_dict() for f in client.live_file(VOICE, speed=0)]
+    assert decided(client.live_file(wav, speed=0)) == decided(client.live_file(VOICE, speed=0))
 
 
 @pytest.fixture(scope="module")
@@ -272,3 +294,39 @@ def test_cli_server_error(server):
     assert done.returncode == 1
     assert done.stderr.startswith("koma: INVALID_ARGUMENT: setup.timing_fps: 2000 must be in"), \
         done.stderr
+
+
+def test_the_same_as_the_cpp_koma_live(server, tmp_path):
+    if run_cli("live", "--help", check=False).returncode != 0:
+        pytest.skip("this build's koma has no `live` subcommand")
+    flags = ["--input", VOICE, "--speed", "0", "--json", "--seed", "7", "--auto-blink", "1",
+             "--lookahead", "1", "--server", server.address]
+    cpp = run_cli("live", *flags, "--record", str(tmp_path / "cpp.motion3.json"))
+    py = run_python_cli("live", *flags, "--record", str(tmp_path / "py.motion3.json"))
+    assert py.returncode == 0, py.stderr
+    # The --record files byte for byte; the JSON lines but for the client's own clock.
+    assert (tmp_path / "py.motion3.json").read_bytes() == \
+        (tmp_path / "cpp.motion3.json").read_bytes()
+    strip = lambda text: [line.split(',"wall_late_ms"')[0] for line in text.splitlines()]  # noqa: E731
+    assert strip(py.stdout) == strip(cpp.stdout) and len(strip(py.stdout)) == VOICE_FRAMES
+    # The human lines (after the first, which describes the file) but for the times measured.
+    words = lambda text: [line.split(";")[0] for line in text.splitlines()[1:]]  # noqa: E731
+    assert words(py.stderr) == words(cpp.stderr)
+    assert py.stderr.startswith(f"koma live: {VOICE}: decoded by sox, 16000 Hz, 1 channel, "
+                                f"S16LE -> {server.address}\n")
+
+
+def test_wav_sample_widths_as_16_bit():
+    from koma._live_sources import _to_s16
+    assert _to_s16(bytes([0x00, 0x80, 0xFF]), 1) == bytes([0, 0x80, 0, 0x00, 0, 0x7F])
+    assert _to_s16(bytes([0x11, 0x22, 0x34, 0x12, 0xFF, 0xFF, 0x00, 0x80]), 4) == \
+        bytes([0x34, 0x12, 0x00, 0x80])
+
+
+def test_a_float_wav_needs_sox(server, client, tmp_path):
+    wav = tmp_path / "float.wav"
+    subprocess.run(["sox", VOICE, "-e", "floating-point", "-b", "32", str(wav)], check=True)
+    assert decided(client.live_file(wav, speed=0)) == decided(client.live_file(VOICE, speed=0))
+    done = live_cli(server, "--input", str(wav), env=dict(os.environ, PATH=str(tmp_path)))
+    assert done.returncode == 1 and "not a WAV file Python's wave module reads" in done.stderr \
+        and "install the Debian package sox" in done.stderr, done.stderr
