@@ -307,10 +307,12 @@ def test_the_same_as_the_cpp_koma_live(server, tmp_path):
     # The --record files byte for byte; the JSON lines but for the client's own clock.
     assert (tmp_path / "py.motion3.json").read_bytes() == \
         (tmp_path / "cpp.motion3.json").read_bytes()
-    strip = lambda text: [line.split(',"wall_late_ms"')[0] for line in text.splitlines()]  # noqa: E731
+    def strip(text):
+        return [line.split(',"wall_late_ms"')[0] for line in text.splitlines()]
     assert strip(py.stdout) == strip(cpp.stdout) and len(strip(py.stdout)) == VOICE_FRAMES
     # The human lines (after the first, which describes the file) but for the times measured.
-    words = lambda text: [line.split(";")[0] for line in text.splitlines()[1:]]  # noqa: E731
+    def words(text):
+        return [line.split(";")[0] for line in text.splitlines()[1:]]
     assert words(py.stderr) == words(cpp.stderr)
     assert py.stderr.startswith(f"koma live: {VOICE}: decoded by sox, 16000 Hz, 1 channel, "
                                 f"S16LE -> {server.address}\n")
