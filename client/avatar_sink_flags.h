@@ -31,7 +31,8 @@ void AddAvatarSinkFlags(CLI::App& command, AvatarSinkFlags& flags);
 
 // Appends the sinks the flags ask for. INVALID_ARGUMENT for a bad --vmc target, an empty clip
 // or parameter name.
-absl::Status AddAvatarSinks(AvatarSinkFlags& flags, std::vector<std::unique_ptr<LiveSink>>& sinks);
+absl::Status AddAvatarSinks(const AvatarSinkFlags& flags,
+                            std::vector<std::unique_ptr<LiveSink>>& sinks);
 
 }  // namespace koma::client
 
