@@ -146,8 +146,7 @@ class DeviceSource : public LiveAudioSource {
     format_.sample_rate = static_cast<int>(rate);
     format_.channels = 1;
     format_.sample_format = v1::LIVE_SAMPLE_S16LE;
-    format_.description = absl::StrCat("ALSA device ", device_, ": ", rate, " Hz mono S16LE, ",
-                                       period_, "-frame periods");
+    format_.description = absl::StrCat("ALSA device ", device_, " (", period_, "-frame periods)");
     return absl::OkStatus();
   }
 

@@ -72,6 +72,7 @@ class TextSink : public LiveSink {
   }
 
   absl::Status Close() override {
+    if (frames_ == 0) return absl::OkStatus();  // nothing to sum up (the server refused, ...)
     if (second_.frames > 0) {
       if (absl::Status s = Flush(frames_ / fps_); !s.ok()) return s;
     }
