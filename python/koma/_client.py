@@ -424,6 +424,7 @@ class Client:
         message; what audio_chunks raised, re-raised. TypeError / ValueError for a wrong option
         before anything is sent.
         """
+        _live.check_chunks(audio_chunks)
         options = {"timing_fps": timing_fps, "mouth": mouth, "eyes": eyes,
                    "voice_settings": voice_settings}
         setup = _live.setup_request(sample_rate, channels, sample_format, lookahead, seed,

@@ -88,6 +88,14 @@ class LiveFrame:
                 f"speech={self.speech}, eyes={self.eyes!r}, late_ms={self.late_ms:.1f})")
 
 
+def check_chunks(audio_chunks):
+    """TypeError for one buffer given where chunks are expected (its bytes would be ints)."""
+    if isinstance(audio_chunks, (bytes, bytearray, memoryview, str)) or \
+            not hasattr(audio_chunks, "__iter__"):
+        raise TypeError("audio_chunks: expected an iterable of byte chunks (e.g. 10 ms each), "
+                        f"got {type(audio_chunks).__name__}; pass [data] to send one buffer")
+
+
 def setup_request(sample_rate, channels, sample_format, lookahead, seed, options):
     """The stream's first message. Wrong option names and types raise here (TypeError,
     ValueError); values out of range come back from the server as a KomaError naming the
@@ -168,6 +176,9 @@ def stream(stub, setup, audio_chunks, timeout, metadata=None):
             for chunk in audio_chunks:
                 if pacer.stopped:
                     return
+                if not isinstance(chunk, (bytes, bytearray, memoryview)):
+                    raise TypeError(f"audio_chunks: expected chunks of bytes, got "
+                                    f"{type(chunk).__name__}")
                 yield retime_pb2.LiveLipBlinkRequest(audio=bytes(chunk))
                 if not pacer.sent(len(chunk)):
                     return

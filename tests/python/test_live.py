@@ -7,6 +7,7 @@ import array
 import json
 import math
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -279,6 +280,33 @@ def test_errors_name_the_field(client, eight_channel_server):
         client.live([], 16000, 1, "s24le")
     with pytest.raises(TypeError, match="unknown option 'mouth.idz'"):
         client.live([], 16000, 1, mouth={"idz": ["ParamMouthOpenY"]})
+
+
+def test_chunks_must_be_bytes(client):
+    with pytest.raises(TypeError, match="iterable of byte chunks"):
+        client.live(b"\0" * 640, 16000, 1)
+    with pytest.raises(TypeError, match="chunks of bytes, got int"):
+        list(client.live([b"\0" * 640, 7], 16000, 1))
+
+
+def test_ctrl_c_ends_the_audio_and_keeps_the_take(server, tmp_path):
+    record = tmp_path / "take.motion3.json"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "koma", "live", "--server", server.address, "--device", "null",
+         "--json", "--record", str(record)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        lines = [json.loads(process.stdout.readline()) for _ in range(5)]
+        process.send_signal(signal.SIGINT)
+        rest, err = process.communicate(timeout=20)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 0, err
+    lines += [json.loads(line) for line in rest.splitlines()]
+    assert [line["grid_frame"] for line in lines] == list(range(len(lines)))
+    assert f"koma live: {len(lines)} frames" in err
+    assert json.loads(record.read_text())["Meta"]["Duration"] == pytest.approx(len(lines) / FPS)
 
 
 def test_the_audio_iterators_error_is_raised(client):
