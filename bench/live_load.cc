@@ -73,6 +73,7 @@ struct Options {
   std::string json_path;
   bool quiet = false;
   bool fail_on_error = false;  // exit 1 when a stream failed or a frame is missing
+  bool trace = false;          // every measured frame of stream 0 on stderr
 };
 
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
@@ -147,6 +148,7 @@ class Stream final : public grpc::ClientBidiReactor<v1::LiveLipBlinkRequest, v1:
   }
 
   int lookahead() const { return lookahead_; }
+  void set_trace(bool trace) { trace_ = trace; }
   int64_t chunks() const { return chunks_; }
   Clock::time_point Due(int64_t k) const {
     return t0_ + Secs(static_cast<double>((k + 1) * chunk_samples_) / rec_.rate);
@@ -220,6 +222,12 @@ class Stream final : public grpc::ClientBidiReactor<v1::LiveLipBlinkRequest, v1:
         const Clock::time_point end =
             t0_ + Secs(static_cast<double>(grid_.FirstSample(g + 1)) / rec_.rate);
         samples_.push_back({Ms(now - Due(chunk)), Ms(now - end)});
+        if (trace_) {
+          std::fprintf(stderr, "frame %lld: chunk %lld, lateness %.2f ms, total %.2f ms, "
+                       "server late_ms %.2f\n", static_cast<long long>(g),
+                       static_cast<long long>(chunk), samples_.back().lateness,
+                       samples_.back().total, frame_.late_ms());
+        }
       }
     }
     StartRead(&frame_);
@@ -276,6 +284,7 @@ class Stream final : public grpc::ClientBidiReactor<v1::LiveLipBlinkRequest, v1:
   const int lookahead_;
   const Clock::time_point t0_, measure_from_;
   int64_t chunks_ = 0;
+  bool trace_ = false;
   grpc::ClientContext context_;
 
   std::mutex mu_;
@@ -413,6 +422,7 @@ int Run(const Options& o) {
     streams.push_back(
         std::make_unique<Stream>(rec, chunk_ms, lookahead, t0, o.duration_s, measure_from));
   }
+  streams[0]->set_trace(o.trace);
   const double cpu_self0 = ProcCpuSeconds(static_cast<int>(getpid())).value_or(0);
   for (size_t i = 0; i < streams.size(); ++i) {
     streams[i]->Start(stubs[i % stubs.size()].get(), o.duration_s + 1.0 + kGraceSeconds);
@@ -617,6 +627,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--json", o.json_path, "also write the report as JSON here");
   app.add_flag("--quiet", o.quiet, "no text report");
+  app.add_flag("--trace", o.trace, "every measured frame of the first stream on stderr");
   app.add_flag("--fail_on_error,--fail-on-error", o.fail_on_error,
                "exit 1 when a stream failed or a frame is missing or out of order");
   try {
