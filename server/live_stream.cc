@@ -37,6 +37,7 @@ class LiveStream final
       : context_(context), limits_(limits), streams_(streams) {
     record_.method = "LiveLipBlink";
     record_.request_id = "";
+    record_.peer = context_->peer();  // known now; "unknown" once the client is gone
     StartRead(&request_);
   }
 
@@ -101,10 +102,7 @@ class LiveStream final
     }
     record_.latency_ms = 1000.0 * SecondsSince(start_, Clock::now());
     record_.frames = frames_out_;
-    if (RpcLineLogged(record_)) {
-      record_.peer = context_->peer();
-      LogRpc(record_);
-    }
+    if (RpcLineLogged(record_)) LogRpc(record_);
     if (streams_->Remove(this)) delete this;
   }
 
@@ -265,10 +263,16 @@ class LiveStream final
   }
 
   // The client is gone: end now (or, if already ending, stop draining); nothing more is written.
+  // A client that vanishes mid-stream fails its read first, which looks like a half-close (an
+  // OK end): the log line says CANCELLED then.
   void AbortLocked(const absl::Status& status) {
     EndLocked(status, false);
     drain_ = false;
     queue_.clear();
+    if (record_.code == grpc::StatusCode::OK) {
+      record_.code = grpc::StatusCode::CANCELLED;
+      record_.error = std::string(status.message());
+    }
   }
 
   // What to start next; `read`: another read, unless the stream is ending.
