@@ -252,8 +252,7 @@ absl::Status VtubeStudioSink::Start(const v1::LiveLipBlinkSetup& setup) {
   return absl::OkStatus();
 }
 
-absl::Status VtubeStudioSink::SendValuesLocked() {
-  const std::string id = absl::StrCat("koma-inject-", injects_sent_);
+absl::Status VtubeStudioSink::SendValuesLocked(const std::string& id) {
   if (absl::Status sent = socket_->SendText(VtsInjectRequest(values_, id)); !sent.ok()) {
     failure_ = absl::UnavailableError("--vts: VTube Studio closed the connection");
     return failure_;
@@ -305,7 +304,9 @@ absl::Status VtubeStudioSink::Frame(const v1::LiveLipBlinkFrame& frame,
     return failure_;
   }
   values_ = VtsValuesOf(frame, levels_, options_);
-  absl::Status sent = SendValuesLocked();
+  // The request IDs tell a frame ("koma-frame-<grid frame>") from a re-send in VTube Studio's
+  // log.
+  absl::Status sent = SendValuesLocked(absl::StrCat("koma-frame-", frame.grid_frame()));
   failure_returned_ = !sent.ok();
   return sent;
 }
@@ -320,7 +321,7 @@ void VtubeStudioSink::ResendLoop() {
     ReadAnswersLocked();
     if (!failure_.ok() || values_.empty()) continue;
     if (std::chrono::steady_clock::now() - last_sent_ >= options_.resend_after) {
-      (void)SendValuesLocked();
+      (void)SendValuesLocked(absl::StrCat("koma-resend-", ++resends_));
     }
   }
 }

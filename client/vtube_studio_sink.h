@@ -78,8 +78,8 @@ class VtubeStudioSink : public LiveSink {
                                    std::chrono::milliseconds timeout);
   absl::Status Authenticate();
   absl::StatusOr<bool> AuthenticateWithToken(const std::string& token);
-  // Sends `values_` (mutex_ held).
-  absl::Status SendValuesLocked();
+  // Sends `values_` as request `id` (mutex_ held).
+  absl::Status SendValuesLocked(const std::string& id);
   // Reads the answers received so far (mutex_ held).
   void ReadAnswersLocked();
   void ResendLoop();
@@ -95,6 +95,7 @@ class VtubeStudioSink : public LiveSink {
   std::vector<VtsParameterValue> values_;  // the last frame's; empty before the first
   std::chrono::steady_clock::time_point last_sent_;
   int64_t injects_sent_ = 0;
+  int64_t resends_ = 0;  // of injects_sent_, the values re-sent while no frame came
   std::map<int, int64_t> errors_seen_;  // errorID -> count of APIError answers
   absl::Status failure_;                // set when the stream must end
   bool failure_returned_ = false;       // Frame has returned failure_

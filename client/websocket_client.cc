@@ -37,6 +37,7 @@ absl::StatusOr<WebSocketUrl> ParseWebSocketUrl(const std::string& url) {
     rest = rest.substr(0, slash);
   }
   std::string port;
+  bool port_given = false;  // a ':' after the host, even with nothing after it
   if (!rest.empty() && rest.front() == '[') {  // [IPv6]
     const size_t close = rest.find(']');
     if (close == std::string::npos) {
@@ -48,17 +49,21 @@ absl::StatusOr<WebSocketUrl> ParseWebSocketUrl(const std::string& url) {
         return absl::InvalidArgumentError(absl::StrCat("\"", url, "\": bad host"));
       }
       port = rest.substr(close + 2);
+      port_given = true;
     }
   } else {
     const size_t colon = rest.find(':');
     parsed.host = rest.substr(0, colon);
-    if (colon != std::string::npos) port = rest.substr(colon + 1);
+    if (colon != std::string::npos) {
+      port = rest.substr(colon + 1);
+      port_given = true;
+    }
   }
   if (parsed.host.empty()) {
     return absl::InvalidArgumentError(
         absl::StrCat("\"", url, "\" has no host (ws://localhost:8001)"));
   }
-  if (port.empty() && !has_scheme) {
+  if (port.empty() && (!has_scheme || port_given)) {
     return absl::InvalidArgumentError(
         absl::StrCat("\"", url, "\" must be ws://HOST:PORT or HOST:PORT (ws://localhost:8001)"));
   }

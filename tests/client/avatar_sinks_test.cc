@@ -244,7 +244,7 @@ TEST(WebSocketUrlTest, Parsing) {
   url = ParseWebSocketUrl("ws://host");
   ASSERT_TRUE(url.ok());
   EXPECT_EQ(url->port, 80);
-  for (const char* bad : {"wss://h:1", "ws://:8001", "h", "ws://h:0", "ws://h:x", "ws://[::1"}) {
+  for (const char* bad : {"wss://h:1", "ws://:8001", "h", "ws://h:", "h:", "ws://h:0", "ws://h:x", "ws://[::1"}) {
     EXPECT_TRUE(absl::IsInvalidArgument(ParseWebSocketUrl(bad).status())) << bad;
   }
 }
