@@ -52,7 +52,7 @@ TEST(CliParseTest, MisuseExitCodesAndFirstLines) {
     std::string first_line;
   };
   const std::vector<Case> cases = {
-      {{}, "koma: a command is required: skeletal, curves, lipblink, health, batch"},
+      {{}, "koma: a command is required: skeletal, curves, lipblink, live, health, batch"},
       {{"curvs"}, "koma: unknown command \"curvs\"; did you mean \"curves\"?"},
       {{"skeletal", kBvh, "--max-hld", "2"},
        "koma skeletal: unknown option --max-hld; did you mean --max-hold?"},

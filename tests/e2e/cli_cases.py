@@ -54,10 +54,10 @@ with open(w("section.toml"), "w") as f:
     f.write("[skeletl]\nomissions = 6\n")
 
 MISUSE = [
-    ([], 2, "koma: a command is required: skeletal, curves, lipblink, health, batch"),
+    ([], 2, "koma: a command is required: skeletal, curves, lipblink, live, health, batch"),
     (["skeletl", BVH], 2, 'koma: unknown command "skeletl"; did you mean "skeletal"?'),
     (["lipsync", TALK], 2,
-     'koma: unknown command "lipsync" (commands: skeletal, curves, lipblink, health, batch)'),
+     'koma: unknown command "lipsync" (commands: skeletal, curves, lipblink, live, health, batch)'),
     (["--omit", "3", "skeletal", BVH], 2,
      "koma: --omit is an option of `koma skeletal`: put it after the command (koma skeletal ... --omit)"),
     (["--versoin"], 2, "koma: unknown option --versoin; did you mean --version?"),
