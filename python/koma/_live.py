@@ -129,10 +129,15 @@ class _Pacer:
         self._log = collections.deque()
         self.start = time.monotonic()
 
-    def sent(self, byte_count):
+    def sending(self, byte_count):
+        """Notes a chunk about to be sent, and when."""
         with self._cv:
             self._sent_frames += byte_count // self._frame_bytes
             self._log.append((self._sent_frames, time.monotonic()))
+
+    def wait(self):
+        """Waits while the audio sent is MAX_AHEAD_S ahead; False when the stream is over."""
+        with self._cv:
             while not self._stopped and \
                     self._sent_frames / self._rate - self._read_s > MAX_AHEAD_S:
                 self._cv.wait(0.5)
@@ -161,6 +166,17 @@ class _Pacer:
         return self._stopped
 
 
+def _close(chunks):
+    """Closes a chunk generator (and so its source), unless another thread is inside it (then
+    it ends when that thread leaves it)."""
+    close = getattr(chunks, "close", None)
+    if close is not None:
+        try:
+            close()
+        except Exception:  # noqa: BLE001  (ValueError: generator already executing)
+            pass
+
+
 def stream(stub, setup, audio_chunks, timeout, metadata=None):
     """Runs the call: a generator of LiveFrame. Raises KomaError when the server ends the
     stream with an error, and re-raises what the caller's chunk iterator raised."""
@@ -179,19 +195,16 @@ def stream(stub, setup, audio_chunks, timeout, metadata=None):
                 if not isinstance(chunk, (bytes, bytearray, memoryview)):
                     raise TypeError(f"audio_chunks: expected chunks of bytes, got "
                                     f"{type(chunk).__name__}")
-                yield retime_pb2.LiveLipBlinkRequest(audio=bytes(chunk))
-                if not pacer.sent(len(chunk)):
+                data = bytes(chunk)
+                pacer.sending(len(data))
+                yield retime_pb2.LiveLipBlinkRequest(audio=data)
+                if not pacer.wait():
                     return
         except Exception as error:  # noqa: BLE001  (re-raised in the caller's thread)
             failure.append(error)
             call.cancel()
         finally:
-            close = getattr(audio_chunks, "close", None)
-            if close is not None:
-                try:
-                    close()
-                except Exception:  # noqa: BLE001
-                    pass
+            _close(audio_chunks)
 
     call = stub.LiveLipBlink(requests(), timeout=timeout, metadata=metadata)
     try:
@@ -204,5 +217,6 @@ def stream(stub, setup, audio_chunks, timeout, metadata=None):
     finally:
         pacer.stop()
         call.cancel()  # the caller stopped reading early: end the stream (no-op when done)
+        _close(audio_chunks)  # a file's decoder or the microphone, now rather than at GC
     if failure:
         raise failure[0]

@@ -309,6 +309,22 @@ def test_ctrl_c_ends_the_audio_and_keeps_the_take(server, tmp_path):
     assert json.loads(record.read_text())["Meta"]["Duration"] == pytest.approx(len(lines) / FPS)
 
 
+def test_the_audio_waits_when_4_s_ahead_of_the_frames_read(client):
+    taken = []
+
+    def silence():  # 30 s of 10 ms chunks, as fast as they are taken
+        for k in range(3000):
+            taken.append(k)
+            yield b"\0" * 320
+
+    frames = client.live(silence(), 16000, 1)
+    assert next(frames).grid_frame == 0
+    time.sleep(1.0)  # not reading: the chunks stop about 4 s of audio ahead
+    assert 400 <= len(taken) <= 420, len(taken)  # 4 s + one grid frame = 405
+    assert len(list(frames)) == 30 * FPS - 1  # then all of it, once read
+    assert len(taken) == 3000
+
+
 def test_the_audio_iterators_error_is_raised(client):
     def chunks():
         yield b"\0" * 640
