@@ -13,8 +13,10 @@
 #include <unistd.h>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
 #include "client/channel.h"
 #include "client/cli_options.h"
+#include "client/command_output.h"
 #include "client/files.h"
 #include "client/live_sinks.h"
 #include "koma/v1/retime.grpc.pb.h"
@@ -177,7 +179,9 @@ int RunLive(const LiveArgs& args) {
   std::vector<bool> failed(sinks.size(), false);
   absl::Status sink_status;
   v1::LiveLipBlinkFrame frame;
+  int64_t frames_read = 0;
   while (stream->Read(&frame)) {
+    ++frames_read;
     const Clock::time_point now = Clock::now();
     const int64_t end_frames = static_cast<int64_t>(
         std::ceil((frame.time_s() + 1.0 / fps) * format.sample_rate - 1e-6));
@@ -203,7 +207,18 @@ int RunLive(const LiveArgs& args) {
   for (size_t i = 0; i < sinks.size(); ++i) {
     if (absl::Status s = sinks[i]->Close(); !s.ok() && close_status.ok()) close_status = s;
   }
-  if (!status.ok()) return ReportRpcError(status);
+  if (!status.ok()) {
+    if (frames_read > 0 || status.error_code() != grpc::StatusCode::UNAVAILABLE) {
+      return ReportRpcError(status);  // e.g. UNAVAILABLE from a server shutting down
+    }
+    // Never reached: koma's "cannot reach koma_server at ..." with its hint.
+    const std::string text =
+        RpcErrorText(status, args.server.empty() ? DefaultServer() : args.server);
+    for (absl::string_view line : absl::StrSplit(text, '\n', absl::SkipEmpty())) {
+      std::fprintf(stderr, "koma: %.*s\n", static_cast<int>(line.size()), line.data());
+    }
+    return 1;
+  }
   if (!source_status.ok()) return ReportError(source_status);
   if (!sink_status.ok()) return ReportError(sink_status);
   if (!close_status.ok()) return ReportError(close_status);

@@ -83,7 +83,7 @@ expect_error 2 "koma live: --input .* and --device null: give one audio source" 
   "$koma" live --input "$voice" --device null --server "$target"
 expect_error 2 "koma live: --speed: needs --input FILE" \
   "$koma" live --device null --speed 0 --server "$target"
-expect_error 1 "UNAVAILABLE" \
+expect_error 1 "koma: UNAVAILABLE: cannot reach koma_server at 127.0.0.1:" \
   "$koma" live --input "$voice" --speed 0 --server "127.0.0.1:$(free_port)"
 
 # 6. The acceptance: live speech against offline speech, and the wire against the core.
