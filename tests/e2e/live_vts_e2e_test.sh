@@ -101,18 +101,33 @@ grep -q 'APIError 50' "$work/denied.err" && grep -q 'click Allow' "$work/denied.
 [ ! -e "$work/denied/vts-token" ] || fail "denied: a token file was written"
 ! grep -q InjectParameterDataRequest "$work/denied.log" || fail "denied: injects were sent"
 
-# 7. Nothing listening: exit 1 naming the URL and the setting to check.
+# 7. Mid-stream: access revoked (APIError 8 from the 11th frame), or VTube Studio quitting
+#    (the connection closed after 10 frames), ends the stream with exit 1 and the reason;
+#    no inject is sent after the one that found out.
+for how in revoke close; do
+  start_standin "$how" --valid-token token-two "--$how-after" 10
+  expect_exit 1 "$work/$how.err" "$koma" live --server "$target" --input "$voice" \
+    --seconds 2 --json --vts "$vts_url" --vts-token-file "$token_file" >"$work/$how.jsonl"
+  stop_standin
+  [ "$(wc -l <"$work/$how.jsonl")" -lt 48 ] || fail "$how: the stream did not end early"
+  injects=$(grep -c InjectParameterDataRequest "$work/$how.log" || true)
+  [ "$injects" -le 13 ] || fail "$how: $injects injects sent, want at most 13"
+done
+grep -q 'APIError 8' "$work/revoke.err" || fail "revoked: $(cat "$work/revoke.err")"
+grep -q 'closed the connection' "$work/close.err" || fail "closed: $(cat "$work/close.err")"
+
+# 8. Nothing listening: exit 1 naming the URL and the setting to check.
 port=$(free_port)
 expect_exit 1 "$work/closed.err" "$koma" live --server "$target" --input "$voice" --speed 0 \
   --vts "ws://127.0.0.1:$port"
 grep -q "ws://127.0.0.1:$port" "$work/closed.err" && grep -q 'allow plugins' "$work/closed.err" ||
   fail "nothing listening: $(cat "$work/closed.err")"
 
-# 8. Usage errors exit 2 naming the flag.
+# 9. Usage errors exit 2 naming the flag.
 expect_exit 2 "$work/usage.err" "$koma" live --input "$voice" --vts wss://127.0.0.1:8001
 grep -q -- '--vts' "$work/usage.err" || fail "wss: $(cat "$work/usage.err")"
 expect_exit 2 "$work/usage.err" "$koma" live --input "$voice" --vts-mouth-param ""
 grep -q -- '--vts-mouth-param' "$work/usage.err" || fail "empty param: $(cat "$work/usage.err")"
 
 stop_server
-echo "PASS live_vts: new, saved and refreshed tokens, Deny, keep-alive, APIError, refused"
+echo "PASS live_vts: new, saved and refreshed tokens, Deny, keep-alive, APIErrors, revoked, closed"

@@ -4,12 +4,15 @@ no VTube Studio on Linux: this answers as the public API README documents
 AuthenticationRequest, InjectParameterDataRequest, APIError with ErrorID.cs's numbers) and
 checks every request against the documented shapes. Debian's python3-websockets. Modes:
 
-  serve PORT_FILE LOG [--token T] [--deny] [--valid-token T]...
+  serve PORT_FILE LOG [--token T] [--deny] [--valid-token T]... [--revoke-after N]
+        [--close-after N]
       a WebSocket server on 127.0.0.1 (a free port, written to PORT_FILE) until SIGTERM. Each
       message received is a line of LOG (JSON: connection, monotonic time, the request, and
       the shape violations found). --token: the token AuthenticationTokenRequest is answered
       with; --deny: the user clicks Deny (APIError 50); --valid-token: a token issued before
-      (the saved one) that AuthenticationRequest accepts.
+      (the saved one) that AuthenticationRequest accepts; --revoke-after: the user revokes
+      koma's access after N injects (the next are answered APIError 8); --close-after: VTube
+      Studio closes the connection after N injects (it quits).
   check LOG FRAMES_JSONL --flow new|saved|refreshed [--mouth ID] [--left ID] [--right ID]
         [--mouth-min M] [--mouth-max M] [--max-gap S]
       no shape violation; the authentication flow (new: token request then authentication
@@ -134,8 +137,12 @@ class StandIn:
                 "reason": "Token valid. The plugin is authenticated for the duration of this "
                           "session." if ok else "Token invalid or revoked."})
         # InjectParameterDataRequest
+        state["injects"] += 1
+        if self.args.revoke_after is not None and state["injects"] > self.args.revoke_after:
+            state["authenticated"] = False
         if not state["authenticated"]:
-            bad.append("InjectParameterDataRequest before authentication")
+            if self.args.revoke_after is None:
+                bad.append("InjectParameterDataRequest before authentication")
             return self.error(request, 8, "This request requires authentication.")
         extra = set(data) - {"faceFound", "mode", "parameterValues"}
         if extra:
@@ -171,7 +178,7 @@ class StandIn:
     async def handle(self, websocket, path=None):
         self.connections += 1
         connection = self.connections
-        state = {"authenticated": False}
+        state = {"authenticated": False, "injects": 0}
         try:
             async for text in websocket:
                 received = time.monotonic()
@@ -194,6 +201,10 @@ class StandIn:
                 self.log.write(json.dumps({"connection": connection, "t": received,
                                            "request": request, "violations": bad}) + "\n")
                 await websocket.send(reply)
+                if (self.args.close_after is not None and
+                        state["injects"] >= self.args.close_after):
+                    await websocket.close()
+                    break
         except Exception as e:  # a connection that ends abruptly is logged, not fatal
             self.log.write(json.dumps({"connection": connection, "t": time.monotonic(),
                                        "closed": repr(e)}) + "\n")
@@ -298,6 +309,8 @@ def main():
     serve.add_argument("--token", default="stand-in-token-0001")
     serve.add_argument("--deny", action="store_true")
     serve.add_argument("--valid-token", action="append", default=[])
+    serve.add_argument("--revoke-after", type=int)
+    serve.add_argument("--close-after", type=int)
     chk = sub.add_parser("check")
     chk.add_argument("log")
     chk.add_argument("frames")
