@@ -9,6 +9,7 @@ through liblo (Debian package python3-liblo), imported only here. As the C++ `ko
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 39539  # the VMC protocol's performer port
+IMMEDIATELY = (0, 1)  # OSC's time tag "immediately" (liblo's LO_TT_IMMEDIATE), as `koma live`
 
 
 def parse_target(text):
@@ -68,6 +69,7 @@ class VmcSender:
         mouth, blink = self.values(frame)
         liblo = self._liblo
         bundle = liblo.Bundle(
+            IMMEDIATELY,
             liblo.Message("/VMC/Ext/Blend/Val", ("s", self.mouth_clip), ("f", mouth)),
             liblo.Message("/VMC/Ext/Blend/Val", ("s", self.blink_clip), ("f", blink)),
             liblo.Message("/VMC/Ext/Blend/Apply"))

@@ -8,6 +8,8 @@ import json
 import math
 import os
 import signal
+import socket
+import struct
 import subprocess
 import sys
 import time
@@ -201,6 +203,35 @@ def test_cli_vmc_bundles_per_frame(server):
     assert {r[2][1] for r in received[0::3]} == {0.0, 0.5, 1.0}
 
 
+def test_a_vmc_bundle_byte_for_byte():
+    pytest.importorskip("liblo", reason="python3-liblo (scripts/install-deps.sh)")
+    from koma._vmc import VmcSender, levels
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as receiver:
+        receiver.bind(("127.0.0.1", 0))
+        receiver.settimeout(5)
+        mouth, eyes = levels(mouth_max=2)
+        sender = VmcSender("127.0.0.1", receiver.getsockname()[1], mouth_range=mouth,
+                           eye_range=eyes, mouth_clip="aa", blink_clip="blink")
+
+        class Frame:
+            mouth_level, eye_level = 1.0, 0.5  # half open: 0.5 of 0..2; half shut
+        sender.send(Frame())
+        data = receiver.recv(2048)
+
+    def message(address, *args):
+        def padded(b):
+            return b + b"\0" * (4 - len(b) % 4)
+        tags = "," + "".join("s" if isinstance(a, str) else "f" for a in args)
+        body = padded(address.encode()) + padded(tags.encode())
+        for a in args:
+            body += padded(a.encode()) if isinstance(a, str) else struct.pack(">f", a)
+        return struct.pack(">i", len(body)) + body
+    assert data == (b"#bundle\0" + struct.pack(">II", 0, 1)  # time tag: immediately
+                    + message("/VMC/Ext/Blend/Val", "aa", 0.5)
+                    + message("/VMC/Ext/Blend/Val", "blink", 0.5)
+                    + message("/VMC/Ext/Blend/Apply"))
+
+
 def test_cli_vmc_without_liblo_names_the_package(server, tmp_path):
     (tmp_path / "liblo.py").write_text("raise ImportError('hidden by the test')\n")
     env = dict(os.environ, PYTHONPATH=f"{tmp_path}{os.pathsep}{os.environ.get('PYTHONPATH', '')}")
@@ -344,10 +375,20 @@ def test_the_same_as_the_cpp_koma_live(server, tmp_path):
     if run_cli("live", "--help", check=False).returncode != 0:
         pytest.skip("this build's koma has no `live` subcommand")
     flags = ["--input", VOICE, "--speed", "0", "--json", "--seed", "7", "--auto-blink", "1",
-             "--lookahead", "1", "--server", server.address]
-    cpp = run_cli("live", *flags, "--record", str(tmp_path / "cpp.motion3.json"))
-    py = run_python_cli("live", *flags, "--record", str(tmp_path / "py.motion3.json"))
-    assert py.returncode == 0, py.stderr
+             "--lookahead", "1", "--mouth-max", "2", "--server", server.address]
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as cpp_vmc, \
+            socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as py_vmc:
+        for receiver in (cpp_vmc, py_vmc):
+            receiver.bind(("127.0.0.1", 0))
+            receiver.settimeout(5)
+        cpp = run_cli("live", *flags, "--record", str(tmp_path / "cpp.motion3.json"), "--vmc",
+                      f"127.0.0.1:{cpp_vmc.getsockname()[1]}")
+        py = run_python_cli("live", *flags, "--record", str(tmp_path / "py.motion3.json"),
+                            "--vmc", f"127.0.0.1:{py_vmc.getsockname()[1]}")
+        assert py.returncode == 0, py.stderr
+        # The VMC bundles byte for byte (the kernel keeps the 92 datagrams until read).
+        for _ in range(VOICE_FRAMES):
+            assert py_vmc.recv(2048) == cpp_vmc.recv(2048)
     # The --record files byte for byte; the JSON lines but for the client's own clock.
     assert (tmp_path / "py.motion3.json").read_bytes() == \
         (tmp_path / "cpp.motion3.json").read_bytes()
