@@ -15,7 +15,8 @@
 //              plus one grid frame of the audio that decides it.
 // The tool's own delay is reported beside it: the pacer lag (a chunk handed to its stream after
 // it was due: this client starved of CPU) and the write wait (handed to gRPC after it was due:
-// the pacer lag plus the wait for the stream's previous write).
+// the pacer lag plus the wait for the stream's previous write); and the lateness from the write
+// (arrival - the deciding chunk handed to gRPC), which leaves both out.
 //   total    = arrival - the capture time of the frame's own last sample (t0 + FirstSample(g + 1)
 //              / rate): what a viewer sees, chunking and lookahead included.
 // Frames decided by the half-close (the last lookahead frames) and frames whose deciding chunk
@@ -125,7 +126,7 @@ absl::StatusOr<Recording> LoadRecording(const std::string& path, int max_chunk_m
 
 // One frame's figures, milliseconds.
 struct Sample {
-  double lateness = 0.0, total = 0.0;
+  double lateness = 0.0, total = 0.0, from_write = 0.0;
 };
 
 // One chunk's delays on this side, milliseconds.
@@ -145,6 +146,7 @@ class Stream final : public grpc::ClientBidiReactor<v1::LiveLipBlinkRequest, v1:
         measure_from_(measure_from) {
     chunks_ = std::max<int64_t>(
         1, static_cast<int64_t>(std::llround(duration_s * rec.rate / chunk_samples_)));
+    written_at_.resize(static_cast<size_t>(chunks_));
   }
 
   int lookahead() const { return lookahead_; }
@@ -221,7 +223,8 @@ class Stream final : public grpc::ClientBidiReactor<v1::LiveLipBlinkRequest, v1:
       if (chunk < chunks_ && Due(chunk) >= measure_from_) {
         const Clock::time_point end =
             t0_ + Secs(static_cast<double>(grid_.FirstSample(g + 1)) / rec_.rate);
-        samples_.push_back({Ms(now - Due(chunk)), Ms(now - end)});
+        samples_.push_back({Ms(now - Due(chunk)), Ms(now - end),
+                            Ms(now - written_at_[static_cast<size_t>(chunk)])});
         if (trace_) {
           std::fprintf(stderr, "frame %lld: chunk %lld, lateness %.2f ms, total %.2f ms, "
                        "server late_ms %.2f\n", static_cast<long long>(g),
@@ -268,7 +271,9 @@ class Stream final : public grpc::ClientBidiReactor<v1::LiveLipBlinkRequest, v1:
     const int64_t k = next_++;
     const int64_t offset = (k * chunk_samples_) % rec_.samples;
     request_.set_audio(rec_.pcm.data() + 2 * offset, static_cast<size_t>(2 * chunk_samples_));
-    if (Due(k) >= measure_from_) write_wait_.push_back(Ms(Clock::now() - Due(k)));
+    const Clock::time_point now = Clock::now();
+    written_at_[static_cast<size_t>(k)] = now;
+    if (Due(k) >= measure_from_) write_wait_.push_back(Ms(now - Due(k)));
     writing_ = true;
     return true;
   }
@@ -293,6 +298,7 @@ class Stream final : public grpc::ClientBidiReactor<v1::LiveLipBlinkRequest, v1:
   v1::LiveLipBlinkFrame frame_;      // the read in flight
   int64_t due_ = 0, next_ = 0;       // chunks due; the next chunk to write
   bool writing_ = false, broken_ = false, released_ = false, done_ = false;
+  std::vector<Clock::time_point> written_at_;  // per chunk, when handed to gRPC
   std::vector<Sample> samples_;
   std::vector<double> pacer_lag_, write_wait_;
   int64_t frames_ = 0, expected_frame_ = 0, out_of_order_ = 0;
@@ -467,12 +473,12 @@ int Run(const Options& o) {
 
   // The figures, over all streams and per lookahead.
   std::map<int, std::vector<double>> lateness_by, total_by;
-  std::vector<double> lateness, total, pacer_lag, write_wait;
+  std::vector<double> lateness, total, from_write, pacer_lag, write_wait;
   std::map<std::string, int> errors;
   int64_t frames = 0, expected = 0, out_of_order = 0;
   for (const auto& s : streams) {
     for (const Sample& x : s->samples()) {
-      lateness.push_back(x.lateness), total.push_back(x.total);
+      lateness.push_back(x.lateness), total.push_back(x.total), from_write.push_back(x.from_write);
       lateness_by[s->lookahead()].push_back(x.lateness);
       total_by[s->lookahead()].push_back(x.total);
     }
@@ -490,6 +496,7 @@ int Run(const Options& o) {
   const double budget_ms = 1000.0 / kFps;
   const Percentiles late = Summarise(lateness), tot = Summarise(total);
   const Percentiles pacer = Summarise(pacer_lag), wait = Summarise(write_wait);
+  const Percentiles written = Summarise(from_write);
   const bool within = failed == 0 && frames == expected && out_of_order == 0 &&
                       late.n > 0 && late.p99 <= budget_ms;
   const double window_s = std::chrono::duration<double>(cpu1_at - cpu0_at).count();
@@ -519,6 +526,7 @@ int Run(const Options& o) {
   j["within_budget"] = within;
   j["lateness_ms"] = ToJson(late);
   j["total_ms"] = ToJson(tot);
+  j["lateness_from_write_ms"] = ToJson(written);
   j["pacer_lag_ms"] = ToJson(pacer);
   j["write_wait_ms"] = ToJson(wait);
   for (const auto& [la, v] : lateness_by) {
@@ -555,6 +563,7 @@ int Run(const Options& o) {
     std::printf("lateness ms (arrival - deciding chunk due): %s  budget %.1f: %s\n",
                 ToText(late).c_str(), budget_ms, within ? "within" : "OVER");
     std::printf("total ms (arrival - end of the frame's audio): %s\n", ToText(tot).c_str());
+    std::printf("from the write ms (arrival - chunk to gRPC): %s\n", ToText(written).c_str());
     std::printf("pacer lag ms (chunk to its stream - due):     %s\n", ToText(pacer).c_str());
     std::printf("write wait ms (chunk to gRPC - due):          %s\n", ToText(wait).c_str());
     if (lateness_by.size() > 1) {

@@ -82,32 +82,34 @@ import json, sys
 r = json.load(open(sys.argv[1]))
 s = r.get("server", {})
 l, t = r["lateness_ms"], r["total_ms"]
-print("%6d %8d %6d %7.2f %7.2f %8.2f %8.2f %8.2f %8.1f %9.3f %8.3f %7.1f  %s" % (
+print("%6d %8d %6d %7.2f %7.2f %8.2f %7.2f %8.2f %7.2f %8.1f %9.3f %7.3f %8.1f  %-6s %s" % (
     r["streams"], r["frames_measured"], r["streams_failed"], l["p50"], l["p99"], l["max"],
-    t["p99"], r["pacer_lag_ms"]["p99"], s.get("cpu_percent", 0), s.get("cpu_percent_per_stream", 0),
+    r["lateness_from_write_ms"]["p99"], t["p99"], r["pacer_lag_ms"]["p99"], s.get("cpu_percent", 0), s.get("cpu_percent_per_stream", 0),
     s.get("mib_per_stream", 0), r.get("client_cpu_percent", 0),
-    "within" if r["within_budget"] else "OVER"))
+    "within" if r["within_budget"] else "OVER", open("/proc/loadavg").read().split()[0]))
 PY
 }
 
 within() { python3 -c 'import json,sys; sys.exit(0 if json.load(open(sys.argv[1]))["within_budget"] else 1)' "$work/$1.json"; }
 
-echo "koma_live_load against koma_server on 127.0.0.1 ($(nproc) cores shared by both, nothing pinned);"
-echo "chunks $chunk_ms ms, lookahead $lookahead, $duration s per N (first $warmup s not counted);"
-echo "recordings: voice.flac 16 kHz, espeak-ng English 48 kHz, Japanese 16 kHz; 1 connection per stream"
-echo "lateness = arrival - the deciding chunk's send time (due); budget p99 <= 41.7 ms (one grid frame);"
-echo "pacer = this client's own lag handing chunks out (CPU starved when large); tot = from the frame's end"
-header="     N   frames failed lat.p50 lat.p99  lat.max  tot.p99 pacer99 srv.CPU%  CPU%/str MiB/str cli.CPU%"
+echo "koma_live_load against koma_server on 127.0.0.1 ($(nproc) cores shared by both, nothing pinned,"
+echo "load average $(cut -d' ' -f1-3 /proc/loadavg)); recordings: voice.flac 16 kHz, espeak-ng English"
+echo "48 kHz, Japanese 16 kHz, looped; one connection per stream"
 if [ "${LATENCY:-0}" = 1 ]; then
   duration=${DURATION:-60}  # not 20: p99 of ~1,400 frames per lookahead
+  echo "one stream per lookahead 0..3, chunks ${CHUNK_MS:-20} ms, $duration s (first $warmup s not counted)"
   start_server "$server" --log_level=warn
   "$load" --target "$target" --streams 4 --lookahead 0,1,2,3 --duration "$duration" \
     --warmup "$warmup" --audio "$audio" --chunk_ms "${CHUNK_MS:-20}" --server_pid "$server_pid" \
-    --json "$work/latency.json"
+    --json "$work/latency.json" $strict
   stop_server
   exit 0
 fi
-echo "$header"
+echo "chunks $chunk_ms ms, lookahead $lookahead, $duration s per N (first $warmup s not counted)"
+echo "lat = arrival - the deciding chunk's send time (due), budget p99 <= 41.7 ms (one grid frame);"
+echo "wr = the same from the chunk's write (the client's own stalls left out); tot = from the frame's"
+echo "end; pacer = this client's lag handing chunks out (large: this client is starved of CPU)"
+echo "     N   frames failed lat.p50 lat.p99  lat.max  wr.p99  tot.p99 pacer99 srv.CPU%  CPU%/str MiB/str cli.CPU%  budget load"
 best=0
 worst=0
 for n in $ns; do
