@@ -257,6 +257,9 @@ def test_missing_tools_are_named(server, tmp_path):
     assert done.returncode == 1 and "alsa-utils" in done.stderr, done.stderr
     done = live_cli(server, "--speed", "2")
     assert done.returncode == 2 and "--speed: only with --input" in done.stderr
+    done = live_cli(server, "--device", "no-such-device", "--seconds", "1")
+    assert done.returncode == 1 and "koma: arecord -D no-such-device: exited with status 1: " \
+        in done.stderr, done.stderr
 
 
 def test_wav_files_through_the_wave_module(client, tmp_path):
