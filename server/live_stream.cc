@@ -348,8 +348,11 @@ LiveStreams::~LiveStreams() {
 
 grpc::ServerBidiReactor<v1::LiveLipBlinkRequest, v1::LiveLipBlinkFrame>* LiveStreams::Open(
     grpc::CallbackServerContext* context) {
+  auto* stream = new LiveStream(context, limits_, this);
   std::optional<absl::Status> refused;
   {
+    // One lock for the check and the count: concurrent opens cannot pass the limit together,
+    // and EndAll (which sets ending_ under it) sees every stream counted.
     std::lock_guard<std::mutex> lock(mu_);
     if (ending_) {
       refused = absl::UnavailableError("the server is shutting down; connect to another");
@@ -357,15 +360,14 @@ grpc::ServerBidiReactor<v1::LiveLipBlinkRequest, v1::LiveLipBlinkFrame>* LiveStr
       refused = absl::ResourceExhaustedError(
           absl::StrCat(streams_.size(), " live streams are in flight, the server limit "
                                         "--live_max_streams; retry later or use another server"));
+    } else {
+      streams_.insert(stream);
+      if (!ticker_.joinable() && !stopping_) ticker_ = std::thread([this] { Tick(); });
     }
   }
-  auto* stream = new LiveStream(context, limits_, this);
-  {
-    std::lock_guard<std::mutex> lock(mu_);
-    streams_.insert(stream);
-    if (!ticker_.joinable() && !stopping_) ticker_ = std::thread([this] { Tick(); });
-  }
-  if (refused) stream->End(*refused);  // before gRPC has it: nothing runs on this thread
+  // A refused stream is not counted (a storm of retries must not hold the slots) and is never
+  // pinned: its OnDone deletes it. gRPC starts its Finish once it has the reactor.
+  if (refused) stream->End(*refused);
   return stream;
 }
 

@@ -78,7 +78,7 @@ class KomaServer {
   const MemoryBudget* memory_budget() const { return budget_.get(); }
   // The bound metrics port; 0 without a metrics endpoint.
   int metrics_port() const { return metrics_endpoint_ ? metrics_endpoint_->port() : 0; }
-  // LiveLipBlink streams in flight (server/live_stream.h), refused ones until they end.
+  // LiveLipBlink streams in flight (server/live_stream.h); refused ones are not counted.
   int live_streams_in_flight() const { return service_->live_streams_in_flight(); }
   // A channel to this server that bypasses the network (tests), with the same size limits.
   std::shared_ptr<grpc::Channel> InProcessChannel();

@@ -95,8 +95,15 @@ class Server:
     def rss(self):
         return rss_mib(self.process.pid)
 
-    def lines(self, pattern):
-        return [line for line in open(self.log) if re.search(pattern, line)]
+    def lines(self, pattern, within=2.0):
+        """The log lines matching `pattern`, waiting up to `within` s for one (a stream's line
+        is written when the server is done with it, just after its client has the status)."""
+        start = time.monotonic()
+        while True:
+            found = [line for line in open(self.log) if re.search(pattern, line)]
+            if found or time.monotonic() - start > within * SCALE:
+                return found
+            time.sleep(0.05)
 
     def stop(self):
         self.process.send_signal(signal.SIGTERM)

@@ -478,6 +478,34 @@ TEST_F(LiveStreamTest, MoreStreamsThanTheLimitAreRefusedAndASlotFreesWhenOneEnds
   EXPECT_TRUE(WaitInFlight(0));
 }
 
+TEST_F(LiveStreamTest, StreamsOpenedTogetherNeverPassTheLimit) {
+  server::ServerConfig config = Config();
+  config.limits.live_max_streams = 4;
+  Restart(config);
+  constexpr int kClients = 16;
+  std::vector<OpenStream> streams(kClients);
+  std::vector<grpc::Status> opened(kClients);
+  std::vector<std::thread> clients;
+  for (int i = 0; i < kClients; ++i) {
+    clients.emplace_back([&, i] { opened[i] = streams[i].Open(stub()); });
+  }
+  for (std::thread& t : clients) t.join();
+  int accepted = 0;
+  for (const grpc::Status& s : opened) {
+    if (s.ok()) {
+      ++accepted;
+    } else {
+      EXPECT_EQ(s.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << s.error_message();
+    }
+  }
+  EXPECT_EQ(accepted, 4);
+  EXPECT_EQ(InFlight(), 4);
+  for (int i = 0; i < kClients; ++i) {
+    if (opened[i].ok()) EXPECT_TRUE(streams[i].Close().ok());
+  }
+  EXPECT_TRUE(WaitInFlight(0));
+}
+
 TEST_F(LiveStreamTest, ZeroStreamsRefusesEvery) {
   server::ServerConfig config = Config();
   config.limits.live_max_streams = 0;
