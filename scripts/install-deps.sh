@@ -5,7 +5,8 @@ set -euo pipefail
 
 # What building koma_server and koma needs (ninja-build, lld and ccache: faster builds, links
 # and rebuilds, scripts/build.sh; liblo-dev and libasound2-dev: `koma live` sends VMC's OSC
-# through liblo and captures the microphone through ALSA).
+# through liblo and captures the microphone through ALSA; libcivetweb-dev: its WebSocket client
+# talks to VTube Studio, named here although prometheus-cpp-dev brings it too).
 packages=(
   cmake g++ make ninja-build lld ccache pkg-config
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
@@ -15,7 +16,7 @@ packages=(
   prometheus-cpp-dev
   libsndfile1-dev
   zlib1g-dev
-  liblo-dev libasound2-dev
+  liblo-dev libasound2-dev libcivetweb-dev
 )
 # What the tests and benchmarks add (python3-grpcio: the interop test's second client;
 # buildah, podman, runc, debootstrap: deploy/test-image.sh builds and runs the image;
