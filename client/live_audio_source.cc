@@ -152,6 +152,9 @@ class DeviceSource : public LiveAudioSource {
 
   const LiveAudioFormat& format() const override { return format_; }
 
+  // ALSA's null device hands out silence at once; every other device waits for its samples.
+  bool real_time() const override { return snd_pcm_type(pcm_) != SND_PCM_TYPE_NULL; }
+
   absl::StatusOr<bool> Next(std::string* bytes) override {
     bytes->resize(period_ * 2);
     for (int attempt = 0;; ++attempt) {

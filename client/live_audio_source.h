@@ -35,6 +35,10 @@ class LiveAudioSource {
   // (replaced); false at the end of a recording (a device has no end). Errors name the file
   // or the device.
   virtual absl::StatusOr<bool> Next(std::string* bytes) = 0;
+  // True when the source keeps real time itself (a sound card: Next waits for the audio), so
+  // the caller must not pace it: the card's clock and the computer's drift apart, and waiting
+  // on the computer's would let the card's buffer overrun within minutes.
+  virtual bool real_time() const { return false; }
 };
 
 // The recording at `path`, decoded by libsndfile (WAV, FLAC, Ogg Vorbis/Opus, MP3, ...), its
@@ -49,8 +53,9 @@ absl::StatusOr<std::unique_ptr<LiveAudioSource>> OpenLiveFile(const std::string&
 absl::StatusOr<std::unique_ptr<LiveAudioSource>> OpenLiveDevice(const std::string& device);
 
 // Real time: the audio up to sample frame `end` is handed on no sooner than end / rate
-// seconds (divided by `speed`) after the first chunk; `speed` 0 never waits. A device keeps
-// real time itself (the pacer then never waits); ALSA's null device does not, and is paced.
+// seconds (divided by `speed`) after the first chunk; `speed` 0 never waits. For a recording,
+// and for ALSA's null device, which answers at once; a sound card keeps time itself
+// (LiveAudioSource::real_time).
 class LivePacer {
  public:
   LivePacer(int sample_rate, double speed);

@@ -148,7 +148,8 @@ int RunLive(const LiveArgs& args) {
     v1::LiveLipBlinkRequest request;
     *request.mutable_setup() = setup;
     bool open = stream->Write(request);
-    LivePacer pacer(format.sample_rate, args.input.empty() ? 1.0 : args.speed);
+    LivePacer pacer(format.sample_rate,
+                    source.real_time() ? 0.0 : args.input.empty() ? 1.0 : args.speed);
     const size_t frame_bytes = static_cast<size_t>(format.bytes_per_frame());
     int64_t sent = 0;
     std::string bytes;

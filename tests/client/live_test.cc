@@ -179,6 +179,7 @@ TEST(LiveAudioSourceTest, ARecordingIn10MsChunksOfItsOwnSamples) {
   EXPECT_EQ(source->format().sample_rate, 16000);
   EXPECT_EQ(source->format().channels, 1);
   EXPECT_EQ(source->format().sample_format, v1::LIVE_SAMPLE_S16LE);  // 16-bit FLAC
+  EXPECT_FALSE(source->real_time());  // paced by the command
   // The decoder's mono samples, for comparison.
   ASSERT_OK_AND_ASSIGN(const std::string bytes, ReadFile(kVoice));
   ASSERT_OK_AND_ASSIGN(auto decoder, formats::AudioDecoder::Open(bytes, {}));
@@ -221,6 +222,7 @@ TEST(LiveAudioSourceTest, AlsasNullDeviceGivesSilence) {
   ASSERT_OK_AND_ASSIGN(std::unique_ptr<LiveAudioSource> source, OpenLiveDevice("null"));
   EXPECT_EQ(source->format().sample_rate, 48000);
   EXPECT_EQ(source->format().channels, 1);
+  EXPECT_FALSE(source->real_time());  // it answers at once: paced by the command
   std::string chunk;
   ASSERT_OK_AND_ASSIGN(const bool more, source->Next(&chunk));
   EXPECT_TRUE(more);
