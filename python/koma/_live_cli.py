@@ -44,7 +44,7 @@ def add_parser(commands, common):
     p.add_argument("--input", metavar="FILE",
                    help="a recording played at real time: WAV, or FLAC, Ogg, MP3 through sox "
                         "(default: the microphone)")
-    p.add_argument("--device", default="default",
+    p.add_argument("--device",
                    help="the microphone's ALSA device, 48 kHz mono (arecord -D; default "
                         "\"default\"; \"null\" for no sound card)")
     p.add_argument("--seconds", type=_not_negative,
@@ -94,11 +94,23 @@ class _Usage(Exception):
 
 
 def _source(args):
+    """The audio source; its errors as the C++ `koma live` words them."""
     if args.input is not None:
-        return _live_sources.AudioFile(args.input)
+        if args.device is not None:
+            raise _Usage(f"--input {args.input} and --device {args.device}: give one audio "
+                         "source")
+        try:
+            return _live_sources.AudioFile(args.input)
+        except _live_sources.AudioSourceError as error:
+            why = str(error)
+            why = why[len(args.input) + 2:] if why.startswith(f"{args.input}: ") else why
+            raise OSError(f"--input {args.input}: {why}") from None
+        except OSError as error:
+            raise OSError(f"--input {args.input}: cannot read {args.input}: "
+                          f"{error.strerror or error}") from None
     if args.speed is not None:
         raise _Usage("--speed: only with --input (the microphone is real time)")
-    return _live_sources.Microphone(args.device, MIC_RATE, 1)
+    return _live_sources.Microphone(args.device or "default", MIC_RATE, 1)
 
 
 def _write_line(out, text):
@@ -226,9 +238,14 @@ def run(args, make_client):
                     shown = _write_line(sys.stdout, line) and shown
                 if not shown:
                     break  # the output's reader has gone (| head): stop the stream, quietly
-    except BaseException:
+    except BaseException as error:
         if recorder is not None and recorder.mouth:
             recorder.write(args.record)  # the frames that came before the error
+        if isinstance(error, _live_sources.AudioSourceError):  # arecord or sox failed
+            if args.input is not None:
+                raise OSError(f"--input {args.input}: {error}") from None
+            raise OSError(f"--device {source.device}: {error} (`arecord -L` lists the capture "
+                          "devices; --input FILE plays a recording instead)") from None
         raise
     finally:
         source.close()

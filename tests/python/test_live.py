@@ -258,8 +258,14 @@ def test_missing_tools_are_named(server, tmp_path):
     done = live_cli(server, "--speed", "2")
     assert done.returncode == 2 and "--speed: only with --input" in done.stderr
     done = live_cli(server, "--device", "no-such-device", "--seconds", "1")
-    assert done.returncode == 1 and "koma: arecord -D no-such-device: exited with status 1: " \
-        in done.stderr, done.stderr
+    assert done.returncode == 1 and "koma: --device no-such-device: arecord -D no-such-device: " \
+        "exited with status 1: " in done.stderr and "arecord -L" in done.stderr, done.stderr
+    done = live_cli(server, "--input", "no-such.wav")
+    assert done.returncode == 1
+    assert done.stderr == "koma: --input no-such.wav: cannot read no-such.wav: No such file or " \
+        "directory\n"
+    done = live_cli(server, "--input", VOICE, "--device", "null")
+    assert done.returncode == 2 and "give one audio source" in done.stderr
 
 
 def test_wav_files_through_the_wave_module(client, tmp_path):
