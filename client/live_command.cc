@@ -136,6 +136,12 @@ int RunLive(const LiveArgs& args) {
   action.sa_handler = &OnLiveInterrupt;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, &previous);
+  // A closed --json pipe is a write error (EPIPE) the JSON sink ends the session on.
+  struct sigaction ignore {};
+  struct sigaction previous_pipe {};
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  sigaction(SIGPIPE, &ignore, &previous_pipe);
 
   // The audio thread: the setup, the chunks paced to real time, WritesDone.
   SentLog sent_log;
@@ -195,7 +201,8 @@ int RunLive(const LiveArgs& args) {
       if (failed[i]) continue;
       if (absl::Status s = sinks[i]->Frame(frame, timing); !s.ok()) {
         failed[i] = true;
-        if (sink_status.ok()) sink_status = s;
+        // CANCELLED: the sink ends the session cleanly (LiveSink::Frame).
+        if (sink_status.ok() && !absl::IsCancelled(s)) sink_status = s;
         stop = true;
       }
     }
@@ -203,6 +210,7 @@ int RunLive(const LiveArgs& args) {
   writer.join();
   const grpc::Status status = stream->Finish();
   sigaction(SIGINT, &previous, nullptr);
+  sigaction(SIGPIPE, &previous_pipe, nullptr);
 
   absl::Status close_status;
   for (size_t i = 0; i < sinks.size(); ++i) {

@@ -18,6 +18,8 @@ double RoundMs(double ms) { return std::round(ms * 1000.0) / 1000.0; }
 
 absl::Status WriteLine(std::FILE* out, const std::string& line) {
   if (std::fputs(line.c_str(), out) < 0 || std::fputc('\n', out) == EOF || std::fflush(out) != 0) {
+    // The pipe's reader left (`koma live --json | head`): the session ends, as with Ctrl-C.
+    if (errno == EPIPE) return absl::CancelledError("the output's reader left");
     return absl::UnavailableError(absl::StrCat(out == stdout ? "standard output" : "standard error",
                                                ": write failed: ", std::strerror(errno)));
   }

@@ -37,7 +37,8 @@ class LiveSink {
   // Each decided frame, in order from grid_frame 0, as soon as it arrives. Must not block for
   // long: the next frames wait (a network sink sends without waiting for an answer). An error
   // ends the stream (WritesDone) and the command exits 1 with the message; a sink that can
-  // lose a frame without harm (a UDP packet) warns on stderr itself and returns OK.
+  // lose a frame without harm (a UDP packet) warns on stderr itself and returns OK. CANCELLED
+  // ends the stream as Ctrl-C does, exit 0 and no message (the reader of --json's pipe left).
   virtual absl::Status Frame(const v1::LiveLipBlinkFrame& frame,
                              const LiveFrameTiming& timing) = 0;
 

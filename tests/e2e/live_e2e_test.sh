@@ -68,6 +68,33 @@ frames=$(wc -l <"$work/int.jsonl")
 [ "$frames" -lt 92 ] || fail "Ctrl-C did not end the audio ($frames frames)"
 "$python" "$check" record "$work/int.motion3.json" "$work/int.jsonl" || fail "Ctrl-C: --record"
 
+# The reader of --json's pipe leaving ends the session as Ctrl-C does (exit 0, the record).
+set +o pipefail
+"$koma" live --input "$voice" --json -q --record "$work/pipe.motion3.json" --server "$target" |
+  head -n 1 >"$work/pipe.jsonl"
+code=${PIPESTATUS[0]}
+set -o pipefail
+[ "$code" = 0 ] || fail "koma live --json | head -n 1 exited $code"
+"$python" "$check" lines "$work/pipe.jsonl" --frames 1 || fail "| head -n 1: the line"
+grep -q '"ParamMouthOpenY"' "$work/pipe.motion3.json" || fail "| head: no --record written"
+
+# A server shutting down mid-stream: its UNAVAILABLE message, exit 1, the record still written.
+start_server_as doomed "$server_bin"
+"$koma" live --input "$voice" --json -q --record "$work/doomed.motion3.json" \
+  --server "$target_doomed" >"$work/doomed.jsonl" 2>"$work/doomed.err" &
+live_pid=$!
+pids_to_kill+=("$live_pid")
+lines_of_doomed() { [ "$(wc -l <"$work/doomed.jsonl")" -ge "$1" ]; }
+wait_until 10 lines_of_doomed 6 || fail "koma live on the doomed server: no frames"
+stop_server_as doomed
+code=0
+reap "$live_pid" || code=$?
+[ "$code" = 1 ] || fail "koma live after its server stopped exited $code"
+grep -q "koma: UNAVAILABLE: the server is shutting down" "$work/doomed.err" ||
+  fail "the server's shutdown message: $(cat "$work/doomed.err")"
+"$python" "$check" record "$work/doomed.motion3.json" "$work/doomed.jsonl" ||
+  fail "--record after the server stopped"
+
 # 5. Errors: the file, the device, the server's message, usage.
 expect_error 1 "koma: --input $work/missing.wav: cannot read" \
   "$koma" live --input "$work/missing.wav" --server "$target"
@@ -81,6 +108,8 @@ expect_error 1 "koma: INVALID_ARGUMENT: setup.timing_fps" \
   "$koma" live --input "$voice" --timing-fps 2000 --server "$target"
 expect_error 2 "koma live: --input .* and --device null: give one audio source" \
   "$koma" live --input "$voice" --device null --server "$target"
+expect_error 1 "koma: --record: cannot write $work/no/x.motion3.json" \
+  "$koma" live --input "$voice" --record "$work/no/x.motion3.json" --server "$target"
 expect_error 2 "koma live: --speed: needs --input FILE" \
   "$koma" live --device null --speed 0 --server "$target"
 expect_error 1 "koma: UNAVAILABLE: cannot reach koma_server at 127.0.0.1:" \
