@@ -3,7 +3,9 @@
 // Studio requests' JSON, the flags' parsing and the token file.
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "client/avatar_levels.h"
+#include "client/avatar_sink_flags.h"
 #include "client/vmc_sink.h"
 #include "client/vtube_studio_sink.h"
 #include "client/vts_messages.h"
@@ -278,6 +281,51 @@ TEST(VtsTokenTest, DefaultPathFollowsXdg) {
     EXPECT_EQ(DefaultVtsTokenFile(), std::string(home) + "/.config/koma/vts-token");
   }
   if (saved_xdg != nullptr) setenv("XDG_CONFIG_HOME", xdg.c_str(), 1);
+}
+
+// Parses `args` as a command's flags; the sinks they ask for, or the error.
+absl::StatusOr<std::vector<std::unique_ptr<LiveSink>>> SinksOf(std::vector<std::string> args) {
+  CLI::App command;
+  AvatarSinkFlags flags;
+  AddAvatarSinkFlags(command, flags);
+  std::reverse(args.begin(), args.end());  // CLI11 takes them last first
+  try {
+    command.parse(args);
+  } catch (const CLI::ParseError& e) {
+    return absl::InvalidArgumentError(e.what());
+  }
+  std::vector<std::unique_ptr<LiveSink>> sinks;
+  if (absl::Status s = AddAvatarSinks(flags, sinks); !s.ok()) return s;
+  return sinks;
+}
+
+TEST(AvatarSinkFlagsTest, EachFlagItsSink) {
+  absl::StatusOr<std::vector<std::unique_ptr<LiveSink>>> none = SinksOf({});
+  ASSERT_TRUE(none.ok());
+  EXPECT_TRUE(none->empty());
+  absl::StatusOr<std::vector<std::unique_ptr<LiveSink>>> both =
+      SinksOf({"--vmc", "--vts", "--vmc-mouth-clip", "aa"});
+  ASSERT_TRUE(both.ok()) << both.status();
+  ASSERT_EQ(both->size(), 2u);
+  EXPECT_NE(dynamic_cast<VmcSink*>((*both)[0].get()), nullptr);
+  EXPECT_NE(dynamic_cast<VtubeStudioSink*>((*both)[1].get()), nullptr);
+  absl::StatusOr<std::vector<std::unique_ptr<LiveSink>>> with_values =
+      SinksOf({"--vmc", "192.168.1.20:39540", "--vts", "ws://127.0.0.1:8001"});
+  ASSERT_TRUE(with_values.ok()) << with_values.status();
+  EXPECT_EQ(with_values->size(), 2u);
+}
+
+TEST(AvatarSinkFlagsTest, BadValuesAreRefusedAtParse) {
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"--vmc", "localhost"},
+                                             {"--vmc", "h:0"},
+                                             {"--vts", "wss://h:1"},
+                                             {"--vmc-blink-clip", ""},
+                                             {"--vts-eye-right-param", ""}}) {
+    const absl::Status status = SinksOf(args).status();
+    EXPECT_TRUE(absl::IsInvalidArgument(status)) << args[0] << " " << args[1];
+    EXPECT_THAT(std::string(status.message()), HasSubstr(args[0])) << status;
+  }
 }
 
 }  // namespace
