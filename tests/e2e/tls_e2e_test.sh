@@ -36,6 +36,10 @@ ca=(--tls-ca "$pki/koma-test-ca.pem")
 KOMA_TLS_CA=$pki/koma-test-ca.pem KOMA_TLS_CERT=$pki/client.pem KOMA_TLS_KEY=$pki/client.key \
   "$client_bin" skeletal "$(dirname "$0")/../../samples/pitch.bvh" -o "$work/out.bvh" \
   --server "$target" >/dev/null || fail "retiming over mutual TLS (files from the environment)"
+"$client_bin" live --input "$(dirname "$0")/../../samples/voice.flac" --speed 0 --json -q \
+  --server "$target" "${ca[@]}" --tls-cert "$pki/client.pem" --tls-key "$pki/client.key" \
+  >"$work/live.jsonl" || fail "koma live over mutual TLS"
+[ "$(wc -l <"$work/live.jsonl")" = 92 ] || fail "koma live over mutual TLS: not 92 frames"
 
 refused() {  # the command must fail with UNAVAILABLE
   local code=0
@@ -46,6 +50,8 @@ refused "$client_bin" health "${ca[@]}" || fail "no client certificate was accep
 refused "$client_bin" health "${ca[@]}" --tls-cert "$pki/impostor.pem" \
   --tls-key "$pki/impostor.key" || fail "a client certificate from another CA was accepted"
 refused "$client_bin" health || fail "a plaintext client was accepted"
+refused "$client_bin" live --input "$(dirname "$0")/../../samples/voice.flac" --speed 0 \
+  "${ca[@]}" || fail "koma live without a client certificate was accepted"
 refused "$client_bin" health --tls-cert "$pki/client.pem" --tls-key "$pki/client.key" \
   || fail "the client trusted a server certificate from an unknown CA"
 
