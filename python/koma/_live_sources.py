@@ -1,17 +1,23 @@
 """Audio for a live stream: a file played at real time, or the microphone through ALSA.
 
-koma.AudioFile(path): WAV through the stdlib `wave` module (integer PCM, any width, sent as
-16-bit); other formats (FLAC, Ogg, MP3, float WAV) decoded by `sox FILE -t raw ...` (Debian
-package sox) when it is on PATH. koma.Microphone(device): `arecord` (Debian package
-alsa-utils), 16-bit mono at 48 kHz. Both give .sample_rate, .channels, .sample_format and
-.chunks(chunk_ms, speed, seconds, stop): 16-bit little-endian chunks paced by time.monotonic.
+koma.AudioFile(path): WAV through the stdlib `wave` module (integer PCM); other formats (FLAC,
+Ogg, MP3, float WAV) decoded by `sox FILE -t raw ...` (Debian package sox) when it is on PATH.
+As the C++ `koma live` (client/live_audio_source.cc): 8- and 16-bit PCM is sent as "s16le",
+anything else as "f32le". koma.Microphone(device): `arecord` (Debian package alsa-utils),
+16-bit mono at 48 kHz. Both give .sample_rate, .channels, .sample_format and
+.chunks(chunk_ms, speed, seconds, stop): little-endian chunks of whole sample frames, a
+recording's paced by time.monotonic (a sound card paces itself).
 """
+import array
 import shutil
 import subprocess
+import sys
 import time
 import wave
 
 S16 = "s16le"
+F32 = "f32le"
+_PCM16_ENCODINGS = ("Signed Integer PCM", "Unsigned Integer PCM", "FLAC")  # sox --i -e
 
 
 class AudioSourceError(OSError):
@@ -51,7 +57,7 @@ class _Source:
             raise ValueError(f"speed: {speed!r} must be >= 0 (0: as fast as the server reads)")
         frames_per_chunk = max(1, round(self.sample_rate * chunk_ms / 1000.0))
         limit = None if seconds is None else max(0, round(seconds * self.sample_rate))
-        frame_bytes = 2 * self.channels
+        frame_bytes = (2 if self.sample_format == S16 else 4) * self.channels
         sent = 0
         start = time.monotonic()
         try:
@@ -78,6 +84,21 @@ class _Source:
             self.close()
 
 
+def _to_f32(data, width):
+    """Little-endian integer PCM of 3 or 4 bytes per sample as 32-bit floats (full scale 1),
+    as libsndfile reads it."""
+    ints = bytearray(len(data) // width * 4)
+    for k in range(width):
+        ints[4 - width + k::4] = data[k::width]
+    values = array.array("i", bytes(ints))
+    if sys.byteorder != "little":
+        values.byteswap()
+    floats = array.array("f", [v * (1.0 / 2147483648.0) for v in values])
+    if sys.byteorder != "little":
+        floats.byteswap()
+    return floats.tobytes()
+
+
 def _to_s16(data, width):
     """Little-endian integer PCM of `width` bytes per sample as 16-bit (its top two bytes)."""
     if width == 2:
@@ -98,10 +119,12 @@ class _Wav(_Source):
         self.sample_rate = reader.getframerate()
         self.channels = reader.getnchannels()
         self._width = reader.getsampwidth()
+        self.sample_format = S16 if self._width <= 2 else F32
         self.description = f"{path}: WAV, {8 * self._width}-bit PCM (Python's wave)"
 
     def _read(self, frames):
-        return _to_s16(self._reader.readframes(frames), self._width)
+        data = self._reader.readframes(frames)
+        return _to_s16(data, self._width) if self._width <= 2 else _to_f32(data, self._width)
 
     def close(self):
         self._reader.close()
@@ -119,7 +142,8 @@ class _Process(_Source):
             raise AudioSourceError(f"{what}: cannot run {argv[0]}: {error}") from None
 
     def _read(self, frames):
-        data = self._process.stdout.read(frames * 2 * self.channels)
+        data = self._process.stdout.read(frames * (2 if self.sample_format == S16 else 4) *
+                                         self.channels)
         if not data:
             self._check_exit()
         return data
@@ -144,11 +168,11 @@ class _Process(_Source):
         self._process.stderr.close()
 
 
-def _sox_info(sox, path, flag):
+def _sox_info(sox, path, flag, number=True):
     done = subprocess.run([sox, "--i", flag, path], capture_output=True, text=True)
-    if done.returncode != 0 or not done.stdout.strip().isdigit():
+    if done.returncode != 0 or (number and not done.stdout.strip().isdigit()):
         raise AudioSourceError(f"{path}: sox cannot read it: {done.stderr.strip()}")
-    return int(done.stdout.strip())
+    return int(done.stdout.strip()) if number else done.stdout.strip()
 
 
 class _Sox(_Process):
@@ -156,16 +180,22 @@ class _Sox(_Process):
         self.path = path
         self.sample_rate = _sox_info(sox, path, "-r")
         self.channels = _sox_info(sox, path, "-c")
-        self.description = f"{path}: decoded by sox"
-        # -D: no dither, so a float or 24-bit file gives the samples koma's own reader would.
-        super().__init__([sox, "-q", "-D", path, "-t", "raw", "-e", "signed-integer", "-b",
-                          "16", "-L", "-"], f"sox decoding {path}")
+        encoding = _sox_info(sox, path, "-e", number=False)
+        pcm16 = _sox_info(sox, path, "-b") in (8, 16) and encoding in _PCM16_ENCODINGS
+        self.sample_format = S16 if pcm16 else F32
+        self.description = f"{path}: {encoding}, decoded by sox"
+        raw = ["-e", "signed-integer", "-b", "16"] if pcm16 else ["-e", "floating-point", "-b",
+                                                                   "32"]
+        # -D: no dither (sox adds it when it reduces the precision).
+        super().__init__([sox, "-q", "-D", path, "-t", "raw", *raw, "-L", "-"],
+                         f"sox decoding {path}")
 
 
 def AudioFile(path):
     """A recording to play into a live stream: a WAV (integer PCM) through `wave`, any other
     format sox reads (FLAC, Ogg Vorbis, MP3, float WAV) through sox when it is on PATH.
-    Its .chunks() are 16-bit ("s16le") at the file's rate and channels. Raises
+    Its .chunks() are at the file's rate and channels, "s16le" for 8- and 16-bit PCM,
+    "f32le" otherwise (.sample_format). Raises
     AudioSourceError (an OSError) naming what is missing."""
     path = str(path)
     with open(path, "rb"):
@@ -186,7 +216,8 @@ def AudioFile(path):
 class Microphone(_Process):
     """The microphone through ALSA's `arecord` (Debian package alsa-utils): 16-bit, `channels`
     channels at `sample_rate`, from `device` ("default"; "null" gives samples without a
-    sound card). Reads block at real time (ALSA's null device does not: chunks() paces it)."""
+    sound card). Reads block at the card's rate (ALSA's null device's do not: chunks() paces
+    it)."""
 
     def __init__(self, device="default", sample_rate=48000, channels=1):
         arecord = shutil.which("arecord")
@@ -194,6 +225,10 @@ class Microphone(_Process):
             raise AudioSourceError("the microphone needs arecord, which is not on PATH: install "
                                    "the Debian package alsa-utils (or play a file: --input FILE)")
         self.device = device
+        # A sound card's clock paces its reads, and drifts from the computer's: pacing it
+        # by time.monotonic would overrun its buffer within minutes. ALSA's null device
+        # answers at once, so it is paced.
+        self.paced = device == "null"
         self.sample_rate = int(sample_rate)
         self.channels = int(channels)
         self.description = f"ALSA device {device} (arecord)"

@@ -268,23 +268,28 @@ def test_missing_tools_are_named(server, tmp_path):
     assert done.returncode == 2 and "give one audio source" in done.stderr
 
 
-def test_wav_files_through_the_wave_module(client, tmp_path):
-    # The FLAC's samples as a 24-bit stereo WAV (each sample in both channels, a zero byte
-    # below it), read without sox: the same frames.
+def _voice_wav24(wav):
+    """The FLAC's samples as a 24-bit stereo WAV: each sample in both channels, a zero byte
+    below it."""
     raw = _voice_s16()
     frames = bytearray(len(raw) * 3)
     for channel in (0, 3):
         frames[channel + 1::6] = raw[0::2]
         frames[channel + 2::6] = raw[1::2]
-    wav = tmp_path / "voice24.wav"
     with wave.open(str(wav), "wb") as w:
         w.setnchannels(2)
         w.setsampwidth(3)
         w.setframerate(VOICE_RATE)
         w.writeframes(bytes(frames))
+    return wav
+
+
+def test_wav_files_through_the_wave_module(client, tmp_path):
+    # Read without sox: the same frames.
+    wav = _voice_wav24(tmp_path / "voice24.wav")
     source = koma.AudioFile(wav)
     assert (source.sample_rate, source.channels, source.sample_format) == \
-        (VOICE_RATE, 2, "s16le")
+        (VOICE_RATE, 2, "f32le")  # as koma live: 16-bit PCM as S16LE, the rest as F32LE
     source.close()
     assert decided(client.live_file(wav, speed=0)) == decided(client.live_file(VOICE, speed=0))
 
@@ -408,12 +413,23 @@ def test_the_same_as_the_cpp_koma_live(server, tmp_path):
     def words(text):
         return [line.split(";")[0] for line in text.splitlines()[1:]]
     assert words(py.stderr) == words(cpp.stderr)
-    assert py.stderr.startswith(f"koma live: {VOICE}: decoded by sox, 16000 Hz, 1 channel, "
-                                f"S16LE -> {server.address}\n")
+    assert py.stderr.startswith(f"koma live: {VOICE}: FLAC, decoded by sox, 16000 Hz, "
+                                f"1 channel, S16LE -> {server.address}\n")
+    # A 24-bit stereo WAV goes as F32LE from both.
+    wav = str(_voice_wav24(tmp_path / "voice24.wav"))
+    flags = ["--input", wav, "--speed", "0", "--json", "--server", server.address]
+    cpp, py = run_cli("live", *flags), run_python_cli("live", *flags)
+    assert py.returncode == 0, py.stderr
+    assert strip(py.stdout) == strip(cpp.stdout) and len(strip(py.stdout)) == VOICE_FRAMES
+    assert "2 channels, F32LE" in py.stderr.splitlines()[0]
+    assert "2 channels, F32LE" in cpp.stderr.splitlines()[0]
 
 
-def test_wav_sample_widths_as_16_bit():
-    from koma._live_sources import _to_s16
+def test_wav_sample_widths_as_16_bit_or_float():
+    from koma._live_sources import _to_f32, _to_s16
+    assert array.array("f", _to_f32(bytes([0, 0, 0x80, 0xFF, 0xFF, 0x7F, 0, 0, 0x40]), 3)) \
+        .tolist() == [-1.0, 1 - 2 ** -23, 0.5]
+    assert array.array("f", _to_f32(bytes([0, 0, 0, 0xC0]), 4)).tolist() == [-0.5]
     assert _to_s16(bytes([0x00, 0x80, 0xFF]), 1) == bytes([0, 0x80, 0, 0x00, 0, 0x7F])
     assert _to_s16(bytes([0x11, 0x22, 0x34, 0x12, 0xFF, 0xFF, 0x00, 0x80]), 4) == \
         bytes([0x34, 0x12, 0x00, 0x80])
