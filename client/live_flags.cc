@@ -113,7 +113,8 @@ CLI::App* AddLiveCommand(CLI::App& app, LiveArgs& args) {
       ->type_name("HOST:PORT")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   AddNumberWithDefault(cmd, "--deadline", &args.deadline_seconds, AtLeast(0),
-                       "end the stream after this many seconds (default 0: none)")
+                       "RPC deadline: the stream fails with DEADLINE_EXCEEDED this many seconds "
+                       "after it starts (default 0: none; --seconds ends a session cleanly)")
       ->type_name("SECONDS");
   cmd->add_flag("--json", args.json,
                 "one JSON object per frame on stdout, a line each, as it arrives (docs/live.md); "
