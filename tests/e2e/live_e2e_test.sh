@@ -39,6 +39,16 @@ steady.sort()
 assert steady[len(steady) // 2] >= 60, steady  # the lookahead's audio was waited for
 print("wall_late_ms: median %.1f, max %.1f" % (steady[len(steady) // 2], steady[-1]))
 PY
+# Real time decides what --speed 0 did: every frame but the last two (lookahead 2), which the
+# cut at 3 s decides on less audio.
+"$python" - "$work/rt.jsonl" "$work/fast.jsonl" <<'PY' || fail "real time against --speed 0"
+import json, sys
+def frames(path):
+    return [{k: v for k, v in json.loads(l).items() if not k.startswith("wall_")}
+            for l in open(path)]
+rt, fast = frames(sys.argv[1]), frames(sys.argv[2])
+assert rt[:70] == fast[:70], [(a, b) for a, b in zip(rt, fast) if a != b][:2]
+PY
 "$python" "$check" record "$work/rec.motion3.json" "$work/rt.jsonl" || fail "--record"
 "$koma" curves "$work/rec.motion3.json" -o "$work/rec.curves.motion3.json" --server "$target" \
   >/dev/null || fail "koma curves cannot read the --record file"
