@@ -87,6 +87,10 @@ def add_parser(commands, common):
                         "lines go to stderr")
     p.add_argument("-q", "--quiet", action="store_true", help="no human lines or summary")
     common(p, deadline=None)
+    # As `koma live --deadline`: 0 is none too.
+    deadline = next(a for a in p._actions if "--deadline" in a.option_strings)
+    deadline.type, deadline.help = _not_negative, "end the stream after this many seconds " \
+        "(default 0: none)"
 
 
 class _Usage(Exception):
@@ -186,7 +190,7 @@ def _settings(args):
                "max": args.mouth_max},
         eyes={"min": args.eyes_min, "max": args.eyes_max, "auto_blink": auto},
         voice_settings={"any_sound": True} if args.voice_settings_any_sound else None,
-        timeout=args.deadline)
+        timeout=args.deadline or None)
 
 
 def run(args, make_client):

@@ -442,3 +442,13 @@ def test_a_float_wav_needs_sox(server, client, tmp_path):
     done = live_cli(server, "--input", str(wav), env=dict(os.environ, PATH=str(tmp_path)))
     assert done.returncode == 1 and "not a WAV file Python's wave module reads" in done.stderr \
         and "install the Debian package sox" in done.stderr, done.stderr
+
+
+def test_cli_deadline(server):
+    done = live_cli(server, "--input", VOICE, "--json", "--deadline", "0.5")  # real time
+    assert done.returncode == 1 and "koma: DEADLINE_EXCEEDED: " in done.stderr, done.stderr
+    lines = [json.loads(line) for line in done.stdout.splitlines()]
+    assert len(lines) <= 12 and [line["grid_frame"] for line in lines] == \
+        list(range(len(lines)))
+    assert live_cli(server, "--input", VOICE, "--speed", "0", "-q", "--deadline", "0") \
+        .returncode == 0  # 0: none, as koma live
