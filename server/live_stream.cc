@@ -1,5 +1,6 @@
 #include "server/live_stream.h"
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -74,7 +75,10 @@ class LiveStream final
     {
       std::lock_guard<std::mutex> lock(mu_);
       writing_ = false;
-      if (ok) ++frames_out_;
+      if (ok) {
+        ++frames_out_;
+        last_write_ = Clock::now();
+      }
       if (!ok) AbortLocked(absl::CancelledError("the client is gone (a write failed)"));
       next = NextLocked();
     }
@@ -108,7 +112,8 @@ class LiveStream final
 
   // From the ticker: a stream without a message for --live_idle_seconds ends; an ending
   // stream whose client reads nothing (its last frames or its status are stuck behind gRPC's
-  // flow control) is cancelled kUnreadFinishSeconds after it began to end.
+  // flow control) is cancelled once no frame was written for kUnreadFinishSeconds since it
+  // began to end (a client that reads slowly is not cut while its last frames drain).
   void Tick(Clock::time_point now) {
     Next next;
     {
@@ -121,7 +126,7 @@ class LiveStream final
                       "or half-close the stream")),
                   false);
       } else if (ending_ && !cancelled_ && !done_reacting_ &&
-                 SecondsSince(end_time_, now) > kUnreadFinishSeconds) {
+                 SecondsSince(std::max(end_time_, last_write_), now) > kUnreadFinishSeconds) {
         cancelled_ = true;
         cancelling_ = true;
         cancel_thread_ = std::this_thread::get_id();
@@ -321,6 +326,7 @@ class LiveStream final
   bool writing_ = false;
   bool ending_ = false, drain_ = false;
   Clock::time_point end_time_;
+  Clock::time_point last_write_;  // the last frame written
   bool finished_ = false;        // Finish is decided (issued, or pending on `starting_`)
   bool finish_pending_ = false;  // decided, waiting for the reads and writes being started
   int starting_ = 0;             // threads between deciding a read or write and starting it

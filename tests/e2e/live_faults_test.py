@@ -19,6 +19,7 @@ import asyncio
 import math
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -252,25 +253,12 @@ def non_reader(server, read_later):
         if call.code() != grpc.StatusCode.RESOURCE_EXHAUSTED:
             fail('a stream did not start: %s %s' % (call.code(), call.details()), server.log)
         time.sleep(0.05)
-    # Sending stalls once the server stops reading (it ended the stream) and the client
-    # library's buffers are full (several MB: seconds): no progress in 1 s. A client that reads
-    # later reads 2 s after it began, well before the 5 s the server gives it after the end
-    # (the window fills in a fraction of a second).
-    start = time.monotonic()
-    last, last_change, peak = -1, start, rest
-    while time.monotonic() - start < 20 * SCALE:
-        if read_later and time.monotonic() - start > 2.0:
-            break
+    # The window fills and the stream ends in a fraction of a second. For 2 s: the server's
+    # RSS. A client that reads later reads then, well before the 5 s the server gives it.
+    peak = rest
+    while time.monotonic() - begun < 2.0:
         peak = max(peak, server.rss())
-        if sent[0] != last:
-            last, last_change = sent[0], time.monotonic()
-        elif time.monotonic() - last_change > 1.0:
-            break
         time.sleep(0.05)
-    stalled = time.monotonic()
-    if not read_later and stalled - start >= 20 * SCALE:
-        fail('a client reading nothing could send for 20 s (%.1f s of audio)' % (sent[0] / 10),
-             server.log)
     if peak > rest + 64:
         fail('the server RSS grew from %.0f to %.0f MiB for a client reading nothing'
              % (rest, peak), server.log)
@@ -288,21 +276,23 @@ def non_reader(server, read_later):
         took, last = accepted_within(stub, 3 * SCALE)
     else:
         took, last = accepted_within(stub, 10 * SCALE)  # the server cancels it 5 s after the end
+        freed = time.monotonic() - begun
         call.cancel()
     stop.set()
     server.alive('after a client that reads nothing')
     if took is None:
         fail('the stream of a client reading nothing kept its slot: %s' % (last,), server.log)
-    freed = time.monotonic() - begun
-    print('reading nothing: server RSS %.0f -> peak %.0f MiB; %s; a new stream accepted %.1f s '
-          'after the stream began (%.1f s after the client stalled)'
+    if read_later:
+        freed = time.monotonic() - begun
+    print('reading nothing: server RSS %.0f -> peak %.0f MiB in the first 2 s; %s; a new stream '
+          'accepted %.1f s after the stream began'
           % (rest, peak,
-             'read later: %d frames then %s' % (frames, code) if read_later else 'never read',
-             freed, time.monotonic() - stalled), flush=True)
+             'read at 2 s: %d frames then %s' % (frames, code) if read_later else 'never read',
+             freed), flush=True)
     if not read_later:
         # Ended when the window filled (well under a second here), cancelled 5 s after that.
-        if not 5.0 <= freed <= 12.0 * SCALE:
-            fail('the never-reading stream was let go %.1f s after it began, want 5-12' % freed,
+        if not 5.0 <= freed <= 9.0 * SCALE:
+            fail('the never-reading stream was let go %.1f s after it began, want 5-9' % freed,
                  server.log)
         if not server.lines(r'rpc LiveLipBlink .*code=CANCELLED .*the client read nothing for 5 s '
                             r'after the stream ended \(the client read none of the last 24 frames'):
@@ -441,6 +431,7 @@ def main():
         for s in servers:
             if s.process.poll() is None:
                 s.process.kill()
+    shutil.rmtree(work, ignore_errors=True)  # kept when a check fails
     print('PASS in %.1f s' % (time.monotonic() - started), flush=True)
 
 
