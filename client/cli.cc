@@ -249,7 +249,9 @@ const std::vector<std::string>& CommandNames() {
 }
 
 int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out) {
-  CLI::App app{"koma: retime animation into Japanese limited-animation timing", "koma"};
+  out->parser = std::make_shared<CLI::App>(
+      "koma: retime animation into Japanese limited-animation timing", "koma");
+  CLI::App& app = *out->parser;
   app.require_subcommand(1);
   app.fallthrough();  // TLS options may stand before or after the subcommand
   app.footer(kGlossary);

@@ -4,6 +4,7 @@
 #ifndef KOMA_CLIENT_CLI_H_
 #define KOMA_CLIENT_CLI_H_
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,10 @@
 #include "client/lip_blink_command.h"
 #include "client/live_command.h"
 #include "client/skeletal_command.h"
+
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace koma::client {
 
@@ -24,6 +29,9 @@ struct KomaCommandLine {
   LipBlinkArgs lip_blink;
   LiveArgs live;
   HealthArgs health;
+  // The parser, kept as long as the line: options a command asks after the parse (which were
+  // given: LiveArgs::avatar's CLI::Option pointers) must outlive it.
+  std::shared_ptr<CLI::App> parser;
 };
 
 // The names of the subcommands, in help order.

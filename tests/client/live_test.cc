@@ -106,6 +106,19 @@ TEST(LiveSetupTest, TheConnectionAndAudioFlags) {
   EXPECT_TRUE(CheckLiveFlags(args).ok());
 }
 
+TEST(LiveSetupTest, TheAvatarFlagsGivenAreKnownAfterTheParse) {
+  // AvatarSinkFlags keeps the parser's CLI::Option pointers: the line keeps the parser alive
+  // (it was freed with the parse, and an Ogg recording's decoding reused its memory: --vts was
+  // "given" and koma live tried to reach VTube Studio).
+  KomaCommandLine parsed;
+  ASSERT_EQ(ParseCommandLine({"koma", "live", "--input", kVoice, "--vmc"}, &parsed), -1);
+  std::vector<std::string> filler(10000, std::string(64, 'x'));  // reuse freed memory, if any
+  ASSERT_NE(parsed.live.avatar.vmc, nullptr);
+  ASSERT_NE(parsed.live.avatar.vts, nullptr);
+  EXPECT_EQ(parsed.live.avatar.vmc->count(), 1u);
+  EXPECT_EQ(parsed.live.avatar.vts->count(), 0u);
+}
+
 TEST(LiveSetupTest, UsageErrors) {
   KomaCommandLine parsed;
   EXPECT_EQ(ParseCommandLine({"koma", "live", "--speed", "-1"}, &parsed), 2);

@@ -12,8 +12,8 @@ and tests/testing/voice_recordings.py). Modes:
       frame's mouth_level / eye_level of the JSON lines.
   recordings FOLDER
       espeak-ng speaks known sentences, sox joins them (tests/testing/voice_recordings.py) and
-      writes them at 16 and 48 kHz (16-bit), and at 44.1 kHz stereo 32-bit float; prints the
-      paths, one a line.
+      writes them at 16 and 48 kHz (16-bit), at 44.1 kHz stereo 32-bit float, and as Ogg
+      Vorbis; prints the paths, one a line.
   agree KOMA SERVER FOLDER [--core LIVE_VOICE_COMPARE] FILE...
       each FILE through `koma live --speed 0 --lookahead L --json` (L = 0..3) and `koma
       lipblink --audio FILE --json`: after the first second, the live speech runs at lookahead
@@ -212,6 +212,7 @@ def recordings(folder):
     print(vr.variant(folder, clean, "espeak48k.wav", rate=48000))
     print(vr.variant(folder, clean, "espeak44k-stereo-float.wav", rate=44100, channels=2,
                      sox_format=("-e", "floating-point", "-b", "32")))
+    print(vr.variant(folder, clean, "espeak22k.ogg"))  # Ogg Vorbis: decoded to float, F32LE
 
 
 def main(argv):

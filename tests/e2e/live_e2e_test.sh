@@ -2,9 +2,9 @@
 # End to end: `koma live` against the real koma_server on a free loopback port (issue 44):
 # the bundled voice at once (--speed 0) and at real time (--seconds 3, --record), ALSA's null
 # device, Ctrl-C, the error cases, and the acceptance: streamed recordings (the sample, and
-# espeak-ng + sox takes at 16, 48 and 44.1 kHz stereo float) give after the first second the
-# speech of `koma lipblink --audio` within one grid frame at lookahead 3, and at every
-# lookahead exactly the core's live analysis of the file (tests/e2e/live_check.py).
+# espeak-ng + sox takes at 16, 48 and 44.1 kHz stereo float, and Ogg Vorbis) give after the
+# first second the speech of `koma lipblink --audio` within one grid frame at lookahead 3, and
+# at every lookahead exactly the core's live analysis of the file (tests/e2e/live_check.py).
 # Usage: live_e2e_test.sh KOMA_SERVER KOMA PYTHON SAMPLES_DIR LIVE_VOICE_COMPARE
 set -euo pipefail
 server_bin=$1 koma=$2 python=$3 samples=$4 compare_bin=$5
