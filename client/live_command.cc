@@ -116,12 +116,12 @@ int RunLive(const LiveArgs& args) {
       NewRetimeStub(args.server.empty() ? DefaultServer() : args.server);
   if (!stub.ok()) return ReportError(stub.status());
   if (!args.quiet) {
-    std::fprintf(args.json ? stderr : stdout, "koma live: %s, %d Hz, %d channel%s, %s -> %s%s\n",
+    std::fprintf(LiveTextStream(args), "koma live: %s, %d Hz, %d channel%s, %s -> %s%s\n",
                  format.description.c_str(), format.sample_rate, format.channels,
                  format.channels == 1 ? "" : "s", FormatName(format.sample_format),
                  (args.server.empty() ? DefaultServer() : args.server).c_str(),
                  args.input.empty() ? " (Ctrl-C ends)" : "");
-    std::fflush(args.json ? stderr : stdout);
+    std::fflush(LiveTextStream(args));
   }
 
   grpc::ClientContext context;

@@ -8,6 +8,7 @@
 #define KOMA_CLIENT_LIVE_COMMAND_H_
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
@@ -43,6 +44,11 @@ struct LiveArgs : CallFlags {
   // client/live_sinks.cc.
   AvatarSinkFlags avatar;
 };
+
+// Where the human lines go: standard error when standard output carries --json or --record -.
+inline std::FILE* LiveTextStream(const LiveArgs& args) {
+  return args.json || args.record == "-" ? stderr : stdout;
+}
 
 // Registers `koma live` and its flags on `app`.
 CLI::App* AddLiveCommand(CLI::App& app, LiveArgs& args);

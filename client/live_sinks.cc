@@ -16,7 +16,7 @@ void AddLiveSinkFlags(CLI::App* cmd, LiveArgs& args) {
 absl::StatusOr<std::vector<std::unique_ptr<LiveSink>>> MakeLiveSinks(const LiveArgs& args) {
   std::vector<std::unique_ptr<LiveSink>> sinks;
   if (args.json) sinks.push_back(NewLiveJsonSink(stdout));
-  if (!args.quiet) sinks.push_back(NewLiveTextSink(args.json ? stderr : stdout));
+  if (!args.quiet) sinks.push_back(NewLiveTextSink(LiveTextStream(args)));
   if (!args.record.empty()) {
     if (absl::Status s = CheckWritable({args.record}); !s.ok()) {
       return absl::Status(s.code(), absl::StrCat("--record: ", s.message()));

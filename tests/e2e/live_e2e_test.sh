@@ -57,6 +57,15 @@ PY
 grep -q "rec.motion3.json: 73 frames at 24 fps" "$work/rec.summary" ||
   fail "koma lipblink on the record: $(cat "$work/rec.summary")"
 
+# --record - writes the motion3.json on stdout, the human lines then go to stderr.
+"$koma" live --input "$voice" --speed 0 --record - --server "$target" >"$work/stdout.motion3.json" \
+  2>"$work/stdout.err" || fail "koma live --record -: $(cat "$work/stdout.err")"
+cmp "$work/stdout.motion3.json" <("$koma" live --input "$voice" --speed 0 -q --record - \
+  --server "$target") || fail "--record -: not the motion3.json alone"
+grep -q "koma live: 92 frames" "$work/stdout.err" || fail "--record -: the summary not on stderr"
+"$python" -c 'import json, sys; assert json.load(open(sys.argv[1]))["Meta"]["Duration"] == 92 / 24' \
+  "$work/stdout.motion3.json" || fail "--record -: the motion3.json"
+
 # 3. The capture path on ALSA's null device (silence): 1 s, 24 frames, none speech.
 "$koma" live --device null --seconds 1 --json -q --server "$target" >"$work/null.jsonl" \
   2>"$work/null.err" || fail "koma live --device null: $(cat "$work/null.err")"
