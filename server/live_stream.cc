@@ -24,6 +24,9 @@ namespace {
 // status may wait for a client that reads nothing before its call is cancelled, seconds.
 constexpr double kLiveTickSeconds = 0.25;
 constexpr double kUnreadFinishSeconds = 5.0;
+// A message may hold at most this many times --live_max_queued_frames grid frames of audio
+// (960 by default: 40 s at 24 fps); a live client sends 10-20 ms at a time.
+constexpr int64_t kMessageFramesPerQueuedFrame = 4;
 
 double SecondsSince(Clock::time_point t, Clock::time_point now) {
   return std::chrono::duration<double>(now - t).count();
@@ -197,6 +200,7 @@ class LiveStream final
       absl::StatusOr<LiveVoiceOptions> options = LiveOptionsFromSetup(request_.setup(), limits_);
       if (!options.ok()) return options.status();
       sample_rate_ = options->sample_rate;
+      fps_ = options->frame_fps;
       decoder_.emplace(request_.setup().sample_format(), request_.setup().channels());
       voice_.emplace(*options);
       max_samples_ = static_cast<int64_t>(limits_.live_max_seconds * sample_rate_);
@@ -218,6 +222,18 @@ class LiveStream final
           "audio (message ", messages_ - 1, "): ", audio.size(),
           " bytes exceeds the server limit --live_max_message_bytes=",
           limits_.live_max_message_bytes, "; send smaller pieces"));
+    }
+    // The frames one message may decide: a bound on the memory it holds at once whatever the
+    // rate and grid (1 kHz audio on a 1,000 fps grid decides a frame per sample).
+    const int64_t frames_in_message = static_cast<int64_t>(
+        static_cast<double>(audio.size() / decoder_->bytes_per_frame()) / sample_rate_ * fps_);
+    const int64_t max_frames = kMessageFramesPerQueuedFrame * limits_.live_max_queued_frames;
+    if (frames_in_message > max_frames) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "audio (message ", messages_ - 1, "): ", audio.size(), " bytes hold ",
+          frames_in_message, " grid frames of audio, over ", max_frames, " (",
+          kMessageFramesPerQueuedFrame, " x --live_max_queued_frames); send smaller pieces, "
+          "as they are captured"));
     }
     mono_.clear();
     if (absl::Status s = decoder_->Decode(audio, messages_ - 1, &mono_); !s.ok()) return s;
@@ -319,6 +335,7 @@ class LiveStream final
   std::vector<float> mono_;
   std::deque<LiveFrame> queue_;
   int sample_rate_ = 0;
+  double fps_ = 0.0;  // the grid's frames per second
   int64_t max_samples_ = 0;
   int64_t messages_ = 0;
   int64_t frames_out_ = 0;

@@ -273,13 +273,27 @@ TEST_F(LiveStreamTest, IrregularAndEmptyMessagesGiveTheSameFrames) {
 // decides at once: 3.8 s in one message is 92 frames, more than 10, for a client that reads.
 TEST_F(LiveStreamTest, OneMessageMayDecideMoreFramesThanMayWait) {
   server::ServerConfig config = Config();
-  config.limits.live_max_queued_frames = 10;
+  config.limits.live_max_queued_frames = 30;  // a message may hold 4 x 30 = 120 frames
   Restart(config);
-  const std::vector<float>& voice = Voice();
+  const std::vector<float>& voice = Voice();  // 92 grid frames
   const std::string bytes = Bytes(voice, 1, v1::LIVE_SAMPLE_S16LE);
   const StreamResult r = RunStream(stub(), Messages(LiveSetup(), bytes, bytes.size()));
   ASSERT_TRUE(r.status.ok()) << r.status.error_message();
   ExpectSameFrames(r.frames, Reference(LiveSetup(), voice), "one message");
+}
+
+TEST_F(LiveStreamTest, AMessageOfMoreThanFourQueuesOfFramesIsRefused) {
+  server::ServerConfig config = Config();
+  config.limits.live_max_queued_frames = 10;  // at most 40 frames of audio a message
+  Restart(config);
+  const std::string bytes = Bytes(Voice(), 1, v1::LIVE_SAMPLE_S16LE);
+  const StreamResult r = RunStream(stub(), Messages(LiveSetup(), bytes, bytes.size()));
+  EXPECT_EQ(r.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(r.status.error_message(),
+              ::testing::HasSubstr("audio (message 1): " + std::to_string(bytes.size()) +
+                                   " bytes hold 91 grid frames of audio, over 40 (4 x "
+                                   "--live_max_queued_frames); send smaller pieces"));
+  EXPECT_TRUE(r.frames.empty());
 }
 
 TEST_F(LiveStreamTest, NoAudioGivesNoFramesAndOk) {
