@@ -40,7 +40,7 @@ class LiveStream final
              LiveStreams* streams)
       : context_(context), limits_(limits), streams_(streams) {
     record_.method = "LiveLipBlink";
-    record_.request_id = "";
+    record_.request_id = TakeRequestId(context);
     record_.peer = context_->peer();  // known now; "unknown" once the client is gone
     StartRead(&request_);
   }

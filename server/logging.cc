@@ -1,5 +1,14 @@
 #include "server/logging.h"
 
+#include <grpcpp/grpcpp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+
+#include "absl/strings/str_cat.h"
+#include "core/split_mix64.h"
+
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -107,6 +116,31 @@ void LogRpc(const RpcRecord& r) {
 void LogEvent(absl::string_view message, bool warning) {
   Emit(warning ? spdlog::level::warn : spdlog::level::info, {{"msg", message}},
        std::string(message));
+}
+
+namespace {
+
+constexpr absl::string_view kRequestIdKey = "x-request-id";
+constexpr size_t kMaxRequestIdBytes = 128;
+
+std::string NewOrGivenRequestId(const grpc::CallbackServerContext& context) {
+  const auto& metadata = context.client_metadata();
+  const auto found = metadata.find(grpc::string_ref(kRequestIdKey.data(), kRequestIdKey.size()));
+  if (found != metadata.end() && found->second.size() > 0) {
+    return std::string(found->second.data(), std::min(found->second.size(), kMaxRequestIdBytes));
+  }
+  static std::atomic<uint64_t> counter{
+      static_cast<uint64_t>(std::chrono::system_clock::now().time_since_epoch().count())};
+  SplitMix64 rng(counter.fetch_add(1));
+  return absl::StrCat(absl::Hex(rng.Next(), absl::kZeroPad16));
+}
+
+}  // namespace
+
+std::string TakeRequestId(grpc::CallbackServerContext* context) {
+  std::string id = NewOrGivenRequestId(*context);
+  context->AddInitialMetadata(std::string(kRequestIdKey), id);
+  return id;
 }
 
 }  // namespace koma::server

@@ -13,6 +13,10 @@
 #include "absl/strings/string_view.h"
 #include <grpcpp/support/status.h>
 
+namespace grpc {
+class CallbackServerContext;
+}
+
 namespace koma::server {
 
 enum class LogFormat { kText, kJson };
@@ -38,6 +42,10 @@ struct RpcRecord {
   std::vector<std::string> warnings;
 };
 void LogRpc(const RpcRecord& record);
+// The call's x-request-id: the caller's (cut to 128 bytes), or a new one of 16 hex digits from
+// a SplitMix64 stream seeded once from the clock; sent back in the initial metadata, so a
+// client log and a server log can be joined.
+std::string TakeRequestId(grpc::CallbackServerContext* context);
 // Whether LogRpc writes a line for `record` at the configured level: what is only needed for
 // the line (the peer's address) is looked up only then.
 bool RpcLineLogged(const RpcRecord& record);

@@ -300,25 +300,6 @@ grpc::Status Refused(absl::string_view method, WorkerPool::Submission submission
                                    "(--max_queued); retry with backoff"));
 }
 
-constexpr absl::string_view kRequestIdKey = "x-request-id";
-constexpr size_t kMaxRequestIdBytes = 128;
-
-// The caller's x-request-id (cut to 128 bytes), or a new one: 16 hex digits from a
-// SplitMix64 stream seeded once from the clock. Returned to the caller in the initial
-// metadata and written in the call's log line, so a client log and a server log can be
-// joined.
-std::string RequestId(const grpc::CallbackServerContext& context) {
-  const auto& metadata = context.client_metadata();
-  const auto found = metadata.find(grpc::string_ref(kRequestIdKey.data(), kRequestIdKey.size()));
-  if (found != metadata.end() && found->second.size() > 0) {
-    return std::string(found->second.data(), std::min(found->second.size(), kMaxRequestIdBytes));
-  }
-  static std::atomic<uint64_t> counter{
-      static_cast<uint64_t>(std::chrono::system_clock::now().time_since_epoch().count())};
-  SplitMix64 rng(counter.fetch_add(1));
-  return absl::StrCat(absl::Hex(rng.Next(), absl::kZeroPad16));
-}
-
 }  // namespace
 
 template <typename Call>
@@ -329,8 +310,7 @@ grpc::ServerUnaryReactor* RetimeService::Dispatch(grpc::CallbackServerContext* c
   const CallMetrics* metrics = metrics_ != nullptr ? &metrics_->ForMethod(method) : nullptr;
   if (metrics != nullptr) metrics->Start();
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  record.request_id = RequestId(*context);
-  context->AddInitialMetadata(std::string(kRequestIdKey), record.request_id);
+  record.request_id = TakeRequestId(context);
   record.bytes_in = call->BytesIn();
   if (budget_ != nullptr) {
     absl::StatusOr<MemoryBudget::Reservation> reserved =

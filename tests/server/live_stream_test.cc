@@ -515,7 +515,9 @@ TEST_F(LiveStreamTest, StreamsOpenedTogetherNeverPassTheLimit) {
   EXPECT_EQ(accepted, 4);
   EXPECT_EQ(InFlight(), 4);
   for (int i = 0; i < kClients; ++i) {
-    if (opened[i].ok()) EXPECT_TRUE(streams[i].Close().ok());
+    if (opened[i].ok()) {
+      EXPECT_TRUE(streams[i].Close().ok());
+    }
   }
   EXPECT_TRUE(WaitInFlight(0));
 }
