@@ -70,6 +70,7 @@ struct Options {
   std::vector<int> chunk_ms = {20};
   std::vector<int> lookaheads = {2};
   int channels = 0;  // 0: one per stream (each stream its own connection, as separate clients)
+  int pacers = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   int server_pid = 0;
   std::string json_path;
   bool quiet = false;
@@ -361,11 +362,13 @@ std::string ToText(const Percentiles& p) {
   return line;
 }
 
-// The pacer: every stream's chunks in due order, from one thread.
-void Pace(std::vector<std::unique_ptr<Stream>>& streams, const std::atomic<bool>& stop) {
+// A pacer: the chunks of streams first, first + step, ... in due order, from one thread (the
+// writes it starts run inline on it, so one pacer tops out near a core).
+void Pace(std::vector<std::unique_ptr<Stream>>& streams, size_t first, size_t step,
+          const std::atomic<bool>& stop) {
   using Item = std::pair<Clock::time_point, std::pair<size_t, int64_t>>;  // due, stream, chunk
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-  for (size_t i = 0; i < streams.size(); ++i) heap.push({streams[i]->Due(0), {i, 0}});
+  for (size_t i = first; i < streams.size(); i += step) heap.push({streams[i]->Due(0), {i, 0}});
   while (!heap.empty() && !stop.load()) {
     const Item item = heap.top();
     if (Clock::now() < item.first) std::this_thread::sleep_until(item.first);
@@ -456,7 +459,12 @@ int Run(const Options& o) {
     if (pid) rss_peak = std::max(rss_peak, ProcRssMiB(pid).value_or(0.0));
     self1 = ProcCpuSeconds(self);
   });
-  Pace(streams, stop);
+  std::vector<std::thread> pacers;
+  const size_t n_pacers = static_cast<size_t>(std::min(o.pacers, o.streams));
+  for (size_t p = 0; p < n_pacers; ++p) {
+    pacers.emplace_back([&, p] { Pace(streams, p, n_pacers, stop); });
+  }
+  for (std::thread& pacer : pacers) pacer.join();
 
   const Clock::time_point deadline = last_due + Secs(kGraceSeconds);
   int unfinished = 0;
@@ -505,6 +513,7 @@ int Run(const Options& o) {
   j["target"] = o.target;
   j["streams"] = o.streams;
   j["channels"] = n_channels;
+  j["pacers"] = n_pacers;
   j["duration_s"] = o.duration_s;
   j["warmup_s"] = o.warmup_s;
   j["chunk_ms"] = o.chunk_ms;
@@ -551,9 +560,9 @@ int Run(const Options& o) {
 
   if (!o.quiet) {
     std::printf("koma_live_load: %d streams over %d connections to %s, %g s each (warmup %g s); "
-                "chunks %s ms; lookahead %s; %zu recordings\n",
+                "chunks %s ms; lookahead %s; %zu recordings; %zu pacers\n",
                 o.streams, n_channels, o.target.c_str(), o.duration_s, o.warmup_s,
-                Join(o.chunk_ms).c_str(), Join(o.lookaheads).c_str(), recordings.size());
+                Join(o.chunk_ms).c_str(), Join(o.lookaheads).c_str(), recordings.size(), n_pacers);
     std::printf("frames %lld of %lld expected (%lld measured), out of order %lld, streams failed "
                 "%d (unfinished %d)\n",
                 static_cast<long long>(frames), static_cast<long long>(expected),
@@ -631,6 +640,10 @@ int main(int argc, char** argv) {
   app.add_option("--channels", o.channels,
                  "connections the streams are spread over; 0: one per stream")
       ->check(CLI::Range(0, 20000));
+  app.add_option("--pacers", o.pacers,
+                 "threads handing chunks out (streams split among them); default: one a core")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
   app.add_option("--server_pid,--server-pid", o.server_pid,
                  "the server's PID: its CPU and RSS from /proc, per stream")
       ->check(CLI::PositiveNumber);
