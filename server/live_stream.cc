@@ -312,6 +312,9 @@ class LiveStream final
       if (ending_ && (!drain_ || (queue_.empty() && !writing_))) {
         finished_ = true;
         finish_pending_ = true;
+        // Its slot frees now, not at OnDone: a client that has its status may open the next
+        // stream at once.
+        streams_->Release(this);
       }
     }
     if (next.read || next.write) ++starting_;
@@ -355,6 +358,7 @@ class LiveStream final
   grpc::Status end_status_;
   RpcRecord record_;
   int pins_ = 0;      // LiveStreams' mu_: the ticker holds the stream (it must not be deleted)
+  bool counted_ = false;  // LiveStreams' mu_: it holds one of --live_max_streams' slots
   bool done_ = false; // LiveStreams' mu_: OnDone ran; the last unpin deletes it
 
   friend class LiveStreams;
@@ -379,12 +383,14 @@ grpc::ServerBidiReactor<v1::LiveLipBlinkRequest, v1::LiveLipBlinkFrame>* LiveStr
     std::lock_guard<std::mutex> lock(mu_);
     if (ending_) {
       refused = absl::UnavailableError("the server is shutting down; connect to another");
-    } else if (static_cast<int>(streams_.size()) >= limits_.live_max_streams) {
+    } else if (open_ >= limits_.live_max_streams) {
       refused = absl::ResourceExhaustedError(
-          absl::StrCat(streams_.size(), " live streams are in flight, the server limit "
-                                        "--live_max_streams; retry later or use another server"));
+          absl::StrCat(open_, " live streams are in flight, the server limit "
+                              "--live_max_streams; retry later or use another server"));
     } else {
       streams_.insert(stream);
+      stream->counted_ = true;
+      ++open_;
       if (!ticker_.joinable() && !stopping_) ticker_ = std::thread([this] { Tick(); });
     }
   }
@@ -409,8 +415,16 @@ int LiveStreams::in_flight() const {
   return static_cast<int>(streams_.size());
 }
 
+void LiveStreams::Release(LiveStream* stream) {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (stream->counted_) --open_;
+  stream->counted_ = false;
+}
+
 bool LiveStreams::Remove(LiveStream* stream) {
   std::lock_guard<std::mutex> lock(mu_);
+  if (stream->counted_) --open_;
+  stream->counted_ = false;
   streams_.erase(stream);
   stream->done_ = true;
   return stream->pins_ == 0;

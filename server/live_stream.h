@@ -41,6 +41,8 @@ class LiveStreams {
 
  private:
   friend class LiveStream;
+  // The stream has its Finish: its --live_max_streams slot is free (once; Remove too).
+  void Release(LiveStream* stream);
   // OnDone: whether the stream may be deleted now (else the ticker deletes it when done).
   bool Remove(LiveStream* stream);
   // `f(stream)` on every stream, without the lock, each pinned so it outlives the call.
@@ -51,7 +53,8 @@ class LiveStreams {
   const RequestLimits limits_;
   mutable std::mutex mu_;
   std::condition_variable wake_;
-  std::set<LiveStream*> streams_;
+  std::set<LiveStream*> streams_;  // until OnDone (the ticker may still cancel a finished one)
+  int open_ = 0;                   // streams not yet finished: what --live_max_streams bounds
   bool ending_ = false, stopping_ = false;
   std::thread ticker_;  // started with the first stream
 };
