@@ -61,7 +61,8 @@ if [ "${1:-}" != "--build-only" ]; then
   # Blender's importer and three.js's FBXLoader).
   packages+=(libassimp-dev)
   # liblo-tools (oscdump), python3-liblo: the live tests receive koma live's VMC bundles with a
-  # real OSC receiver; python3-websockets: the stand-in for VTube Studio's API server;
+  # real OSC receiver; python3-websockets: the stand-in for VTube Studio's API server and
+  # `python3 -m koma live --vts` (tests/python/test_live_vts.py);
   # alsa-utils: aplay/arecord and the ALSA configuration the capture test's null device uses.
   packages+=(liblo-tools python3-liblo python3-websockets alsa-utils)
 fi

@@ -9,8 +9,9 @@ the Python package (the file goes over the wire; the server parses and writes it
     python3 -m koma lipblink SKELETON.json --animation NAME --mouth-slot SLOT
         [--audio VOICE.wav|--rhubarb CUES|--speech B-E,...] [--eye-slot SLOT,...] -o OUT.json
     python3 -m koma health [--server HOST:PORT]
-    python3 -m koma live [--input FILE] [--json] [--vmc [HOST:PORT]] [--record OUT.motion3.json]
-        [--seconds S] [--speed X] [--lookahead N] ...   (koma/_live_cli.py)
+    python3 -m koma live [--input FILE] [--json] [--vmc [HOST:PORT]] [--vts [URL]]
+        [--record OUT.motion3.json] [--seconds S] [--speed X] [--lookahead N] ...
+        (koma/_live_cli.py)
 
 The flags are the C++ `koma` CLI's, with its syntax (lists comma-separated, --speech as
 BEGIN-END frame intervals), and write the same bytes. Exit status: 0 done, 1 the call failed

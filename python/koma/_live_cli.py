@@ -1,8 +1,9 @@
 """`python3 -m koma live`: LipBlink from a live voice (the LiveLipBlink stream), as the C++
 `koma live`: a file played at real time (--input) or the microphone (ALSA's arecord), the
-frames as JSON lines (--json), VMC blend shapes (--vmc) and a motion3.json (--record).
+frames as JSON lines (--json), VMC blend shapes (--vmc), VTube Studio's plugin API (--vts) and
+a motion3.json (--record).
 
-    python3 -m koma live [--input FILE] [--device DEV] [--json] [--vmc [HOST:PORT]]
+    python3 -m koma live [--input FILE] [--device DEV] [--json] [--vmc [HOST:PORT]] [--vts [URL]]
         [--seconds S] [--speed X] [--lookahead N] [--record OUT.motion3.json] ...
 """
 import argparse
@@ -82,6 +83,21 @@ def add_parser(commands, common):
     p.add_argument("--vmc-blink-clip", default="Blink",
                    help="VRM blend shape clip of the closed eyes (default Blink; VRM 1.0: "
                         "blink)")
+    p.add_argument("--vts", nargs="?", const="", metavar="URL",
+                   help="inject each frame into VTube Studio through its plugin API at URL "
+                        "(default ws://localhost:8001; needs python3-websockets)")
+    p.add_argument("--vts-token-file", metavar="FILE",
+                   help="where the token VTube Studio gave koma is kept (default "
+                        "$XDG_CONFIG_HOME/koma/vts-token, or ~/.config/koma/vts-token)")
+    p.add_argument("--vts-mouth-param", metavar="NAME", default="MouthOpen",
+                   help="VTube Studio input parameter of the mouth, 0 closed .. 1 open "
+                        "(default MouthOpen)")
+    p.add_argument("--vts-eye-left-param", metavar="NAME", default="EyeOpenLeft",
+                   help="VTube Studio input parameter of the left eye, 0 shut .. 1 open "
+                        "(default EyeOpenLeft)")
+    p.add_argument("--vts-eye-right-param", metavar="NAME", default="EyeOpenRight",
+                   help="VTube Studio input parameter of the right eye, 0 shut .. 1 open "
+                        "(default EyeOpenRight)")
     p.add_argument("--json", action="store_true",
                    help="one JSON object per frame on stdout, as `koma live --json`; the human "
                         "lines go to stderr")
@@ -196,11 +212,28 @@ def _settings(args):
 def run(args, make_client):
     """The subcommand; returns the exit status (KomaError and OSError reach main())."""
     try:
-        vmc = None
+        vmc = vts = None
+        mouth, eyes = levels(args.mouth_min, args.mouth_max, args.eyes_min, args.eyes_max)
+        for flag, name in (("--vts-mouth-param", args.vts_mouth_param),
+                           ("--vts-eye-left-param", args.vts_eye_left_param),
+                           ("--vts-eye-right-param", args.vts_eye_right_param)):
+            if not name:
+                raise _Usage(f"{flag} must not be empty")
+        if args.vts is not None:
+            from koma._vts import parse_url  # noqa: PLC0415  (only with --vts)
+            try:
+                parse_url(args.vts or "ws://localhost:8001")  # a usage error, before the rest
+            except ValueError as error:
+                raise _Usage(f"--vts: {error}") from None
         if args.vmc is not None:
-            mouth, eyes = levels(args.mouth_min, args.mouth_max, args.eyes_min, args.eyes_max)
             vmc = VmcSender(*parse_target(args.vmc), mouth_range=mouth, eye_range=eyes,
                             mouth_clip=args.vmc_mouth_clip, blink_clip=args.vmc_blink_clip)
+        if args.vts is not None:
+            from koma._vts import VtsSender  # noqa: PLC0415  (imports websockets)
+            vts = VtsSender(args.vts, args.vts_token_file, mouth_range=mouth, eye_range=eyes,
+                            mouth_param=args.vts_mouth_param,
+                            eye_left_param=args.vts_eye_left_param,
+                            eye_right_param=args.vts_eye_right_param)
         source = _source(args)
     except (ValueError, _Usage) as error:
         sys.stderr.write(f"koma: {error}\n")
@@ -208,6 +241,21 @@ def run(args, make_client):
     except ImportError as error:
         sys.stderr.write(f"koma: {error}\n")
         return 1
+    if vts is not None:
+        # As `koma live`: connected and authenticated (the popup answered) before any audio.
+        from koma._vts import VtsError  # noqa: PLC0415
+        try:
+            vts.start()
+        except VtsError as error:
+            source.close()
+            sys.stderr.write(f"koma: {error}\n")
+            return 1
+        except KeyboardInterrupt:  # Ctrl-C while VTube Studio's popup waits for an answer
+            source.close()
+            return 130
+        except BaseException:
+            source.close()
+            raise
     fps = args.timing_fps or 24.0
     text = None if args.quiet else _Text(sys.stderr if args.json else sys.stdout, fps)
     recorder = Motion3Recorder(fps) if args.record is not None else None
@@ -226,6 +274,7 @@ def run(args, make_client):
             f"koma live: {source.description}, {source.sample_rate} Hz, {source.channels} "
             f"channel{'' if source.channels == 1 else 's'}, {source.sample_format.upper()} -> "
             f"{args.server}{' (Ctrl-C ends)' if args.input is None else ''}"))
+    vts_failure = None
     try:
         chunks = source.chunks(speed=1.0 if args.speed is None else args.speed,
                                seconds=args.seconds, stop=stop)
@@ -236,6 +285,14 @@ def run(args, make_client):
                     recorder.add(frame)
                 if vmc is not None:
                     vmc.send(frame)
+                if vts is not None and vts_failure is None:
+                    try:
+                        vts.send(frame)
+                    except VtsError as error:
+                        # As `koma live`: the audio ends; the frames still due come back to
+                        # the other outputs; the error is reported when the stream has ended.
+                        vts_failure = error
+                        stop.set()
                 shown = text.frame(frame) if text is not None else True
                 if args.json:
                     line = json.dumps(frame.to_dict(), separators=(",", ":"))  # as `koma`'s
@@ -255,6 +312,7 @@ def run(args, make_client):
         source.close()
         if previous is not None:
             signal.signal(signal.SIGINT, previous)
+        vts_closed = vts.close() if vts is not None else None
     if recorder is not None:
         if not recorder.mouth:
             sys.stderr.write(f"koma: --record {args.record}: no frame was streamed: nothing "
@@ -263,4 +321,8 @@ def run(args, make_client):
         recorder.write(args.record)
     if text is not None:
         text.close()
+    for failure in (vts_failure, vts_closed):  # as `koma live`: the sink's, then its Close's
+        if failure is not None:
+            sys.stderr.write(f"koma: {failure}\n")
+            return 1
     return 0
