@@ -400,10 +400,13 @@ def thousand_streams(server):
     print('1,000 streams (250 at once, 0.5 s of audio each) twice in %.1f s and %.1f s: '
           'server RSS idle %.1f MiB, after the first round %.1f, after the second %.1f'
           % (rounds[0][0], rounds[1][0], idle, after1, after2), flush=True)
+    # Under the sanitizers (scripts/test-sanitizers.sh sets KOMA_TEST_TIME_SCALE) ASan's
+    # quarantine keeps freed memory, so RSS says nothing: LeakSanitizer checks instead when the
+    # server exits (Server.stop fails the test on its non-zero exit).
     # What stays: gRPC's threads (more on more cores) and malloc's arenas, +33 MiB on 2 cores.
-    if after1 > idle + 80:
+    if SCALE == 1 and after1 > idle + 80:
         fail('RSS %.1f MiB after 1,000 streams, idle %.1f' % (after1, idle), server.log)
-    if after2 > after1 + 8:
+    if SCALE == 1 and after2 > after1 + 8:
         fail('RSS grew from %.1f to %.1f MiB in the second 1,000 streams: a leak'
              % (after1, after2), server.log)
     ok_lines = len(server.lines(r'rpc LiveLipBlink .*frames=12 .*code=OK'))
