@@ -55,6 +55,14 @@ void AddCurveFileFlags(CLI::App* cmd, CurveFileArgs& args, const std::string& ti
 CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args);
 CLI::App* AddCurvesCommand(CLI::App& app, CurvesArgs& args);
 CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args);
+// The --voice-settings-* flags (LipBlinkVoiceSettings) into `args`, for koma lipblink and koma
+// live; the three helps that differ between a recording and a live stream are given.
+struct VoiceSettingsHelp {
+  const char* noise_floor;
+  const char* noise_percentile;
+  const char* stay_above_floor;
+};
+void AddVoiceSettingsFlags(CLI::App* cmd, LipBlinkArgs& args, const VoiceSettingsHelp& help);
 CLI::App* AddHealthCommand(CLI::App& app, HealthArgs& args);
 
 }  // namespace koma::client

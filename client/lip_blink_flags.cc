@@ -76,37 +76,12 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
   cmd->add_option("--cues", args.cues,
                   "with --audio/--rhubarb: the mouth as Rhubarb cues, OUT.tsv as TSV, else JSON")
       ->type_name("OUT");
-  const auto db = [cmd](const char* name, std::optional<double>* out, NumberBounds bounds,
-                        const char* help) { AddNumber(cmd, name, out, bounds, help)->type_name("DB"); };
-  db("--voice-settings-noise-floor-dbfs", &args.noise_floor_dbfs, {},
-     "the room noise's loudness, dBFS <= 0 (default: the --voice-settings-noise-percentile)");
-  AddNumber(cmd, "--voice-settings-noise-percentile", &args.noise_percentile, OpenInterval(0, 100),
-            "percentile of the frames' loudness taken as the noise floor (default 10)");
-  db("--voice-settings-start-above-floor-db", &args.start_above_floor_db, Above(0),
-     "speech starts at a frame this many dB above the floor (default 9)");
-  db("--voice-settings-stay-above-floor-db", &args.stay_above_floor_db, Above(0),
-     "and lasts while frames stay this many dB above it (default: a fifth of the "
-     "recording's range, 2 to the start)");
-  db("--voice-settings-min-speech-dbfs", &args.min_speech_dbfs, {},
-     "neither threshold below this, dBFS (default -55)");
-  AddWholeNumber(cmd, "--voice-settings-bridge-gap-frames", &args.bridge_gap_frames, 0, INT32_MAX,
-                 "gaps of at most this many frames inside speech are bridged (default 3)");
-  AddWholeNumber(cmd, "--voice-settings-faint-gap-frames", &args.faint_gap_frames, 0, INT32_MAX,
-                 "longer gaps up to this many frames are bridged when no frame of theirs falls "
-                 "to the pause level (default 4)");
-  db("--voice-settings-pause-above-floor-db", &args.pause_above_floor_db, AtLeast(0),
-     "a frame at most this many dB above the floor is a pause, never bridged (default 1)");
-  AddWholeNumber(cmd, "--voice-settings-min-speech-frames", &args.min_speech_frames, 1, INT32_MAX,
-                 "shorter speech is dropped (default 2)");
-  db("--voice-settings-open-below-peak-db", &args.open_below_peak_db, Above(0),
-     "follow: open within this many dB of the speech's loud level (default 6)");
-  db("--voice-settings-closed-below-peak-db", &args.closed_below_peak_db, Above(0),
-     "follow: closed more than this many dB below it (default 15)");
-  db("--voice-settings-hysteresis-db", &args.hysteresis_db, AtLeast(0),
-     "follow: a frame changes drawing only past a boundary by half of this (default 3)");
-  cmd->add_flag("--voice-settings-any-sound", args.any_sound,
-                "speech by loudness alone: any loud sound opens the mouth (singing, a "
-                "synthesised voice); default: only what sounds like a voice, not music or noise");
+  AddVoiceSettingsFlags(cmd, args,
+                        {"the room noise's loudness, dBFS <= 0 (default: the "
+                         "--voice-settings-noise-percentile)",
+                         "percentile of the frames' loudness taken as the noise floor (default 10)",
+                         "and lasts while frames stay this many dB above it (default: a fifth of "
+                         "the recording's range, 2 to the start)"});
   AddNumber(cmd, "--voice-motion-fps", &args.voice_motion_fps, Above(0),
             "frames per second of the motion written for a voice alone (default --fps, 30)");
   AddChoice(cmd, "--voice-output", &args.voice_output, {"motion3", "csv"},
@@ -135,6 +110,38 @@ CLI::App* AddLipBlinkCommand(CLI::App& app, LipBlinkArgs& args) {
           "seed of the random mouth shapes and auto-blinks, 0 .. 2^64-1 (default 0x6b6f6d61)");
   AddCurveFileFlags(cmd, args, "mouth and blink holds are");
   return cmd;
+}
+
+void AddVoiceSettingsFlags(CLI::App* cmd, LipBlinkArgs& args, const VoiceSettingsHelp& help) {
+  const auto db = [cmd](const char* name, std::optional<double>* out, NumberBounds bounds,
+                        const char* text) { AddNumber(cmd, name, out, bounds, text)->type_name("DB"); };
+  db("--voice-settings-noise-floor-dbfs", &args.noise_floor_dbfs, {}, help.noise_floor);
+  AddNumber(cmd, "--voice-settings-noise-percentile", &args.noise_percentile, OpenInterval(0, 100),
+            help.noise_percentile);
+  db("--voice-settings-start-above-floor-db", &args.start_above_floor_db, Above(0),
+     "speech starts at a frame this many dB above the floor (default 9)");
+  db("--voice-settings-stay-above-floor-db", &args.stay_above_floor_db, Above(0),
+     help.stay_above_floor);
+  db("--voice-settings-min-speech-dbfs", &args.min_speech_dbfs, {},
+     "neither threshold below this, dBFS (default -55)");
+  AddWholeNumber(cmd, "--voice-settings-bridge-gap-frames", &args.bridge_gap_frames, 0, INT32_MAX,
+                 "gaps of at most this many frames inside speech are bridged (default 3)");
+  AddWholeNumber(cmd, "--voice-settings-faint-gap-frames", &args.faint_gap_frames, 0, INT32_MAX,
+                 "longer gaps up to this many frames are bridged when no frame of theirs falls "
+                 "to the pause level (default 4)");
+  db("--voice-settings-pause-above-floor-db", &args.pause_above_floor_db, AtLeast(0),
+     "a frame at most this many dB above the floor is a pause, never bridged (default 1)");
+  AddWholeNumber(cmd, "--voice-settings-min-speech-frames", &args.min_speech_frames, 1, INT32_MAX,
+                 "shorter speech is dropped (default 2)");
+  db("--voice-settings-open-below-peak-db", &args.open_below_peak_db, Above(0),
+     "follow: open within this many dB of the speech's loud level (default 6)");
+  db("--voice-settings-closed-below-peak-db", &args.closed_below_peak_db, Above(0),
+     "follow: closed more than this many dB below it (default 15)");
+  db("--voice-settings-hysteresis-db", &args.hysteresis_db, AtLeast(0),
+     "follow: a frame changes drawing only past a boundary by half of this (default 3)");
+  cmd->add_flag("--voice-settings-any-sound", args.any_sound,
+                "speech by loudness alone: any loud sound opens the mouth (singing, a "
+                "synthesised voice); default: only what sounds like a voice, not music or noise");
 }
 
 }  // namespace koma::client

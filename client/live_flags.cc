@@ -62,39 +62,13 @@ CLI::App* AddLiveCommand(CLI::App& app, LiveArgs& args) {
   AddWholeNumber(cmd, "--auto-blink-hold", &s.auto_blink_hold, 1, 3,
                  "grid frames a blink stays closed, then half-open (default 2)");
   // the voice analysis (LiveLipBlinkSetup.voice_settings)
-  const auto db = [cmd](const char* name, std::optional<double>* out, NumberBounds bounds,
-                        const char* help) { AddNumber(cmd, name, out, bounds, help)->type_name("DB"); };
-  db("--voice-settings-noise-floor-dbfs", &s.noise_floor_dbfs, {},
-     "the room noise's loudness, dBFS <= 0 (default: the --voice-settings-noise-percentile of "
-     "the last 60 s)");
-  AddNumber(cmd, "--voice-settings-noise-percentile", &s.noise_percentile, OpenInterval(0, 100),
-            "percentile of the last 60 s of frames' loudness taken as the noise floor "
-            "(default 10)");
-  db("--voice-settings-start-above-floor-db", &s.start_above_floor_db, Above(0),
-     "speech starts at a frame this many dB above the floor (default 9)");
-  db("--voice-settings-stay-above-floor-db", &s.stay_above_floor_db, Above(0),
-     "and lasts while frames stay this many dB above it (default: a fifth of the range "
-     "heard, 2 to the start)");
-  db("--voice-settings-min-speech-dbfs", &s.min_speech_dbfs, {},
-     "neither threshold below this, dBFS (default -55)");
-  AddWholeNumber(cmd, "--voice-settings-bridge-gap-frames", &s.bridge_gap_frames, 0, INT32_MAX,
-                 "gaps of at most this many frames inside speech are bridged (default 3)");
-  AddWholeNumber(cmd, "--voice-settings-faint-gap-frames", &s.faint_gap_frames, 0, INT32_MAX,
-                 "longer gaps up to this many frames are bridged when no frame of theirs falls "
-                 "to the pause level (default 4)");
-  db("--voice-settings-pause-above-floor-db", &s.pause_above_floor_db, AtLeast(0),
-     "a frame at most this many dB above the floor is a pause, never bridged (default 1)");
-  AddWholeNumber(cmd, "--voice-settings-min-speech-frames", &s.min_speech_frames, 1, INT32_MAX,
-                 "shorter speech is dropped (default 2)");
-  db("--voice-settings-open-below-peak-db", &s.open_below_peak_db, Above(0),
-     "follow: open within this many dB of the speech's loud level (default 6)");
-  db("--voice-settings-closed-below-peak-db", &s.closed_below_peak_db, Above(0),
-     "follow: closed more than this many dB below it (default 15)");
-  db("--voice-settings-hysteresis-db", &s.hysteresis_db, AtLeast(0),
-     "follow: a frame changes drawing only past a boundary by half of this (default 3)");
-  cmd->add_flag("--voice-settings-any-sound", s.any_sound,
-                "speech by loudness alone: any loud sound opens the mouth (singing, a "
-                "synthesised voice); default: only what sounds like a voice, not music or noise");
+  AddVoiceSettingsFlags(cmd, s,
+                        {"the room noise's loudness, dBFS <= 0 (default: the "
+                         "--voice-settings-noise-percentile of the last 60 s)",
+                         "percentile of the last 60 s of frames' loudness taken as the noise "
+                         "floor (default 10)",
+                         "and lasts while frames stay this many dB above it (default: a fifth of "
+                         "the range heard, 2 to the start)"});
   AddSeed(cmd, "--seed", &s.seed,
           "seed of the random mouth shapes and auto-blinks, 0 .. 2^64-1 (default 0x6b6f6d61)");
   AddNumber(cmd, "--timing-fps", &s.timing_fps, {},
