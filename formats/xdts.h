@@ -57,6 +57,8 @@ struct XdtsSheet {
   int duration = 0;  // rows (frames of the sheet), >= 1
   std::vector<XdtsCellTrack> cell_tracks;      // trackNo 0, 1, ... (0 = the bottom layer)
   std::vector<XdtsDialogTrack> dialog_tracks;  // trackNo 0, 1, ...
+  // ReadXdts: the time tables after the first, which it does not read (WriteXdts ignores it).
+  int ignored_time_tables = 0;
 };
 
 // The file, as XDTS writers write it: a Cell track has an entry only where its cell changes

@@ -190,6 +190,7 @@ absl::StatusOr<XdtsSheet> ReadXdts(std::string_view text, const XdtsReadLimits& 
   const Json& table = (*tables)[0];
   const std::string at = "timeTables[0]";
   XdtsSheet sheet;
+  sheet.ignored_time_tables = static_cast<int>(tables->size()) - 1;
   KOMA_ASSIGN_OR_RETURN(const Json* duration, Member(table, at, "duration"));
   KOMA_ASSIGN_OR_RETURN(sheet.duration, IntAt(*duration, at + ".duration", 1, limits.max_rows));
   if (const auto name = table.find("name"); name != table.end()) {
