@@ -113,6 +113,26 @@ ABSL_FLAG(std::string, metrics_address, "",
 ABSL_FLAG(std::string, metrics_port_file, "",
           "if set, write the bound metrics port number to this file once serving (before "
           "--port_file is written)");
+ABSL_FLAG(int, http_port, -1,
+          "port of the HTTP server (the page and the Connect JSON API, POST "
+          "/koma.v1.Retime/<Method>); -1 = none, 0 = a free port (see --http_port_file)");
+ABSL_FLAG(std::string, http_address, "127.0.0.1",
+          "address the HTTP port listens on; loopback by default, 0.0.0.0 to accept remote "
+          "browsers (in a container)");
+ABSL_FLAG(std::string, http_port_file, "",
+          "if set, write the bound HTTP port number to this file once serving (before "
+          "--port_file is written)");
+ABSL_FLAG(int64_t, http_max_body_bytes, 64 * 1024 * 1024,
+          "largest HTTP request body, bytes; larger ones are answered 413 unread");
+ABSL_FLAG(int, http_request_timeout_ms, 30000,
+          "longest the HTTP port waits for a request's headers and body, milliseconds; a "
+          "slower client gets 408 and the connection is closed");
+ABSL_FLAG(int, http_threads, 4,
+          "HTTP requests served at once (each holds a thread while its call runs); more wait "
+          "for a thread");
+ABSL_FLAG(std::string, http_cors_origin, "",
+          "the one origin (https://host[:port], or *) whose pages may call the HTTP port from a "
+          "browser; empty = no CORS headers (same-origin only)");
 
 namespace {
 
@@ -126,7 +146,9 @@ constexpr const char* kEnvironmentFlags[] = {
     "max_memory_mb",       "max_file_bytes",      "max_gltf_nodes",      "max_audio_seconds",
     "max_audio_channels",  "max_audio_samples",   "max_gltf_animations", "max_call_seconds",
     "live_max_streams",    "live_max_seconds",    "live_max_message_bytes",
-    "live_max_queued_frames",                     "live_idle_seconds"};
+    "live_max_queued_frames",                     "live_idle_seconds",
+    "http_port",           "http_address",        "http_port_file",      "http_max_body_bytes",
+    "http_request_timeout_ms",                    "http_threads",        "http_cors_origin"};
 // clang-format on
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
@@ -194,6 +216,12 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.inline_max_bytes = absl::GetFlag(FLAGS_inline_max_bytes);
   config.idle_trim = absl::Milliseconds(absl::GetFlag(FLAGS_idle_trim_ms));
   config.metrics_address = absl::GetFlag(FLAGS_metrics_address);
+  config.http.port = absl::GetFlag(FLAGS_http_port);
+  config.http.address = absl::GetFlag(FLAGS_http_address);
+  config.http.max_body_bytes = absl::GetFlag(FLAGS_http_max_body_bytes);
+  config.http.request_timeout_ms = absl::GetFlag(FLAGS_http_request_timeout_ms);
+  config.http.threads = absl::GetFlag(FLAGS_http_threads);
+  config.http.cors_origin = absl::GetFlag(FLAGS_http_cors_origin);
   const int64_t max_memory_mb = absl::GetFlag(FLAGS_max_memory_mb);
   config.max_memory_mb =
       max_memory_mb == -1 ? koma::server::DefaultMemoryBudgetMb() : max_memory_mb;
@@ -290,6 +318,14 @@ int main(int argc, char** argv) {
   }
   auto server = koma::server::KomaServer::Start(config);
   if (!server.ok()) return Fail(std::string(server.status().message()));
+  const std::string http_port_file = absl::GetFlag(FLAGS_http_port_file);
+  if (!http_port_file.empty() && config.http.port == -1) {
+    return Fail("--http_port_file needs --http_port");
+  }
+  if (!http_port_file.empty() &&
+      !koma::server::WritePortFile(http_port_file, (*server)->http_port())) {
+    return Fail(absl::StrCat("--http_port_file: cannot write ", http_port_file));
+  }
   // Before --port_file: a script that waits for the port file finds both.
   if (!metrics_port_file.empty() &&
       !koma::server::WritePortFile(metrics_port_file, (*server)->metrics_port())) {
@@ -309,6 +345,11 @@ int main(int argc, char** argv) {
     koma::server::LogEvent(absl::StrCat(
         "metrics on http://", ListeningAddress(config.metrics_address, (*server)->metrics_port()),
         "/metrics"));
+  }
+
+  if (config.http.port != -1) {
+    koma::server::LogEvent(absl::StrCat("HTTP (the page, the Connect JSON API) on http://",
+                                        config.http.address, ":", (*server)->http_port(), "/"));
   }
 
   const int signal_number = stop_signals.Wait();

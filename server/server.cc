@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "absl/strings/str_cat.h"
+#include "server/connect_api.h"
 #include "server/logging.h"
 
 namespace koma::server {
@@ -131,6 +132,7 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
     return invalid("--inline_max_bytes: ", config.inline_max_bytes,
                    " must be >= 0 (0 = every request on a worker)");
   }
+  if (config.http.port != -1) return ValidateHttpServerConfig(config.http);
   return absl::OkStatus();
 }
 
@@ -185,7 +187,17 @@ absl::StatusOr<std::unique_ptr<KomaServer>> KomaServer::Start(const ServerConfig
   grpc::HealthCheckServiceInterface* health = server->server_->GetHealthCheckService();
   health->SetServingStatus(true);
   health->SetServingStatus(kServiceName, true);
+  if (absl::Status s = server->StartHttp(config); !s.ok()) return s;
   return server;
+}
+
+absl::Status KomaServer::StartHttp(const ServerConfig& config) {
+  if (config.http.port == -1) return absl::OkStatus();
+  absl::StatusOr<std::unique_ptr<HttpServer>> http = HttpServer::Start(config.http);
+  if (!http.ok()) return http.status();
+  http_ = *std::move(http);
+  RegisterConnectApi(*http_, InProcessChannel(), budget_.get());
+  return absl::OkStatus();
 }
 
 absl::Status KomaServer::StartMetrics(const ServerConfig& config) {
@@ -223,6 +235,9 @@ void KomaServer::Shutdown(absl::Duration grace) {
   if (service_ != nullptr) service_->EndLiveStreams();
   const auto deadline = std::chrono::system_clock::now() + absl::ToChronoMilliseconds(grace);
   server_->Shutdown(deadline);
+  // After the gRPC drain: an HTTP request in flight has its answer (or its cancellation) by
+  // now, and mg_stop waits for civetweb's threads.
+  http_.reset();
   pool_.reset();  // runs what was accepted; every reactor gets its Finish
   server_->Wait();
 }

@@ -11,6 +11,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/time/time.h"
+#include "server/http_server.h"
 #include "server/idle_trim.h"
 #include "server/memory_budget.h"
 #include "server/metrics.h"
@@ -59,6 +60,9 @@ struct ServerConfig {
   // Where the Retime calls are counted. Null: a new registry when metrics_address is set,
   // else no metrics at all (no per-call cost). Tests pass one to read it in process.
   std::shared_ptr<prometheus::Registry> metrics_registry;
+  // The HTTP port (--http_port and the other --http_* flags; server/http_server.h): the
+  // Connect JSON API (server/connect_api.h) and the page. port -1 (the default): none.
+  HttpServerConfig http;
 };
 
 // InvalidArgument naming the first setting out of range (as its koma_server flag) and its
@@ -80,6 +84,10 @@ class KomaServer {
   int metrics_port() const { return metrics_endpoint_ ? metrics_endpoint_->port() : 0; }
   // LiveLipBlink streams in flight (server/live_stream.h); refused ones are not counted.
   int live_streams_in_flight() const { return service_->live_streams_in_flight(); }
+  // The bound HTTP port; 0 without one.
+  int http_port() const { return http_ != nullptr ? http_->port() : 0; }
+  // The HTTP server, to register more routes on (HttpServer::Handle); null without one.
+  HttpServer* http_server() { return http_.get(); }
   // A channel to this server that bypasses the network (tests), with the same size limits.
   std::shared_ptr<grpc::Channel> InProcessChannel();
   // Health to NOT_SERVING ("" and "koma.v1.Retime") while calls are still accepted, so
@@ -93,6 +101,8 @@ class KomaServer {
   KomaServer() = default;
   // The registry, the RpcMetrics and the HTTP endpoint that `config` asks for.
   absl::Status StartMetrics(const ServerConfig& config);
+  // The HTTP port with the Connect API, when config.http.port is not -1.
+  absl::Status StartHttp(const ServerConfig& config);
 
   int port_ = 0;
   int max_message_bytes_ = 0;
@@ -107,6 +117,8 @@ class KomaServer {
   std::unique_ptr<WorkerPool> pool_;
   std::unique_ptr<RetimeService> service_;
   std::unique_ptr<grpc::Server> server_;
+  // Its handlers call into server_ through the in-process channel: it goes first.
+  std::unique_ptr<HttpServer> http_;
 };
 
 }  // namespace koma::server
