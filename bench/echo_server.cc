@@ -1,7 +1,8 @@
 // koma_echo_server: the transport-only baseline for koma_load. It serves koma.v1.Retime
 // with the same flags and message limits as koma_server but computes nothing: each RPC
 // answers a response of the shape and size koma's would have for that request, so
-// koma RPS / echo RPS shows what the retiming itself costs over the wire.
+// koma RPS / echo RPS shows what the retiming itself costs over the wire. LiveLipBlink too
+// (bench/live_echo.h: one frame per grid frame, no analysis), for koma_live_load.
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <grpcpp/support/proto_buffer_writer.h>
@@ -17,6 +18,7 @@
 #include "absl/flags/usage.h"
 #include "absl/strings/str_cat.h"
 #include "bench/echo_shapes.h"
+#include "bench/live_echo.h"
 #include "koma/v1/retime.grpc.pb.h"
 #include "server/arena_allocator.h"
 #include "platform/malloc_tuning.h"
@@ -86,6 +88,11 @@ class EchoService final : public koma::v1::Retime::WithRawCallbackMethod_RetimeS
                                      koma::v1::LipBlinkResponse* response) override {
     koma::echo::LipBlinkLookalike(*request, response);
     return Finish(context);
+  }
+
+  grpc::ServerBidiReactor<koma::v1::LiveLipBlinkRequest, koma::v1::LiveLipBlinkFrame>*
+  LiveLipBlink(grpc::CallbackServerContext* /*context*/) override {
+    return koma::echo::OpenLiveEchoStream();
   }
 
   koma::server::ArenaMessageAllocator<koma::v1::RetimeCurvesRequest, koma::v1::RetimeCurvesResponse>

@@ -12,6 +12,11 @@
 #   NS="100 300" DURATION=10 bench/live_scale.sh
 #   LATENCY=1 bench/live_scale.sh             the latency mode instead: one stream per
 #                                             lookahead 0..3 (DURATION default 60 s)
+#   ECHO=1 SEARCH=1 bench/live_scale.sh       koma_echo_server's LiveLipBlink too, the transport-
+#                                             only ceiling (bench/live_echo.h: a frame per grid
+#                                             frame, no decoding or analysis): for each N the
+#                                             echo, then koma, each on a fresh server; the largest
+#                                             N of each (the bisection runs for each)
 # NICE=-10: run the server and the tool at that niceness (negative: root), and this session's
 # autogroup too where the kernel groups sessions (sched_autogroup: niceness alone then only ranks
 # threads within the session), so that other work on a shared host (builds) delays them less;
@@ -36,6 +41,9 @@ strict=""  # STRICT=1: exit 1 when a stream fails or a frame is missing (the cte
 [ "${STRICT:-0}" != 1 ] || strict=--fail_on_error
 load=$build/bench/koma_live_load
 server=$build/server/koma_server
+echo_server=$build/bench/koma_echo_server
+kinds=koma
+[ "${ECHO:-0}" != 1 ] || kinds="echo koma"
 # renice_server: every thread of the server (setpriority is per thread on Linux) to $NICE.
 renice_server() {
   [ -n "${NICE:-}" ] || return 0
@@ -54,7 +62,10 @@ if [ -n "${NICE:-}" ]; then
 fi
 
 if [ "${SKIP_BUILD:-0}" != 1 ]; then
-  flock /tmp/koma-build.lock cmake --build "$build" -j2 --target koma_live_load koma_server >/dev/null
+  targets="koma_live_load koma_server"
+  [ "${ECHO:-0}" != 1 ] || targets="$targets koma_echo_server"
+  # shellcheck disable=SC2086  # the targets are words
+  flock /tmp/koma-build.lock cmake --build "$build" -j2 --target $targets >/dev/null
 fi
 
 # The recordings: silence around each sentence, as samples/make_voice.sh.
@@ -68,11 +79,16 @@ sox "$work/ja.wav" -r 16000 -b 16 "$work/ja16.wav"
 sox "$work/s16.wav" "$work/ja16.wav" "$work/s16.wav" "$work/ja16k.flac"
 audio="$root/samples/voice.flac,$work/en48k.flac,$work/ja16k.flac"
 
-# run N [LOAD ARGS...]: a fresh server, N streams; the report is $work/N.json.
+# run KIND N [LOAD ARGS...]: a fresh server (KIND koma: koma_server; echo: koma_echo_server),
+# N streams; the report is $work/KIND-N.json.
 run() {
-  local n=$1
-  shift
-  start_server "$server" --log_level=warn --live_max_streams=$((n + 10))
+  local kind=$1 n=$2
+  shift 2
+  if [ "$kind" = echo ]; then
+    start_server "$echo_server"
+  else
+    start_server "$server" --log_level=warn --live_max_streams=$((n + 10))
+  fi
   renice_server
   local perf_pid=""
   if [ "${PERF:-}" = "$n" ]; then
@@ -82,7 +98,7 @@ run() {
   fi
   $load --target "$target" --streams "$n" --duration "$duration" --warmup "$warmup" \
     --audio "$audio" --chunk_ms "$chunk_ms" --lookahead "$lookahead" \
-    --server_pid "$server_pid" --quiet --json "$work/$n.json" $strict "$@"
+    --server_pid "$server_pid" --quiet --json "$work/$kind-$n.json" $strict "$@"
   if [ -n "$perf_pid" ]; then
     wait "$perf_pid" || true
     local out=${PERF_OUT:-/tmp/koma-live-perf.txt}
@@ -92,17 +108,17 @@ run() {
     echo "perf report of the server at N=$n: $out (perf.data: ${out%.txt}.data)"
   fi
   stop_server
-  row "$work/$n.json"
+  row "$kind" "$work/$kind-$n.json"
 }
 
 row() {
-  python3 - "$1" <<'PY'
+  python3 - "$1" "$2" <<'PY'
 import json, sys
-r = json.load(open(sys.argv[1]))
+r = json.load(open(sys.argv[2]))
 s = r.get("server", {})
 l, t = r["lateness_ms"], r["total_ms"]
-print("%6d %8d %6d %7.2f %7.2f %8.2f %7.2f %8.2f %7.2f %8.1f %9.3f %7.3f %8.1f  %-6s %s" % (
-    r["streams"], r["frames_measured"], r["streams_failed"], l["p50"], l["p99"], l["max"],
+print("%-4s %6d %8d %6d %7.2f %7.2f %8.2f %7.2f %8.2f %7.2f %8.1f %9.3f %7.3f %8.1f  %-6s %s" % (
+    sys.argv[1], r["streams"], r["frames_measured"], r["streams_failed"], l["p50"], l["p99"], l["max"],
     r["lateness_from_write_ms"]["p99"], t["p99"], r["pacer_lag_ms"]["p99"], s.get("cpu_percent", 0), s.get("cpu_percent_per_stream", 0),
     s.get("mib_per_stream", 0), r.get("client_cpu_percent", 0),
     "within" if r["within_budget"] else "OVER", open("/proc/loadavg").read().split()[0]))
@@ -111,7 +127,7 @@ for what, count in sorted(r["errors"].items()):
 PY
 }
 
-within() { python3 -c 'import json,sys; sys.exit(0 if json.load(open(sys.argv[1]))["within_budget"] else 1)' "$work/$1.json"; }
+within() { python3 -c 'import json,sys; sys.exit(0 if json.load(open(sys.argv[1]))["within_budget"] else 1)' "$work/$1-$2.json"; }
 
 echo "koma_live_load against koma_server on 127.0.0.1 ($(nproc) cores shared by both, nothing pinned,"
 echo "load average $(cut -d' ' -f1-3 /proc/loadavg)); recordings: voice.flac 16 kHz, espeak-ng English"
@@ -131,21 +147,31 @@ echo "chunks $chunk_ms ms, lookahead $lookahead, $duration s per N (first $warmu
 echo "lat = arrival - the deciding chunk's send time (due), budget p99 <= 41.7 ms (one grid frame);"
 echo "wr = the same from the chunk's write (the client's own stalls left out); tot = from the frame's"
 echo "end; pacer = this client's lag handing chunks out (large: this client is starved of CPU)"
-echo "     N   frames failed lat.p50 lat.p99  lat.max  wr.p99  tot.p99 pacer99 srv.CPU%  CPU%/str MiB/str cli.CPU%  budget load"
-best=0
-worst=0
+echo "srv       N   frames failed lat.p50 lat.p99  lat.max  wr.p99  tot.p99 pacer99 srv.CPU%  CPU%/str MiB/str cli.CPU%  budget load"
+declare -A best worst lo hi
+for kind in $kinds; do best[$kind]=0 worst[$kind]=0; done
 for n in $ns; do
-  run "$n"
-  if within "$n"; then best=$n; else [ "$worst" != 0 ] || worst=$n; fi
-done
-if [ "${SEARCH:-0}" = 1 ] && [ "$worst" != 0 ]; then
-  lo=$best hi=$worst
-  while ((hi - lo > step)); do
-    mid=$(((lo + hi) / 2 / step * step))
-    ((mid > lo)) || mid=$((lo + step))
-    run "$mid"
-    if within "$mid"; then lo=$mid; else hi=$mid; fi
+  for kind in $kinds; do
+    run "$kind" "$n"
+    if within "$kind" "$n"; then best[$kind]=$n; else [ "${worst[$kind]}" != 0 ] || worst[$kind]=$n; fi
   done
-  best=$lo
+done
+if [ "${SEARCH:-0}" = 1 ]; then
+  # The bisections side by side: each round runs every kind still searching, the echo first.
+  for kind in $kinds; do lo[$kind]=${best[$kind]} hi[$kind]=${worst[$kind]}; done
+  searching=1
+  while [ "$searching" = 1 ]; do
+    searching=0
+    for kind in $kinds; do
+      if [ "${hi[$kind]}" = 0 ] || ((hi[$kind] - lo[$kind] <= step)); then continue; fi
+      searching=1
+      mid=$(((lo[$kind] + hi[$kind]) / 2 / step * step))
+      ((mid > lo[$kind])) || mid=$((lo[$kind] + step))
+      run "$kind" "$mid"
+      if within "$kind" "$mid"; then lo[$kind]=$mid; else hi[$kind]=$mid; fi
+    done
+  done
+  for kind in $kinds; do best[$kind]=${lo[$kind]}; done
 fi
-echo "largest N within the budget: $best"
+[ "${ECHO:-0}" != 1 ] || echo "largest N within the budget (echo, transport only): ${best[echo]}"
+echo "largest N within the budget: ${best[koma]}"
