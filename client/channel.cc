@@ -13,6 +13,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
+#include "client/command_io.h"
 
 namespace koma::client {
 namespace {
@@ -119,7 +120,19 @@ absl::StatusOr<std::shared_ptr<grpc::Channel>> MakeChannel(const std::string& se
   return grpc::CreateCustomChannel(target->uri, Credentials(), args);
 }
 
+namespace {
+thread_local const std::shared_ptr<grpc::Channel>* scoped_channel = nullptr;
+}  // namespace
+
+ScopedRetimeChannel::ScopedRetimeChannel(std::shared_ptr<grpc::Channel> channel)
+    : channel_(std::move(channel)), previous_(scoped_channel) {
+  scoped_channel = &channel_;
+}
+
+ScopedRetimeChannel::~ScopedRetimeChannel() { scoped_channel = previous_; }
+
 absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> NewRetimeStub(const std::string& servers) {
+  if (scoped_channel != nullptr) return v1::Retime::NewStub(*scoped_channel);
   absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = MakeChannel(servers);
   if (!channel.ok()) return channel.status();
   return v1::Retime::NewStub(*channel);
@@ -132,7 +145,7 @@ void SetDeadline(grpc::ClientContext* context, double seconds) {
 }
 
 int ReportError(const absl::Status& status) {
-  std::fprintf(stderr, "koma: %s\n", std::string(status.message()).c_str());
+  PrintStderr(absl::StrCat("koma: ", status.message(), "\n"));
   return 1;
 }
 
@@ -140,7 +153,7 @@ int ReportRpcError(const grpc::Status& status) {
   // absl's canonical code names are gRPC's ("INVALID_ARGUMENT", ...).
   const std::string code =
       absl::StatusCodeToString(static_cast<absl::StatusCode>(status.error_code()));
-  std::fprintf(stderr, "koma: %s: %s\n", code.c_str(), status.error_message().c_str());
+  PrintStderr(absl::StrCat("koma: ", code, ": ", status.error_message(), "\n"));
   return 1;
 }
 

@@ -47,8 +47,24 @@ std::string ClientServiceConfig(bool balanced);
 // ClientServiceConfig. INVALID_ARGUMENT for a malformed list.
 absl::StatusOr<std::shared_ptr<grpc::Channel>> MakeChannel(const std::string& servers);
 
-// A Retime stub on MakeChannel(servers).
+// A Retime stub on MakeChannel(servers), or, within a ScopedRetimeChannel on this thread, on
+// that scope's channel whatever `servers` says.
 absl::StatusOr<std::unique_ptr<v1::Retime::Stub>> NewRetimeStub(const std::string& servers);
+
+// Sends this thread's Retime calls (NewRetimeStub) to `channel` until destroyed: koma_server
+// runs the page's jobs through the CLI's commands on its own in-process channel
+// (client/file_job.h), so they pass the service's limits and admission as any call.
+class ScopedRetimeChannel {
+ public:
+  explicit ScopedRetimeChannel(std::shared_ptr<grpc::Channel> channel);
+  ~ScopedRetimeChannel();
+  ScopedRetimeChannel(const ScopedRetimeChannel&) = delete;
+  ScopedRetimeChannel& operator=(const ScopedRetimeChannel&) = delete;
+
+ private:
+  std::shared_ptr<grpc::Channel> channel_;
+  const std::shared_ptr<grpc::Channel>* previous_;
+};
 
 // Every RPC carries a deadline: now + `seconds`.
 void SetDeadline(grpc::ClientContext* context, double seconds);

@@ -10,6 +10,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "client/cli_options.h"
+#include "client/command_io.h"
 #include "client/command_flags.h"
 #include "client/command_output.h"
 #include "client/config_file.h"
@@ -290,7 +291,7 @@ int ParseCommandLine(const std::vector<std::string>& args, KomaCommandLine* out)
 
 int RunCommandLine(const KomaCommandLine& line) {
   if (absl::Status s = ConfigureTls(line.tls); !s.ok()) {
-    std::fprintf(stderr, "koma: %s\n", std::string(s.message()).c_str());
+    PrintStderr(absl::StrCat("koma: ", s.message(), "\n"));
     return kExitUsage;
   }
   if (line.command == "skeletal") return RunSkeletal(line.skeletal);

@@ -7,6 +7,7 @@
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "absl/strings/strip.h"
+#include "client/command_io.h"
 #include "client/command_output.h"
 
 namespace koma::client {
@@ -63,8 +64,7 @@ CLI::Option* AddParsedList(CLI::App* cmd, const std::string& names, std::vector<
 }  // namespace
 
 int PrintUsageError(const std::string& who, const std::string& message, const std::string& help) {
-  std::fprintf(stderr, "%s: %s\n", who.c_str(), message.c_str());
-  std::fprintf(stderr, "Run `%s` for the options.\n", help.c_str());
+  PrintStderr(absl::StrCat(who, ": ", message, "\nRun `", help, "` for the options.\n"));
   return kExitUsage;
 }
 

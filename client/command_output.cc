@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
+#include "client/command_io.h"
 #include "koma/version.h"
 
 namespace koma::client {
@@ -14,7 +15,7 @@ std::string CodeName(absl::StatusCode code) { return absl::StatusCodeToString(co
 
 void PrintLines(const std::string& text) {
   for (absl::string_view line : absl::StrSplit(text, '\n', absl::SkipEmpty())) {
-    std::fprintf(stderr, "koma: %.*s\n", static_cast<int>(line.size()), line.data());
+    PrintStderr(absl::StrCat("koma: ", line, "\n"));
   }
 }
 
@@ -58,8 +59,7 @@ void CommandOutput::PrintJsonError(const std::string& code, const std::string& m
   nlohmann::json error = Header("error");
   error["exit_code"] = exit_code;
   error["error"] = {{"code", code}, {"message", message}};
-  std::printf("%s\n", error.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
-  std::fflush(stdout);
+  PrintStdout(error.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 int CommandOutput::Failure(const absl::Status& status) const {
@@ -71,7 +71,7 @@ int CommandOutput::Failure(const absl::Status& status) const {
 
 int CommandOutput::UsageFailure(const absl::Status& status) const {
   const std::string message(status.message());
-  std::fprintf(stderr, "koma %s: %s\n", command_.c_str(), message.c_str());
+  PrintStderr(absl::StrCat("koma ", command_, ": ", message, "\n"));
   PrintJsonError("USAGE", message, kExitUsage);
   return kExitUsage;
 }
@@ -87,15 +87,16 @@ int CommandOutput::RpcFailure(const grpc::Status& status) const {
 void CommandOutput::Success(const std::string& text, nlohmann::json summary,
                             bool stdout_taken) const {
   if (!quiet_) {
-    std::FILE* to = (stdout_taken || json_) ? stderr : stdout;
-    std::fputs(text.c_str(), to);
-    std::fflush(to);
+    if (stdout_taken || json_) {
+      PrintStderr(text);
+    } else {
+      PrintStdout(text);
+    }
   }
   if (!json_) return;
   nlohmann::json out = Header("ok");
   for (auto& [key, value] : summary.items()) out[key] = std::move(value);
-  std::printf("%s\n", out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
-  std::fflush(stdout);
+  PrintStdout(out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 std::string XdtsLine(const std::string& xdts_path) {

@@ -12,6 +12,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "client/cli.h"
+#include "client/command_io.h"
 #include "client/cli_options.h"
 #include "client/flag_values.h"
 #include "formats/text_encoding.h"
@@ -37,7 +38,8 @@ std::string ConfigFilePath(const std::vector<std::string>& args) {
 }
 
 std::vector<std::string> WithEnvironmentConfig(std::vector<std::string> args) {
-  const char* from_env = std::getenv("KOMA_CONFIG");
+  // A command run in memory (the page's jobs) reads no file the scope does not hold.
+  const char* from_env = CurrentMemoryCommandIo() ? nullptr : std::getenv("KOMA_CONFIG");
   if (from_env != nullptr && *from_env != '\0' && !args.empty() && ConfigFilePath(args).empty()) {
     args.insert(args.begin() + 1, {"--config", from_env});
   }

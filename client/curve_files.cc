@@ -4,6 +4,7 @@
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "client/command_io.h"
 #include "client/file_format.h"
 #include "client/files.h"
 #include "formats/spine.h"
@@ -19,8 +20,8 @@ bool IsCsvPath(const std::string& path) { return FormatFromName(path) == FormatI
 
 bool CanWriteOutput(const std::string& input, const std::string& output) {
   if (IsCsvPath(output) || !IsCsvPath(input)) return true;
-  std::fprintf(stderr, "koma: -o %s: a CSV input can only be written as CSV (-o OUT.csv)\n",
-               output.c_str());
+  PrintStderr(
+      absl::StrCat("koma: -o ", output, ": a CSV input can only be written as CSV (-o OUT.csv)\n"));
   return false;
 }
 

@@ -25,6 +25,7 @@
 #include "platform/malloc_tuning.h"
 #include "server/logging.h"
 #include "server/mutex_tuning.h"
+#include "server/page_routes.h"
 #include "server/process_control.h"
 #include "server/server.h"
 
@@ -318,6 +319,10 @@ int main(int argc, char** argv) {
   }
   auto server = koma::server::KomaServer::Start(config);
   if (!server.ok()) return Fail(std::string(server.status().message()));
+  // The page (server/page_routes.h) beside the Connect API, before any port file is written.
+  if (koma::server::HttpServer* http = (*server)->http_server()) {
+    koma::server::RegisterPageRoutes(*http, (*server)->InProcessChannel());
+  }
   const std::string http_port_file = absl::GetFlag(FLAGS_http_port_file);
   if (!http_port_file.empty() && config.http.port == -1) {
     return Fail("--http_port_file needs --http_port");
