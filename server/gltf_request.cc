@@ -184,6 +184,12 @@ absl::Status HandleRetimeSkeletalGltf(const v1::RetimeSkeletalRequest& request,
     }
     plan.push_back({a, fps, frames});
   }
+  if (request.has_given_timing() && plan.size() != 1) {
+    // One timing fits one clip: which animation it is for must not be a guess.
+    return absl::InvalidArgumentError(absl::StrCat(
+        "given_timing: a given timing applies to one animation, but this request retimes ",
+        plan.size(), "; name one in gltf_animations"));
+  }
   std::vector<formats::GltfAnimationKeys> all_keys;
   const int64_t file_footprint = GltfFootprint(bytes);  // a pass over the file: once
   StopPoll stop(/*steps_between_checks=*/1);  // an animation is a retime call's worth of work

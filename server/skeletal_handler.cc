@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "core/forward_kinematics.h"
+#include "core/given_skeletal_timing.h"
 #include "core/retime_grid.h"
 #include "core/retime_shots.h"
 #include "core/status_macros.h"
@@ -129,6 +130,7 @@ void FillTailFields(const Retimed& retimed, v1::RetimeSkeletalResponse* response
   response->set_duplicates_held(retimed.map.duplicates_held);
   response->set_omissions_per_second(retimed.job.omissions_per_second);
   response->set_drawings_per_second(retimed.job.drawings_per_second);
+  response->set_timing_given(retimed.job.given_source_frames.has_value());
   if (!retimed.job.grid) return;
   response->set_timing_fps(retimed.job.grid->timing_fps());
   response->mutable_grid_frames()->Add(retimed.grid_frames.begin(), retimed.grid_frames.end());
@@ -198,11 +200,33 @@ absl::StatusOr<T> InMotion(absl::StatusOr<T> result) {
   return absl::Status(result.status().code(), absl::StrCat("motion: ", result.status().message()));
 }
 
+// A given timing (docs/semantics.md, "A given timing"): expanded as a chosen one, nothing
+// measured, so no forward kinematics either. The counts the response reports: 0, and max_hold
+// the longest given hold.
+void ApplyGiven(Retimed& out) {
+  SkeletalJob& job = out.job;
+  GivenSkeletalRetimed given = ApplyGivenSkeletalTiming(*job.given_source_frames, job.grid,
+                                                        job.frame_count,
+                                                        !job.output_at_timing_rate);
+  out.map = std::move(given.map);
+  out.grid_frames = std::move(given.grid_frames);
+  out.grid_samples = std::move(given.grid_samples);
+  job.retime_options.omissions = 0;
+  job.retime_options.holds = 0;
+  job.retime_options.max_hold = given.longest_hold;
+  job.omissions_per_second = 0.0;
+  job.drawings_per_second = 0.0;
+}
+
 // Validates, runs forward kinematics (channel form) and RetimeFast.
 absl::StatusOr<Retimed> Retime(const v1::RetimeSkeletalRequest& request,
                                const RequestLimits& limits) {
   Retimed out;
   KOMA_ASSIGN_OR_RETURN(out.job, ValidateSkeletalRequest(request, limits));
+  if (out.job.given_source_frames) {
+    ApplyGiven(out);
+    return out;
+  }
   const SkeletalJob& job = out.job;
   // In this function FK's world positions (as large as the request) are alive; they are freed
   // before the response is built, so a large call never holds request, positions and

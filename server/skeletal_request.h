@@ -46,6 +46,9 @@ struct SkeletalJob {
   // The rates used after the anime defaults, per second of counted time; 0: none.
   double omissions_per_second = 0.0;
   double drawings_per_second = 0.0;
+  // The request's given_timing (docs/semantics.md, "A given timing"), validated: per counted
+  // frame, the source frame it shows. Set: no distance is measured and nothing is chosen.
+  std::optional<std::vector<int32_t>> given_source_frames;
 };
 
 // Checks every field and returns INVALID_ARGUMENT, OUT_OF_RANGE or RESOURCE_EXHAUSTED with

@@ -9,6 +9,7 @@
 #include "absl/strings/str_cat.h"
 #include "convert/field_error.h"
 #include "core/film_grid.h"
+#include "core/given_skeletal_timing.h"
 #include "core/magnitude_scan.h"
 #include "core/status_macros.h"
 #include "server/skeletal_request.h"
@@ -309,6 +310,14 @@ absl::StatusOr<SkeletalJob> ValidateSkeletalRequest(const v1::RetimeSkeletalRequ
     job.retime_options = *options;
   }
   job.return_motion = !request.has_return_motion() || request.return_motion();
+  if (request.has_given_timing()) {
+    const auto& given = request.given_timing().source_frames();
+    std::vector<int32_t> frames(given.begin(), given.end());
+    const int counted = job.grid ? job.grid->GridFrameCount(job.frame_count) : job.frame_count;
+    KOMA_RETURN_IF_ERROR(ValidateGivenSkeletalTiming(frames, job.frame_count, counted,
+                                                     "given_timing.source_frames"));
+    job.given_source_frames = std::move(frames);
+  }
   return job;
 }
 
