@@ -19,6 +19,7 @@
 #include "client/skeletal_file_formats.h"
 #include "client/skeletal_gltf.h"
 #include "client/skeletal_summary.h"
+#include "client/timing_from.h"
 #include "client/xdts_sheets.h"
 #include "core/film_grid.h"
 #include "formats/bvh.h"
@@ -274,6 +275,16 @@ int RunSkeletal(const SkeletalArgs& args) {
   const SkeletalClip* clip = &input->clip;
   absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, *clip);
   if (!request.ok()) return out.UsageFailure(request.status());
+  if (!args.timing_from.empty()) {
+    const SkeletalClipShape shape{clip->frame_count,
+                                  clip->frame_time > 0 ? 1.0 / clip->frame_time : 0.0,
+                                  args.timing_fps};
+    if (absl::Status s = SetSkeletalTimingFrom(args.timing_from, XdtsClipName(args.input, ""),
+                                               shape, &*request, &input->warnings);
+        !s.ok()) {
+      return out.Failure(s);
+    }
+  }
   // --send-file: the wire carries the file; the report still reads the decoded request.
   std::optional<v1::RetimeSkeletalRequest> file_request;
   if (args.send_file) {

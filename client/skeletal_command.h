@@ -26,6 +26,7 @@ struct SkeletalArgs : CallFlags {
   std::string timing;                      // timing sheet CSV to write; empty: none; "-": stdout
   std::string report;                      // --report: HTML report to write; empty: none
   std::string xdts;                        // --xdts: XDTS exposure sheet to write; empty: none
+  std::string timing_from;  // --timing-from: an edited XDTS or --timing CSV to apply; empty: none
   std::optional<int> omissions;            // --omit / --omissions; unset: server default (4)
   std::optional<int> holds;                // --hold / --holds; unset: server default (N / 3)
   std::optional<int> max_hold;             // --max-hold; unset: server default (3)

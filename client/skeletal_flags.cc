@@ -22,6 +22,12 @@ CLI::App* AddSkeletalCommand(CLI::App& app, SkeletalArgs& args) {
                 "ask for no motion (return_motion false) and write only --timing and/or --xdts");
   AddReportFlag(cmd, &args.report);
   AddXdtsFlag(cmd, &args.xdts);
+  cmd->add_option("--timing-from", args.timing_from,
+                  "apply the timing of an edited sheet instead of computing one: an XDTS "
+                  "(--xdts, edited in CLIP STUDIO PAINT, OpenToonz, TVPaint) or a --timing CSV; "
+                  "cell N shows source frame N, a blank cell holds the frame before "
+                  "(docs/usage.md)")
+      ->type_name("SHEET.xdts|TIMING.csv");
   AddWholeNumber(cmd, "--omit,--omissions", &args.omissions, 0, INT32_MAX,
                  "Nio, inbetween omissions (nakanashi): frames removed where the motion is "
                  "fastest; a count turns the anime defaults off (the paper's: min(4, frames - 3))");

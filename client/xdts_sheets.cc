@@ -38,17 +38,6 @@ std::string BaseName(const std::string& path) {
   return base;
 }
 
-// Cells of drawing numbers 1, 2, ... from one key per row: a new number where the key changes.
-std::vector<std::string> NumberByChange(const std::vector<int>& keys) {
-  std::vector<std::string> cells(keys.size());
-  int drawing = 0;
-  for (size_t r = 0; r < keys.size(); ++r) {
-    if (r == 0 || keys[r] != keys[r - 1]) ++drawing;
-    cells[r] = absl::StrCat(drawing);
-  }
-  return cells;
-}
-
 // Index of the level nearest `value` among levels[0..2], ties to the lower index.
 int NearestLevel(double value, const double (&levels)[3]) {
   int best = 0;
@@ -155,7 +144,12 @@ absl::StatusOr<XdtsSheet> SkeletalXdtsSheet(const v1::RetimeSkeletalResponse& re
   XdtsSheet sheet;
   sheet.name = name;
   sheet.duration = static_cast<int>(shown.size());
-  sheet.cell_tracks.push_back({name, NumberByChange(shown)});
+  // Each cell is named after the source frame it shows, counted from 1, so an edited sheet
+  // maps back to source frames by its cell ids alone (--timing-from): the ids are what
+  // OpenToonz, CSP and TVPaint keep.
+  std::vector<std::string> cells(shown.size());
+  for (size_t r = 0; r < shown.size(); ++r) cells[r] = absl::StrCat(shown[r] + 1);
+  sheet.cell_tracks.push_back({name, std::move(cells)});
   return sheet;
 }
 

@@ -22,8 +22,8 @@ std::string XdtsClipName(const std::string& input, const std::string& fallback);
 // RetimeSkeletal: one Cell track named `name`. Rows: with a grid, the grid frames of the
 // retimed sequence (0 .. the last output frame's grid frame), each showing the drawing of its
 // output frames (a grid frame no output frame shows, a source slower than the grid, repeats
-// the row before: what the output shows then); without one, the output frames. A new drawing
-// number wherever the shown source frame changes.
+// the row before: what the output shows then); without one, the output frames. Each cell is
+// the source frame the row shows, counted from 1 (cell "1" is the clip's first frame).
 absl::StatusOr<formats::XdtsSheet> SkeletalXdtsSheet(const v1::RetimeSkeletalResponse& response,
                                                      const std::string& name);
 

@@ -15,6 +15,8 @@ from koma._errors import KomaError
 from koma._results import CurvesResult, LipBlinkResult, SkeletalResult
 from koma._live import LiveFrame
 from koma._live_sources import AudioFile, AudioSourceError, Microphone
+from koma._sheet_timing import SheetError
 
 __all__ = ["__version__", "Client", "Positions", "KomaError", "SkeletalResult", "CurvesResult",
-           "LipBlinkResult", "LiveFrame", "AudioFile", "Microphone", "AudioSourceError"]
+           "LipBlinkResult", "LiveFrame", "AudioFile", "Microphone", "AudioSourceError",
+           "SheetError"]

@@ -225,6 +225,10 @@ def _parser():
     p.add_argument("--output-rate", choices=["source", "timing"],
                    help="source (default: the BVH's rate and length) or timing (one frame "
                         "per grid frame)")
+    p.add_argument("--timing-from", metavar="SHEET.xdts|TIMING.csv",
+                   help="apply the timing of an edited XDTS sheet or --timing CSV instead of "
+                        "computing one (cell N shows source frame N; a blank cell holds the "
+                        "frame before)")
     _common(p)
 
     p = commands.add_parser("curves", help="koma-uchi on animation curves (RetimeCurves)")
@@ -399,7 +403,9 @@ def _run(args):
                 omissions_per_second=args.omissions_per_second,
                 drawings_per_second=args.drawings_per_second,
                 cut_neighbour_ratio=args.cut_neighbour_ratio,
-                cut_median_ratio=args.cut_median_ratio)
+                cut_median_ratio=args.cut_median_ratio, timing_from=args.timing_from)
+            for warning in result.warnings:
+                sys.stderr.write(f"koma: warning: {warning}\n")
             result.write(args.output)
             c = result.counts
             print(f"{args.input} -> {args.output} ({c['frames']} frames): omitted "
@@ -472,6 +478,9 @@ def main(argv=None):
         return _run(args)
     except koma.KomaError as error:
         sys.stderr.write(f"koma: {error.code.name}: {error.message}\n")
+        return 1
+    except koma.SheetError as error:  # --timing-from: as the C++ client words it
+        sys.stderr.write(f"koma: {error}\n")
         return 1
     except OSError as error:
         sys.stderr.write(f"koma: {error}\n")

@@ -2,10 +2,12 @@
 streams a voice (koma/_live.py)."""
 import json
 import os
+import re
 
 import grpc
 
 from koma import _format_table, _health_pb2, _live, _live_sources, _options, _presets
+from koma import _sheet_timing, _xdts
 from koma._errors import KomaError
 from koma._results import CurvesResult, LipBlinkResult, SkeletalResult
 from koma.v1 import motion_pb2, retime_pb2, retime_pb2_grpc
@@ -79,6 +81,20 @@ def _read_source(source, text_starts):
     if isinstance(source, str):
         return source.encode("utf-8"), None
     raise TypeError(f"expected a path, a file's text (str) or bytes, got {type(source).__name__}")
+
+
+def _bvh_length(data):
+    """(frames, frames per second) of a BVH's MOTION section, (0, 0.0) when it has none that
+    reads (the server then checks a given timing against the clip and names the field)."""
+    text = data.decode("utf-8", "replace") if isinstance(data, bytes) else data
+    motion = text.find("MOTION")
+    frames = re.search(r"Frames:\s*(\d+)", text[motion:]) if motion >= 0 else None
+    frame_time = re.search(r"Frame Time:\s*([0-9.eE+-]+)", text[motion:]) if motion >= 0 else None
+    try:
+        seconds = float(frame_time.group(1)) if frame_time else 0.0
+        return (int(frames.group(1)), 1.0 / seconds) if frames and seconds > 0 else (0, 0.0)
+    except ValueError:
+        return 0, 0.0
 
 
 def _sent_whole_format(data, path):
@@ -213,7 +229,11 @@ class Client:
                 gltf_animations (names or indices as str), gltf_retime_none, gltf_source_fps,
                 gltf_keys ("GLTF_KEYS_STEP" or "GLTF_KEYS_LINEAR"), gltf_keep_original; for
                 FBX fbx_take (the take's name; default the file's current take). Frame
-                counts are in grid frames when a grid is used.
+                counts are in grid frames when a grid is used. timing_from: the path of an
+                edited XDTS sheet or --timing CSV whose timing is applied instead of computing
+                one, as `koma skeletal --timing-from` (cell N shows source frame N, a blank
+                cell holds the frame before; raises koma.SheetError naming the track, frame
+                and cell when it does not fit the clip).
 
         Returns:
             SkeletalResult: with a BVH source, .output is the retimed BVH text, byte for
@@ -222,18 +242,31 @@ class Client:
             with Positions, .response.motion holds the retimed positions.
         """
         request = retime_pb2.RetimeSkeletalRequest()
+        timing_from = options.pop("timing_from", None)
         options = _presets.apply(_presets.SKELETAL, preset, options)
         _options.fill(request, options, skip=("motion", "bvh_text", "gltf", "fbx"))
         path = None
+        frame_count, source_fps = 0, 0.0
         if isinstance(source, Positions):
             request.motion.CopyFrom(source.to_proto())
+            frame_count = source.frame_count
+            source_fps = 1.0 / source.frame_time if source.frame_time > 0 else 0.0
         else:
             bvh_starts = tuple(s.decode() for s in _format_table.row("bvh")["text_starts"])
             data, path = _read_source(source, bvh_starts)
             key = _sent_whole_format(data, path) or "bvh"
             setattr(request, _format_table.request_field(key, "RetimeSkeletalRequest"), data)
+            if key == "bvh":
+                frame_count, source_fps = _bvh_length(data)
+        warnings = []
+        if timing_from is not None:
+            frames, warnings = _sheet_timing.skeletal_source_frames(
+                timing_from, _xdts.clip_name(path or "-", ""), frame_count, source_fps,
+                options.get("timing_fps"))
+            request.given_timing.source_frames.extend(frames)
         result = SkeletalResult(self._call(self._stub.RetimeSkeletal, request))
         result.source_path = path
+        result.warnings = list(warnings) + list(result.warnings)
         return result
 
     def _curve_request(self, request, source, file_format, csv_fps, animation=None):

@@ -84,15 +84,6 @@ def clip_name(source_path, fallback):
     return "koma"
 
 
-def _number_by_change(keys):
-    cells, drawing = [], 0
-    for r, key in enumerate(keys):
-        if r == 0 or key != keys[r - 1]:
-            drawing += 1
-        cells.append(str(drawing))
-    return cells
-
-
 def skeletal_sheet(response, name):
     frames = len(response.source_frames)
     if frames == 0:
@@ -108,7 +99,8 @@ def skeletal_sheet(response, name):
                 shown[r] = shown[r - 1]
     else:
         shown = list(response.source_frames)
-    return {"name": name, "duration": len(shown), "cells": [(name, _number_by_change(shown))],
+    # Cells named after the source frame they show, from 1 (what --timing-from reads back).
+    return {"name": name, "duration": len(shown), "cells": [(name, [str(s + 1) for s in shown])],
             "dialog": []}
 
 

@@ -37,7 +37,7 @@ TEST(XdtsClipNameTest, FileNameWithoutFolderAndExtension) {
   EXPECT_EQ(XdtsClipName(".bvh", "out/s.xdts"), ".bvh");  // nothing before the extension
 }
 
-TEST(SkeletalXdtsSheetTest, DrawingsNumberedWhereTheSourceFrameChanges) {
+TEST(SkeletalXdtsSheetTest, CellsAreTheSourceFramesCountedFromOne) {
   v1::RetimeSkeletalResponse response;
   for (int s : {0, 0, 0, 1, 1, 1, 3, 3, 3, 5}) response.add_source_frames(s);
   ASSERT_OK_AND_ASSIGN(const formats::XdtsSheet sheet, SkeletalXdtsSheet(response, "pitch"));
@@ -45,7 +45,7 @@ TEST(SkeletalXdtsSheetTest, DrawingsNumberedWhereTheSourceFrameChanges) {
   EXPECT_EQ(sheet.duration, 10);
   ASSERT_EQ(sheet.cell_tracks.size(), 1u);
   EXPECT_EQ(sheet.cell_tracks[0].name, "pitch");
-  EXPECT_THAT(sheet.cell_tracks[0].cells, ElementsAreArray(Cells({1, 1, 1, 2, 2, 2, 3, 3, 3, 4})));
+  EXPECT_THAT(sheet.cell_tracks[0].cells, ElementsAreArray(Cells({1, 1, 1, 2, 2, 2, 4, 4, 4, 6})));
 }
 
 TEST(SkeletalXdtsSheetTest, GridRowsFromTheOutputFramesGridFrames) {
@@ -60,7 +60,7 @@ TEST(SkeletalXdtsSheetTest, GridRowsFromTheOutputFramesGridFrames) {
   }
   ASSERT_OK_AND_ASSIGN(const formats::XdtsSheet sheet, SkeletalXdtsSheet(response, "mocap"));
   EXPECT_EQ(sheet.duration, 4);
-  EXPECT_THAT(sheet.cell_tracks[0].cells, ElementsAreArray(Cells({1, 1, 2, 3})));
+  EXPECT_THAT(sheet.cell_tracks[0].cells, ElementsAreArray(Cells({1, 1, 11, 16})));
 }
 
 TEST(SkeletalXdtsSheetTest, GridFramesNoOutputFrameShowsRepeatTheRowBefore) {
@@ -73,7 +73,7 @@ TEST(SkeletalXdtsSheetTest, GridFramesNoOutputFrameShowsRepeatTheRowBefore) {
   }
   ASSERT_OK_AND_ASSIGN(const formats::XdtsSheet sheet, SkeletalXdtsSheet(response, "slow"));
   EXPECT_EQ(sheet.duration, 7);
-  EXPECT_THAT(sheet.cell_tracks[0].cells, ElementsAreArray(Cells({1, 1, 1, 1, 2, 2, 3})));
+  EXPECT_THAT(sheet.cell_tracks[0].cells, ElementsAreArray(Cells({1, 1, 1, 1, 3, 3, 4})));
 }
 
 TEST(SkeletalXdtsSheetTest, EmptyAnswerIsAnError) {

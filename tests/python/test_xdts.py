@@ -45,13 +45,8 @@ def read_checked(path):
 
 
 def drawings_from_sources(sources):
-    """Drawing numbers 1, 2, ... in order of appearance of the shown source frames."""
-    number, cells = {}, []
-    for s in sources:
-        if not cells or s != sources[len(cells) - 1]:
-            number[s] = len(number) + 1
-        cells.append(str(number[s]))
-    return cells
+    """Cells named after the source frame shown, counted from 1 (what --timing-from reads)."""
+    return [str(s + 1) for s in sources]
 
 
 def timing_rows(timing_csv):

@@ -1,0 +1,78 @@
+#include "client/timing_from.h"
+
+#include <cstring>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
+#include "client/files.h"
+#include "core/film_grid.h"
+#include "formats/error_text.h"
+#include "formats/xdts.h"
+
+namespace koma::client {
+namespace {
+
+bool LooksLikeXdts(const std::string& path, std::string_view text) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  return text.substr(0, std::strlen(formats::kXdtsIdentifier)) == formats::kXdtsIdentifier ||
+         absl::EndsWithIgnoreCase(path, ".xdts");
+}
+
+absl::Status Prefixed(const std::string& path, const absl::Status& status) {
+  return absl::Status(status.code(), absl::StrCat(InputName(path), ": ", status.message()));
+}
+
+}  // namespace
+
+absl::StatusOr<formats::SheetTiming> ReadTimingFrom(const std::string& path) {
+  absl::StatusOr<std::string> text = ReadFile(path);
+  if (!text.ok()) return text.status();
+  absl::StatusOr<formats::SheetTiming> sheet = LooksLikeXdts(path, *text)
+                                                   ? formats::ReadSheetTimingXdts(*text)
+                                                   : formats::ReadSheetTimingCsv(*text);
+  if (!sheet.ok()) return Prefixed(path, sheet.status());
+  for (std::string& warning : sheet->warnings) warning.insert(0, InputName(path) + ": ");
+  return sheet;
+}
+
+absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& track,
+                                   const SkeletalClipShape& clip,
+                                   v1::RetimeSkeletalRequest* request,
+                                   std::vector<std::string>* warnings) {
+  absl::StatusOr<formats::SheetTiming> sheet = ReadTimingFrom(path);
+  if (!sheet.ok()) return sheet.status();
+  absl::StatusOr<std::vector<int>> match = formats::MatchSheetTracks(*sheet, {track});
+  if (!match.ok()) return Prefixed(path, match.status());
+  const formats::SheetTimingTrack& cells = sheet->tracks[static_cast<size_t>((*match)[0])];
+  // Without the clip's frame count (a file the server reads) any cell number passes here and
+  // the server names the one past the clip (given_timing.source_frames[i]).
+  const int drawings = clip.frame_count > 0 ? clip.frame_count : 1 << 30;
+  const std::string what = clip.frame_count > 0
+                               ? absl::StrCat("the clip's source frames 1 to ", clip.frame_count)
+                               : "source frames from 1";
+  absl::StatusOr<std::vector<int>> frames = formats::SheetDrawings(cells, drawings, what);
+  if (!frames.ok()) return Prefixed(path, frames.status());
+  if (clip.frame_count > 0) {
+    const double timing_fps = clip.timing_fps.value_or(kDefaultTimingFps);
+    const std::optional<FilmGrid> grid = FilmGrid::Make(clip.source_fps, timing_fps);
+    const int counted = grid ? grid->GridFrameCount(clip.frame_count) : clip.frame_count;
+    if (static_cast<int>(frames->size()) > counted) {
+      const std::string& cell = cells.cells[static_cast<size_t>(counted)];
+      return absl::InvalidArgumentError(absl::StrCat(
+          InputName(path), ": track ", formats::QuoteForError(cells.name), ", frame ",
+          counted + 1, ": cell ", formats::QuoteForError(cell),
+          " is past the clip's end: the sheet has ", frames->size(), " frames, the clip ",
+          counted, grid ? absl::StrCat(" on the ", timing_fps, " fps grid") : std::string(),
+          " (a sheet may be shorter, not longer)"));
+    }
+  }
+  request->mutable_given_timing()->mutable_source_frames()->Add(frames->begin(), frames->end());
+  for (std::string& warning : sheet->warnings) warnings->push_back(std::move(warning));
+  return absl::OkStatus();
+}
+
+}  // namespace koma::client

@@ -1,0 +1,45 @@
+// --timing-from SHEET.xdts|TIMING.csv: a sheet an animator edited, read back
+// (formats/sheet_timing.h) and built into the request as a given timing (docs/usage.md,
+// "Timing from a sheet").
+#ifndef KOMA_CLIENT_TIMING_FROM_H_
+#define KOMA_CLIENT_TIMING_FROM_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "formats/sheet_timing.h"
+#include "koma/v1/retime.pb.h"
+
+namespace koma::client {
+
+// The sheet at `path` ("-": standard input): XDTS when its first line (after a byte order
+// mark) is XDTS's identifier or its name ends in .xdts, else koma's --timing CSV. Errors and
+// warnings are prefixed with the path ("edit.xdts: track \"pitch\", frame 12: ...").
+absl::StatusOr<formats::SheetTiming> ReadTimingFrom(const std::string& path);
+
+// The clip a skeletal timing is applied to, as far as the client knows it: a decoded clip
+// has `frame_count` and `source_fps`; a file the server reads whole (glTF, FBX) has neither
+// (0), and the server checks the sheet's range and length (given_timing's errors).
+struct SkeletalClipShape {
+  int frame_count = 0;
+  double source_fps = 0;
+  std::optional<double> timing_fps;  // --timing-fps; unset: 24
+};
+
+// RetimeSkeletal: the sheet's Cell track for the clip's one track (named `track`: a track of
+// that name, else the first; any other is an error) as given_timing.source_frames: cell n is
+// source frame n - 1 (koma's skeletal sheets name cells so), a blank holds the frame before.
+// With the clip's shape known: cells past its last frame and more rows than its counted
+// frames (grid frames, or frames without a grid) are INVALID_ARGUMENT naming track, frame
+// and cell. The sheet's warnings are appended to `warnings`.
+absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& track,
+                                   const SkeletalClipShape& clip,
+                                   v1::RetimeSkeletalRequest* request,
+                                   std::vector<std::string>* warnings);
+
+}  // namespace koma::client
+
+#endif  // KOMA_CLIENT_TIMING_FROM_H_

@@ -1,0 +1,344 @@
+"""An edited sheet read back (`timing_from=`): the rules of the C++ client, ported
+(formats/sheet_timing.cc, client/timing_from.cc; docs/usage.md, "Timing from a sheet"), with
+the same messages. tests/python/test_timing_from.py compares the two on the same sheets.
+
+A sheet is {"rows": int, "tracks": [(name, [cell, ...])], "warnings": [str]}, a cell the
+XDTS cell id ("" blank) or, from a --timing CSV, source_frame + 1.
+"""
+import json
+import os
+
+from koma import _xdts
+
+_NULL, _HYPHEN = "SYMBOL_NULL_CELL", "SYMBOL_HYPHEN"
+_REPEATS = ("SYMBOL_HYPHEN", "SYMBOL_TICK_1", "SYMBOL_TICK_2")
+_MAX_ROWS = 1 << 24
+_MAX_TRACKS = 4096
+_MAX_QUOTED = 40
+
+
+def quote(text):
+    """formats::QuoteForError: C-escaped in double quotes, cut to 40 bytes."""
+    data = text.encode("utf-8", "surrogateescape") if isinstance(text, str) else text
+    cut = len(data) > _MAX_QUOTED
+    out = []
+    for b in data[:_MAX_QUOTED]:
+        c = chr(b)
+        if c == "\n":
+            out.append("\\n")
+        elif c == "\r":
+            out.append("\\r")
+        elif c == "\t":
+            out.append("\\t")
+        elif c in "\"'\\":
+            out.append("\\" + c)
+        elif b < 0x20 or b >= 0x7f:
+            out.append("\\%03o" % b)
+        else:
+            out.append(c)
+    return '"' + "".join(out) + '"' + ("..." if cut else "")
+
+
+class SheetError(ValueError):
+    """A sheet that does not fit: the message names the file, track, frame and cell."""
+
+
+def _whole(value, path, lo, hi):
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or \
+            (isinstance(value, float) and value != int(value)):
+        raise SheetError(f"{path}: expected a whole number, got {json.dumps(value)}")
+    if value < lo:
+        raise SheetError(f"{path}: {json.dumps(value)} must be >= {lo}")
+    if value > hi:
+        raise SheetError(f"{path}: {json.dumps(value)} must be <= {hi}")
+    return int(value)
+
+
+def _member(obj, path, name, kind=None):
+    if not isinstance(obj, dict):
+        raise SheetError(f"{path}: expected an object" if path else "expected an object")
+    if name not in obj:
+        raise SheetError(f"{path}: missing \"{name}\"" if path else f"missing \"{name}\"")
+    value = obj[name]
+    if kind is list and not isinstance(value, list):
+        raise SheetError(f"{path + '.' if path else ''}{name}: expected an array, got "
+                         f"{json.dumps(value)}")
+    return value
+
+
+def _expand(entries, duration):
+    """OpenToonz's column fill (formats/xdts_reader.cc, ExpandCells)."""
+    cells = []
+    for frame, value in entries:
+        if frame >= duration:
+            break
+        previous = cells[-1] if cells else ""
+        while len(cells) < frame:
+            cells.append(previous)
+        cell = "" if value == _NULL else (cells[-1] if cells else "") if value in _REPEATS \
+            else value
+        if len(cells) == frame:
+            cells.append(cell)
+        else:
+            cells[-1] = cell
+    last = cells[-1] if cells else ""
+    while len(cells) < duration:
+        cells.append(last)
+    return cells
+
+
+def read_xdts(data):
+    """The Cell tracks of the first time table, by OpenToonz's import rules."""
+    text = data.decode("utf-8", "replace") if isinstance(data, bytes) else data
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    first, _, body = text.partition("\n")
+    if first.endswith("\r"):
+        first = first[:-1]
+    if first != _xdts.IDENTIFIER:
+        raise SheetError(f"line 1: expected \"{_xdts.IDENTIFIER}\" (an XDTS file), got "
+                         f"{quote(first)}")
+    try:
+        document = json.loads(body)
+    except ValueError as error:
+        raise SheetError(f"line 2 on: invalid JSON: {error}") from None
+    version = _member(document, "", "version")
+    if version != 5 or isinstance(version, bool):
+        raise SheetError(f"version: {json.dumps(version)} is not 5 (the XDTS version koma reads)")
+    tables = _member(document, "", "timeTables", list)
+    if not tables:
+        raise SheetError("timeTables: expected at least one time table")
+    table, at = tables[0], "timeTables[0]"
+    duration = _whole(_member(table, at, "duration"), at + ".duration", 1, _MAX_ROWS)
+    name = table.get("name", "") if isinstance(table, dict) else ""
+    names = []
+    headers = _member(table, at, "timeTableHeaders", list)
+    for h, header in enumerate(headers):
+        header_at = f"{at}.timeTableHeaders[{h}]"
+        field_id = _whole(_member(header, header_at, "fieldId"), header_at + ".fieldId", 0,
+                          1 << 20)
+        header_names = _member(header, header_at, "names", list)
+        if field_id == 0:
+            names = list(header_names)
+    tracks = []
+    for f, field in enumerate(table.get("fields", [])):
+        field_at = f"{at}.fields[{f}]"
+        field_id = _whole(_member(field, field_at, "fieldId"), field_at + ".fieldId", 0, 1 << 20)
+        if field_id != 0:
+            continue
+        field_tracks = _member(field, field_at, "tracks", list)
+        if len(field_tracks) > _MAX_TRACKS:
+            raise SheetError(f"{field_at}.tracks: {len(field_tracks)} tracks is over the limit "
+                             f"of {_MAX_TRACKS}")
+        for t, track in enumerate(field_tracks):
+            track_at = f"{field_at}.tracks[{t}]"
+            number = _whole(_member(track, track_at, "trackNo"), track_at + ".trackNo", 0,
+                            _MAX_TRACKS - 1)
+            entries = []
+            for i, item in enumerate(_member(track, track_at, "frames", list)):
+                item_at = f"{track_at}.frames[{i}]"
+                frame = _whole(_member(item, item_at, "frame"), item_at + ".frame", 0, _MAX_ROWS)
+                instructions = _member(item, item_at, "data", list)
+                if not instructions:
+                    raise SheetError(f"{item_at}.data: expected at least one instruction")
+                values = _member(instructions[0], item_at + ".data[0]", "values", list)
+                if not values:
+                    raise SheetError(f"{item_at}.data[0].values: expected at least one value")
+                if not isinstance(values[0], str):
+                    raise SheetError(f"{item_at}.data[0].values[0]: expected a string, got "
+                                     f"{json.dumps(values[0])}")
+                entries.append((frame, values[0]))
+            entries.sort(key=lambda e: e[0])  # stable: a file's order among equal frames
+            track_name = names[number] if number < len(names) else ""
+            tracks.append((track_name, _expand(entries, duration)))
+    warnings = []
+    if len(tables) > 1:
+        extra = len(tables) - 1
+        warnings.append(f"{extra} extra time table{'' if extra == 1 else 's'} ignored: koma "
+                        f"reads the first ({quote(name)})")
+    return {"rows": duration, "tracks": tracks, "warnings": warnings}
+
+
+def _csv_count(value, line, column):
+    if not value or len(value) > 9 or not value.isdigit() or not value.isascii():
+        raise SheetError(f"line {line}: {column} {quote(value)} is not a whole number >= 0")
+    return int(value)
+
+
+def _blank_line(line):
+    return all(c in " \t\r," for c in line)
+
+
+def read_csv(data, max_rows=_MAX_ROWS):
+    """koma's --timing CSV, edited in a spreadsheet (formats::ReadSheetTimingCsv)."""
+    text = data.decode("utf-8", "replace") if isinstance(data, bytes) else data
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    lines = text.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()
+    first = 0
+    while first < len(lines) and _blank_line(lines[first]):
+        first += 1
+    if first == len(lines):
+        raise SheetError("no header line: the file is empty")
+
+    def values_of(line):
+        line = line[:-1] if line.endswith("\r") else line
+        return [v.strip(" \t\n\v\f\r") for v in line.split(",")]
+
+    header = values_of(lines[first])
+    source_column = grid_column = -1
+    for c, name in enumerate(header):
+        if name == "source_frame":
+            source_column = c
+        if name == "grid_frame":
+            grid_column = c
+    if source_column < 0:
+        raise SheetError(f"line {first + 1}: no source_frame column in the header "
+                         f"{quote(lines[first])} (koma's --timing sheet: "
+                         "output_frame,source_frame,kind,time_s[,grid_frame])")
+    cells, previous_grid = [], -1
+    for index in range(first + 1, len(lines)):
+        if _blank_line(lines[index]):
+            continue
+        line = index + 1
+        values = values_of(lines[index])
+
+        def value(column):
+            return values[column] if column < len(values) else ""
+
+        cell = ""
+        if value(source_column):
+            cell = str(_csv_count(value(source_column), line, "source_frame") + 1)
+        if grid_column < 0:
+            if len(cells) >= max_rows:
+                raise SheetError(f"line {line}: more than {max_rows} rows")
+            cells.append(cell)
+            continue
+        grid = _csv_count(value(grid_column), line, "grid_frame")
+        if grid >= max_rows:
+            raise SheetError(f"line {line}: grid_frame {grid} must be < {max_rows}")
+        if grid < previous_grid:
+            raise SheetError(f"line {line}: grid_frame {grid} comes after grid_frame "
+                             f"{previous_grid} (grid frames must not decrease)")
+        if grid == previous_grid:
+            if not cells[-1]:
+                cells[-1] = cell
+            if cell and cell != cells[-1]:
+                raise SheetError(f"line {line}: grid_frame {grid} shows source_frame "
+                                 f"{value(source_column)} here and a different one on a line "
+                                 "before (one grid frame shows one drawing)")
+            continue
+        before = cells[-1] if cells else ""
+        while len(cells) < grid:
+            cells.append(before)
+        cells.append(cell)
+        previous_grid = grid
+    if not cells:
+        raise SheetError(f"no rows after the header on line {first + 1}")
+    return {"rows": len(cells), "tracks": [("", cells)], "warnings": []}
+
+
+def match_tracks(sheet, koma_tracks):
+    """formats::MatchSheetTracks: by name, then by order."""
+    tracks = sheet["tracks"]
+    match, taken = [-1] * len(koma_tracks), [False] * len(tracks)
+    for k, name in enumerate(koma_tracks):
+        for s, (sheet_name, _) in enumerate(tracks):
+            if not taken[s] and sheet_name == name:
+                match[k], taken[s] = s, True
+                break
+    following = 0
+    for k, name in enumerate(koma_tracks):
+        if match[k] >= 0:
+            continue
+        while following < len(taken) and taken[following]:
+            following += 1
+        if following == len(taken):
+            are = "is" if len(tracks) == 1 else "s are"
+            raise SheetError(f"no track for {quote(name)}: the sheet's {len(tracks)} Cell "
+                             f"track{are} taken by the clip's other tracks (tracks match by "
+                             "name, then by order)")
+        match[k], taken[following] = following, True
+    for s, was_taken in enumerate(taken):
+        if not was_taken:
+            names = ", ".join(quote(n) for n in koma_tracks)
+            raise SheetError(f"track {quote(tracks[s][0])} (Cell track {s + 1} of {len(tracks)}): "
+                             f"no such track: the clip's tracks are {names}")
+    return match
+
+
+def drawings(name, cells, drawing_count, what):
+    """formats::SheetDrawings: cell n is drawing n - 1; a blank holds the drawing before."""
+    out, first = [-1] * len(cells), -1
+    for row, cell in enumerate(cells):
+        if not cell:
+            if row > 0:
+                out[row] = out[row - 1]
+            continue
+        ok = len(cell) <= 9 and cell.isdigit() and cell.isascii() and \
+            1 <= int(cell) <= drawing_count
+        if not ok:
+            raise SheetError(f"track {quote(name)}, frame {row + 1}: cell {quote(cell)} names "
+                             f"no drawing (cells are {what})")
+        out[row] = int(cell) - 1
+        if first < 0:
+            first = int(cell) - 1
+    if first < 0:
+        raise SheetError(f"track {quote(name)}: every one of its {len(cells)} frames is blank "
+                         "(no drawing to show)")
+    for row in range(len(out)):
+        if out[row] >= 0:
+            break
+        out[row] = first
+    return out
+
+
+def read(path):
+    """client::ReadTimingFrom: XDTS by its first line or .xdts name, else the CSV."""
+    with open(path, "rb") as f:
+        data = f.read()
+    start = data[3:] if data.startswith(b"\xef\xbb\xbf") else data
+    try:
+        if start.startswith(_xdts.IDENTIFIER.encode()) or str(path).lower().endswith(".xdts"):
+            sheet = read_xdts(data)
+        else:
+            sheet = read_csv(data)
+    except SheetError as error:
+        raise SheetError(f"{os.fspath(path)}: {error}") from None
+    sheet["warnings"] = [f"{os.fspath(path)}: {w}" for w in sheet["warnings"]]
+    return sheet
+
+
+def skeletal_source_frames(path, track, frame_count, source_fps, timing_fps):
+    """client::SetSkeletalTimingFrom: (given_timing.source_frames, warnings). frame_count 0:
+    the clip's length is unknown here (a file the server reads whole; it checks)."""
+    sheet = read(path)
+    where = os.fspath(path)
+    try:
+        index = match_tracks(sheet, [track])[0]
+        name, cells = sheet["tracks"][index]
+        if frame_count > 0:
+            count, what = frame_count, f"the clip's source frames 1 to {frame_count}"
+        else:
+            count, what = 1 << 30, "source frames from 1"
+        frames = drawings(name, cells, count, what)
+    except SheetError as error:
+        raise SheetError(f"{where}: {error}") from None
+    if frame_count > 0:
+        fps = 24.0 if timing_fps is None else timing_fps
+        grid = _xdts._FilmGrid.make(source_fps, fps)
+        counted = grid.grid_frame_count(frame_count) if grid else frame_count
+        if len(frames) > counted:
+            on = f" on the {_number(fps)} fps grid" if grid else ""
+            raise SheetError(f"{where}: track {quote(name)}, frame {counted + 1}: cell "
+                             f"{quote(cells[counted])} is past the clip's end: the sheet has "
+                             f"{len(frames)} frames, the clip {counted}{on} (a sheet may be "
+                             "shorter, not longer)")
+    return frames, sheet["warnings"]
+
+
+def _number(value):
+    """absl::StrCat of a double: %g with 6 significant digits."""
+    return "%g" % value
