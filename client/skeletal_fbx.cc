@@ -12,6 +12,7 @@
 #include "client/skeletal_convert.h"
 #include "client/skeletal_gltf.h"
 #include "client/skeletal_summary.h"
+#include "client/timing_from.h"
 #include "client/xdts_sheets.h"
 #include "convert/fbx_convert.h"
 #include "formats/fbx.h"
@@ -75,6 +76,14 @@ absl::StatusOr<v1::RetimeSkeletalRequest> BuildFbxRequest(const SkeletalArgs& ar
   request.set_fbx_take(args.take);
   SetSkeletalOptions(args, &request);
   if (absl::Status s = SetFileJointWeights(args, &request); !s.ok()) return s;
+  if (!args.timing_from.empty()) {
+    // The server reads the file: it checks the sheet's frames against the clip.
+    if (absl::Status s = SetSkeletalTimingFrom(args.timing_from, XdtsClipName(args.input, ""),
+                                               {}, &request, nullptr);
+        !s.ok()) {
+      return s;
+    }
+  }
   return request;
 }
 

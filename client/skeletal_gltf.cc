@@ -13,6 +13,7 @@
 #include "client/retime_call.h"
 #include "client/skeletal_convert.h"
 #include "client/skeletal_summary.h"
+#include "client/timing_from.h"
 #include "client/xdts_sheets.h"
 #include "convert/gltf_convert.h"
 #include "core/status_macros.h"
@@ -95,6 +96,14 @@ absl::StatusOr<v1::RetimeSkeletalRequest> BuildGltfRequest(const SkeletalArgs& a
   request.set_gltf(std::move(bytes));
   SetSkeletalOptions(args, &request);
   KOMA_RETURN_IF_ERROR(SetFileJointWeights(args, &request));
+  if (!args.timing_from.empty()) {
+    // The server reads the file: it checks the sheet's frames against the clip.
+    if (absl::Status s = SetSkeletalTimingFrom(args.timing_from, XdtsClipName(args.input, ""),
+                                               {}, &request, nullptr);
+        !s.ok()) {
+      return s;
+    }
+  }
   for (const std::string& animation : args.animations) request.add_gltf_animations(animation);
   request.set_gltf_retime_none(args.retime_none);
   if (args.source_fps) request.set_gltf_source_fps(*args.source_fps);

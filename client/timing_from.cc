@@ -1,6 +1,7 @@
 #include "client/timing_from.h"
 
 #include <cstring>
+#include <iostream>
 #include <optional>
 #include <string>
 #include <utility>
@@ -71,7 +72,13 @@ absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& t
     }
   }
   request->mutable_given_timing()->mutable_source_frames()->Add(frames->begin(), frames->end());
-  for (std::string& warning : sheet->warnings) warnings->push_back(std::move(warning));
+  for (std::string& warning : sheet->warnings) {
+    if (warnings != nullptr) {
+      warnings->push_back(std::move(warning));
+    } else {
+      std::cerr << "koma: warning: " << warning << "\n";
+    }
+  }
   return absl::OkStatus();
 }
 

@@ -34,7 +34,8 @@ struct SkeletalClipShape {
 // source frame n - 1 (koma's skeletal sheets name cells so), a blank holds the frame before.
 // With the clip's shape known: cells past its last frame and more rows than its counted
 // frames (grid frames, or frames without a grid) are INVALID_ARGUMENT naming track, frame
-// and cell. The sheet's warnings are appended to `warnings`.
+// and cell. The sheet's warnings are appended to `warnings` (nullptr: written to standard
+// error, for a file the server reads, whose summary has only the server's warnings).
 absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& track,
                                    const SkeletalClipShape& clip,
                                    v1::RetimeSkeletalRequest* request,
