@@ -41,7 +41,10 @@ class LiveEchoStream final
     {
       std::lock_guard<std::mutex> lock(mu_);
       writing_ = false;
-      if (!ok) End(grpc::Status(grpc::StatusCode::CANCELLED, "a write failed"), false);
+      if (!ok) {  // the client is gone: nothing more is written
+        End(grpc::Status(grpc::StatusCode::CANCELLED, "a write failed"), false);
+        queue_.clear();
+      }
       next = NextLocked();
     }
     Run(next);
