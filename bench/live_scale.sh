@@ -25,7 +25,7 @@
 # half the streams send 10 ms chunks, half 20 ms), LOOKAHEAD (2), STEP (25), SKIP_BUILD=1,
 # PERF=N (record the server with perf for 10 s in the middle of the run with N streams:
 # $work is removed on exit, so the flat report goes to PERF_OUT, default
-# /tmp/koma-live-perf.txt, and perf.data next to it).
+# /tmp/koma-live-perf.txt, and perf.data next to it; with ECHO=1 the echo's as -echo.txt).
 # Recordings: samples/voice.flac (16 kHz) and two made here with espeak-ng and sox (English at
 # 48 kHz, Japanese at 16 kHz), each stream one of them in turn, looped.
 set -euo pipefail
@@ -102,6 +102,7 @@ run() {
   if [ -n "$perf_pid" ]; then
     wait "$perf_pid" || true
     local out=${PERF_OUT:-/tmp/koma-live-perf.txt}
+    [ "$kind" = koma ] || out=${out%.txt}-$kind.txt
     perf report -i "$work/perf.data" --no-children -g none --percent-limit 0.5 --stdio \
       >"$out" 2>/dev/null || true
     cp "$work/perf.data" "${out%.txt}.data"
