@@ -146,6 +146,16 @@ absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArg
   return request;
 }
 
+absl::Status SetSkeletalTimingFromArgs(const SkeletalArgs& args, const SkeletalClip& clip,
+                                       v1::RetimeSkeletalRequest* request,
+                                       std::vector<std::string>* warnings) {
+  if (args.timing_from.empty()) return absl::OkStatus();
+  const SkeletalClipShape shape{clip.frame_count, clip.frame_time > 0 ? 1.0 / clip.frame_time : 0.0,
+                                args.timing_fps};
+  return SetSkeletalTimingFrom(args.timing_from, XdtsClipName(args.input, ""), shape, request,
+                               warnings);
+}
+
 absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalFileRequest(const SkeletalArgs& args,
                                                                    const SkeletalInput& input) {
   absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, input.clip);
@@ -275,15 +285,9 @@ int RunSkeletal(const SkeletalArgs& args) {
   const SkeletalClip* clip = &input->clip;
   absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, *clip);
   if (!request.ok()) return out.UsageFailure(request.status());
-  if (!args.timing_from.empty()) {
-    const SkeletalClipShape shape{clip->frame_count,
-                                  clip->frame_time > 0 ? 1.0 / clip->frame_time : 0.0,
-                                  args.timing_fps};
-    if (absl::Status s = SetSkeletalTimingFrom(args.timing_from, XdtsClipName(args.input, ""),
-                                               shape, &*request, &input->warnings);
-        !s.ok()) {
-      return out.Failure(s);
-    }
+  if (absl::Status s = SetSkeletalTimingFromArgs(args, *clip, &*request, &input->warnings);
+      !s.ok()) {
+    return out.Failure(s);
   }
   // --send-file: the wire carries the file; the report still reads the decoded request.
   std::optional<v1::RetimeSkeletalRequest> file_request;

@@ -82,6 +82,12 @@ absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalFileRequest(const Skeleta
 absl::StatusOr<v1::RetimeSkeletalRequest> BuildSkeletalRequest(const SkeletalArgs& args,
                                                                const SkeletalClip& clip);
 
+// --timing-from: the sheet's timing into the request for `clip` (client/timing_from.h), its
+// warnings appended to `warnings` (nullptr: standard error). Nothing without the flag.
+absl::Status SetSkeletalTimingFromArgs(const SkeletalArgs& args, const SkeletalClip& clip,
+                                       v1::RetimeSkeletalRequest* request,
+                                       std::vector<std::string>* warnings);
+
 // The options every skeletal request takes from the flags, whatever carries the clip (a
 // motion, or a glTF or FBX file the server reads): counts, rates, order, grid, cuts, camera,
 // what to return. Not the joint weights, which a decoded clip names and a file's do not.

@@ -1,5 +1,7 @@
 #include "client/timing_from.h"
 
+#include <sys/stat.h>
+
 #include <cstring>
 #include <iostream>
 #include <optional>
@@ -10,6 +12,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "client/files.h"
+#include "client/xdts_sheets.h"
 #include "core/film_grid.h"
 #include "formats/error_text.h"
 #include "formats/xdts.h"
@@ -80,6 +83,24 @@ absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& t
     }
   }
   return absl::OkStatus();
+}
+
+absl::StatusOr<std::string> TimingFromFor(const std::string& timing_from,
+                                          const std::string& input) {
+  struct stat info;
+  if (IsStdio(timing_from) || ::stat(timing_from.c_str(), &info) != 0 || !S_ISDIR(info.st_mode)) {
+    return timing_from;
+  }
+  const std::string folder =
+      !timing_from.empty() && timing_from.back() == '/' ? timing_from : timing_from + "/";
+  const std::string name = XdtsClipName(input, "");
+  for (const char* extension : {".xdts", ".timing.csv"}) {
+    const std::string path = folder + name + extension;
+    if (::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode)) return path;
+  }
+  return absl::NotFoundError(absl::StrCat("--timing-from ", timing_from, ": no sheet for ",
+                                          InputName(input), " (", folder, name, ".xdts or ",
+                                          folder, name, ".timing.csv)"));
 }
 
 }  // namespace koma::client

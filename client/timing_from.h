@@ -41,6 +41,13 @@ absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& t
                                    v1::RetimeSkeletalRequest* request,
                                    std::vector<std::string>* warnings);
 
+// The sheet of the clip `input` when `timing_from` names a folder (`koma batch`): the folder's
+// NAME.xdts, else NAME.timing.csv (the names `koma batch --xdts` and `--timing` write), NAME
+// the clip's file name without its extension; NOT_FOUND naming both when neither is there.
+// `timing_from` itself when it names a file.
+absl::StatusOr<std::string> TimingFromFor(const std::string& timing_from,
+                                          const std::string& input);
+
 }  // namespace koma::client
 
 #endif  // KOMA_CLIENT_TIMING_FROM_H_

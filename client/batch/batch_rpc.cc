@@ -17,6 +17,7 @@
 #include "client/skeletal_file_formats.h"
 #include "client/spine_curves.h"
 #include "client/spine_lip_blink.h"
+#include "client/timing_from.h"
 #include "client/xdts_sheets.h"
 #include "formats/xdts.h"
 
@@ -139,18 +140,30 @@ class SkeletalRpc final : public Rpc {
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
     // A file the server reads and answers whole (glTF, FBX; by its name): the request is
     // built and the answer written by that format's own functions, as `koma skeletal` does.
+    // --timing-from: one sheet for every clip, or a folder with each clip's sheet.
+    SkeletalArgs args = args_;
+    args.input = item.input;
+    if (!args.timing_from.empty()) {
+      absl::StatusOr<std::string> sheet = TimingFromFor(args.timing_from, item.input);
+      if (!sheet.ok()) return sheet.status();
+      args.timing_from = *sheet;
+    }
     if (const SkeletalFileFormat* file = SkeletalFileFormatOf(item.input)) {
       const SkeletalFileFormat& format = *file;
       absl::StatusOr<std::string> bytes = ReadFile(item.input);
       if (!bytes.ok()) return bytes.status();
-      absl::StatusOr<v1::RetimeSkeletalRequest> request = format.build(args_, *std::move(bytes));
+      absl::StatusOr<v1::RetimeSkeletalRequest> request = format.build(args, *std::move(bytes));
       if (!request.ok()) return WithPath(item, request.status());
       return std::make_unique<SkeletalFileCall>(args_, format, *std::move(request));
     }
     absl::StatusOr<SkeletalInput> input = ReadSkeletalFile(item.input);
     if (!input.ok()) return input.status();
-    absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args_, input->clip);
+    absl::StatusOr<v1::RetimeSkeletalRequest> request = BuildSkeletalRequest(args, input->clip);
     if (!request.ok()) return WithPath(item, request.status());
+    if (absl::Status s = SetSkeletalTimingFromArgs(args, input->clip, &*request, &input->warnings);
+        !s.ok()) {
+      return WithPath(item, s);
+    }
     std::string().swap(input->text);  // not kept: the batch sends the decoded clip
     return std::make_unique<SkeletalClipCall>(args_, *std::move(input), *std::move(request));
   }

@@ -307,3 +307,40 @@ def test_extra_time_tables_are_ignored_with_a_warning(server, client, tmp_path):
     assert warning in done.stdout + done.stderr
     check_motion_shows_sheet(out, clip, sheet, 1)  # the first table's cells
     assert warning in client.retime_skeletal(clip, timing_from=sheet).warnings
+
+
+def test_batch_applies_one_sheet_or_each_clips_own(server, tmp_path):
+    """koma batch skeletal --timing-from SHEET: one timing on every clip (a proxy's on the
+    final rig); --timing-from FOLDER: each clip's NAME.xdts (or NAME.timing.csv) there."""
+    clips = tmp_path / "clips"
+    clips.mkdir()
+    proxy = source_path("samples/pitch.bvh")
+    (clips / "pitch.bvh").write_text(open(proxy).read())
+    final_rig(proxy, clips / "pitch_final.bvh")
+    rows, _ = written_rows(tmp_path, server, proxy)
+    sheet = tmp_path / "edited.xdts"
+    sheet.write_text(opentoonz_sheet(all_edits(rows), "pitch"))
+    out = tmp_path / "one"
+    run_cli("batch", "skeletal", str(clips), "-o", str(out), "--timing-from", str(sheet),
+            "--server", server.address)
+    for name in ("pitch", "pitch_final"):
+        check_motion_shows_sheet(out / f"{name}.bvh", clips / f"{name}.bvh", sheet, 1)
+    # A folder of sheets: pitch's is edited, pitch_final's is the --timing CSV of another edit.
+    sheets = tmp_path / "sheets"
+    sheets.mkdir()
+    (sheets / "pitch.xdts").write_text(sheet.read_text())
+    other = swap_drawings(rows)
+    (sheets / "pitch_final.timing.csv").write_text(
+        "output_frame,source_frame\n" + "".join(f"{i},{s}\n" for i, s in enumerate(other)))
+    (sheets / "pitch_final.xdts.expected").write_text(koma_sheet(other, "pitch_final"))
+    out = tmp_path / "each"
+    run_cli("batch", "skeletal", str(clips), "-o", str(out), "--timing-from", str(sheets),
+            "--server", server.address)
+    check_motion_shows_sheet(out / "pitch.bvh", clips / "pitch.bvh", sheet, 1)
+    check_motion_shows_sheet(out / "pitch_final.bvh", clips / "pitch_final.bvh",
+                             sheets / "pitch_final.xdts.expected", 1)
+    (sheets / "pitch_final.timing.csv").unlink()
+    done = run_cli("batch", "skeletal", str(clips), "-o", str(tmp_path / "none"),
+                   "--timing-from", str(sheets), "--server", server.address, check=False)
+    assert done.returncode == 1
+    assert f"no sheet for {clips / 'pitch_final.bvh'}" in done.stderr
