@@ -56,6 +56,9 @@ if [ "${1:-}" != "--build-only" ]; then
   if ! command -v npm >/dev/null 2>&1; then packages+=(npm); fi
   # catatonit: `podman kube play` (deploy/test-image.sh) builds the pod's pause image from it.
   packages+=(catatonit)
+  # curl: the HTTP port's tests call the Connect JSON API as a user would
+  # (tests/e2e/http_api_e2e_test.sh).
+  packages+=(curl)
   # libassimp-dev: Debian's assimp is the third reader of the FBX files koma writes
   # (blender.fbx_retimed builds tests/e2e/fbx/assimp_poses against it, pivots off, beside
   # Blender's importer and three.js's FBXLoader).

@@ -58,15 +58,28 @@ bool IsCorsOrigin(absl::string_view origin) {
   return true;
 }
 
-// Writes `response`; civetweb adds the status line, Date and Connection.
-void Send(mg_connection* connection, const HttpResponse& response) {
-  mg_response_header_start(connection, response.status);
-  for (const auto& [name, value] : response.headers) {
-    mg_response_header_add(connection, name.c_str(), value.c_str(), -1);
-  }
+// Writes `response`; civetweb adds the status line, Date and Connection. After an interim
+// 100 Continue (`continued`) civetweb counts its header as sent and would send none, so the
+// status line and headers are written here, and the connection closes after the response.
+void Send(mg_connection* connection, const HttpResponse& response, bool continued = false) {
   const std::string length = absl::StrCat(response.body.size());
-  mg_response_header_add(connection, "Content-Length", length.c_str(), -1);
-  mg_response_header_send(connection);
+  if (continued) {
+    std::string head = absl::StrCat("HTTP/1.1 ", response.status, " ",
+                                    mg_get_response_code_text(connection, response.status), "\r\n");
+    for (const auto& [name, value] : response.headers) {
+      if (absl::EqualsIgnoreCase(name, "Connection")) continue;
+      absl::StrAppend(&head, name, ": ", value, "\r\n");
+    }
+    absl::StrAppend(&head, "Content-Length: ", length, "\r\nConnection: close\r\n\r\n");
+    mg_write(connection, head.data(), head.size());
+  } else {
+    mg_response_header_start(connection, response.status);
+    for (const auto& [name, value] : response.headers) {
+      mg_response_header_add(connection, name.c_str(), value.c_str(), -1);
+    }
+    mg_response_header_add(connection, "Content-Length", length.c_str(), -1);
+    mg_response_header_send(connection);
+  }
   size_t sent = 0;
   while (sent < response.body.size()) {
     const int n = mg_write(connection, response.body.data() + sent, response.body.size() - sent);
@@ -323,11 +336,12 @@ int HttpServer::OnRequest(mg_connection* connection, void* self_pointer) {
                                  info->http_headers[i].value);
   }
   const int64_t limit = self.config_.max_body_bytes;
+  bool continued = false;  // an interim 100 Continue was sent (below)
   const auto fail = [&](HttpResponse response) {
     // The rest of the body is not read, so the connection cannot carry another request.
     response.SetHeader("Connection", "close");
     self.AddCommonHeaders(request, response);
-    Send(connection, response);
+    Send(connection, response, continued);
     return response.status;
   };
   if (info->content_length > limit) {
@@ -336,6 +350,15 @@ int HttpServer::OnRequest(mg_connection* connection, void* self_pointer) {
                           " bytes (Content-Length) is over the server limit "
                           "--http_max_body_bytes=",
                           limit)));
+  }
+  // A client that asked to be told before it sends the body (curl does above 1 MiB) is told
+  // now that it fits; civetweb does not answer Expect itself, and the client would otherwise
+  // wait a second (curl) or for ever before sending.
+  if (const std::string* expect = request.Header("expect");
+      expect != nullptr && absl::EqualsIgnoreCase(*expect, "100-continue")) {
+    static constexpr char kContinue[] = "HTTP/1.1 100 Continue\r\n\r\n";
+    mg_write(connection, kContinue, sizeof(kContinue) - 1);
+    continued = true;
   }
   // Read the body: chunked bodies (no Content-Length) are cut at the limit too, and the whole
   // read is bounded in time besides civetweb's per-read timeout.
@@ -358,7 +381,7 @@ int HttpServer::OnRequest(mg_connection* connection, void* self_pointer) {
     request.body.append(buffer, static_cast<size_t>(n));
   }
   const HttpResponse response = self.Respond(request);
-  Send(connection, response);
+  Send(connection, response, continued);
   return response.status;
 }
 
