@@ -59,6 +59,7 @@ void AppendSegment(int key, int next_key, double key_time, double next_key_time,
     // themselves, and this is key + length * E_j bit for bit.
     const double tau = key_time + (next_key_time - key_time) * spacing[j];
     timing.drawing_start.push_back(frame);
+    timing.drawing_tau.push_back(tau);
     for (int k = 0; k < holds[j]; ++k, ++frame) {
       timing.drawing_of_frame[frame] = drawing;
       timing.source_frame[frame] = tau;
@@ -85,6 +86,24 @@ DrawingTiming BuildTiming(const std::vector<int>& keys, const std::vector<double
   timing.drawing_of_frame[last] = static_cast<int>(timing.drawing_start.size());
   timing.source_frame[last] = key_times.back();
   timing.drawing_start.push_back(last);
+  timing.drawing_tau.push_back(key_times.back());
+  return timing;
+}
+
+// A given timing on the counted frames: a drawing per run of equal taus.
+DrawingTiming BuildGivenTiming(const std::vector<double>& taus, int frames_per_drawing) {
+  DrawingTiming timing;
+  timing.frames_per_drawing = frames_per_drawing;
+  timing.given = true;
+  timing.source_frame = taus;
+  timing.drawing_of_frame.resize(taus.size());
+  for (size_t g = 0; g < taus.size(); ++g) {
+    if (g == 0 || taus[g] != taus[g - 1]) {
+      timing.drawing_start.push_back(static_cast<int>(g));
+      timing.drawing_tau.push_back(taus[g]);
+    }
+    timing.drawing_of_frame[g] = static_cast<int>(timing.drawing_start.size()) - 1;
+  }
   return timing;
 }
 
@@ -94,6 +113,7 @@ DrawingTiming BuildTiming(const std::vector<int>& keys, const std::vector<double
 DrawingTiming ExpandToSource(const DrawingTiming& on_grid, const FilmGrid& grid, int frame_count) {
   DrawingTiming out;
   out.frames_per_drawing = on_grid.frames_per_drawing;
+  out.given = on_grid.given;
   const int last_grid = static_cast<int>(on_grid.drawing_of_frame.size()) - 1;
   out.drawing_of_frame.resize(static_cast<size_t>(frame_count));
   out.source_frame.resize(static_cast<size_t>(frame_count));
@@ -204,21 +224,12 @@ int DrawingOfKey(const DrawingTiming& timing, const std::optional<FilmGrid>& gri
 // where the curve's own keys are drawn (core/key_drawings.h): a drawing that carries a key
 // shows its value exactly, one clamped onto a carried key shows that key. The times shown are
 // non-decreasing, so the cursor only walks forward.
-// Per drawing of `timing`, its tau in source frames (the same for every curve of the timing).
-std::vector<double> DrawingTaus(const DrawingTiming& timing) {
-  if (!timing.drawing_time.empty()) return timing.drawing_tau;  // on a grid: kept per drawing
-  std::vector<double> tau;
-  tau.reserve(timing.drawing_start.size());
-  for (int start : timing.drawing_start)
-    tau.push_back(timing.source_frame[static_cast<size_t>(start)]);
-  return tau;
-}
-
 // `tau`: DrawingTaus(timing).
+// exact_taus: no key is drawn (a given timing's GivenGroupTiming::exact_taus).
 RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const DrawingTiming& timing,
                        const std::vector<double>& tau, const std::optional<FilmGrid>& grid,
                        int timing_index, const std::map<int, int>& histogram,
-                       SharedParameters& shared) {
+                       SharedParameters& shared, bool exact_taus) {
   RetimedCurve out;
   out.timing = timing_index;
   out.hold_histogram = histogram;
@@ -228,7 +239,7 @@ RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const Drawin
   out.values.resize(frame_count);
   out.steps.reserve(drawings);
   const bool on_grid = !timing.drawing_time.empty();
-  std::vector<KeyDrawing> keys = KeysToDraw(curve);
+  std::vector<KeyDrawing> keys = exact_taus ? std::vector<KeyDrawing>() : KeysToDraw(curve);
   for (KeyDrawing& key : keys) key.drawing = DrawingOfKey(timing, grid, key.frame);
   CurveDrawingTimes placed = PlaceKeysOnDrawings(std::move(keys), tau);
   if (shared.solved.size() != drawings) {
@@ -257,6 +268,15 @@ RetimedCurve RetimeOne(const Curve& curve, bool beziers_restricted, const Drawin
 }
 
 }  // namespace
+
+std::vector<double> DrawingTaus(const DrawingTiming& timing) {
+  if (timing.drawing_tau.size() == timing.drawing_start.size()) return timing.drawing_tau;
+  std::vector<double> tau;  // a timing without them (read from a response)
+  tau.reserve(timing.drawing_start.size());
+  for (int start : timing.drawing_start)
+    tau.push_back(timing.source_frame[static_cast<size_t>(start)]);
+  return tau;
+}
 
 std::vector<int> KeyPoses(const KomaUchiOptions& options, const CurveSet& set,
                           const std::vector<int>* members) {
@@ -357,6 +377,7 @@ KomaUchiOptions GroupOptions(const KomaUchiOptions& options, const CurveTimingGr
   out.tsume = group.tsume.value_or(options.tsume);
   out.curve_frames_per_drawing = options.curve_frames_per_drawing;
   out.timing_fps = options.timing_fps;
+  out.given = options.given;
   return out;  // segment overrides are the default group's
 }
 
@@ -375,7 +396,8 @@ namespace {
 // result.curves). `options` are the group's own (GroupOptions, or the request's for the
 // default group).
 TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& members,
-                              const KomaUchiOptions& options, bool keep, KomaUchiResult& result) {
+                              const KomaUchiOptions& options, bool keep,
+                              const std::string& group_name, KomaUchiResult& result) {
   TimingGroupResult group;
   group.curves = members;
   group.frames_per_drawing = options.frames_per_drawing;
@@ -403,15 +425,21 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
   const std::vector<SegmentParams> defaults = DefaultSegmentParams(options, keys.size() - 1);
   const int first_timing = static_cast<int>(result.timings.size());
   group.timing = first_timing;
-  const std::vector<double> pose_times =
-      PoseTimes(set, members, options, grid.has_value(), group.key_frames);
-  result.timings.push_back(
-      BuildTiming(keys, pose_times, defaults, options.frames_per_drawing, merged_poses));
+  const auto given = options.given.find(group_name);
+  const bool is_given = given != options.given.end();
+  if (is_given) {
+    result.timings.push_back(BuildGivenTiming(given->second.taus, options.frames_per_drawing));
+  } else {
+    const std::vector<double> pose_times =
+        PoseTimes(set, members, options, grid.has_value(), group.key_frames);
+    result.timings.push_back(
+        BuildTiming(keys, pose_times, defaults, options.frames_per_drawing, merged_poses));
+  }
   // Each distinct per-curve n (ascending) of the group's curves gets a timing with that n in
   // every segment (the segments' tame and tsume still apply), unless that is the group's first
   // timing itself: n is the default and no segment override changes it.
   std::set<int> curve_ns;
-  for (int c : members) {
+  for (int c : is_given ? std::vector<int>() : members) {
     const auto own = options.curve_frames_per_drawing.find(set.curves[c].id);
     if (own != options.curve_frames_per_drawing.end()) curve_ns.insert(own->second);
   }
@@ -428,7 +456,9 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
       continue;
     }
     timing_of_n[n] = static_cast<int>(result.timings.size());
-    result.timings.push_back(BuildTiming(keys, pose_times, params, n, merged_poses));
+    result.timings.push_back(BuildTiming(
+        keys, PoseTimes(set, members, options, grid.has_value(), group.key_frames), params, n,
+        merged_poses));
   }
   std::map<int, std::map<int, int>> histograms;  // per timing index; on grid frames with a grid
   std::map<int, std::vector<double>> taus;       // per timing index: DrawingTaus
@@ -449,8 +479,9 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
     // Stopped: the rest stay empty; the caller that installed the signal discards the result.
     if (stop.Stop(static_cast<int64_t>(curve.segments.size()) + 1)) break;
     const auto own = options.curve_frames_per_drawing.find(curve.id);
-    const int t =
-        own == options.curve_frames_per_drawing.end() ? first_timing : timing_of_n[own->second];
+    const int t = is_given || own == options.curve_frames_per_drawing.end()
+                      ? first_timing
+                      : timing_of_n[own->second];
     SharedParameters own_parameters;
     SharedParameters* parameters = &own_parameters;
     if (!curve.dense() && !set.beziers_restricted) {
@@ -468,7 +499,7 @@ TimingGroupResult RetimeGroup(const CurveSet& set, const std::vector<int>& membe
       }
     }
     result.curves[c] = RetimeOne(curve, set.beziers_restricted, result.timings[t], taus[t], grid, t,
-                                 histograms[t], *parameters);
+                                 histograms[t], *parameters, is_given && given->second.exact_taus);
   }
   return group;
 }
@@ -482,7 +513,8 @@ KomaUchiResult RetimeCurves(const CurveSet& set, const KomaUchiOptions& options)
   const std::vector<std::vector<int>> members = GroupMembers(options, set);
   result.curves.resize(set.curves.size());
   // The default group first: its key poses are the answer's, its first timing is timings[0].
-  TimingGroupResult body = RetimeGroup(set, members.back(), options, /*keep=*/false, result);
+  TimingGroupResult body = RetimeGroup(set, members.back(), options, /*keep=*/false,
+                                       std::string(kDefaultTimingGroupName), result);
   body.name = std::string(kDefaultTimingGroupName);
   result.key_frames = body.key_frames;
   result.key_grid_frames = body.key_grid_frames;
@@ -490,7 +522,8 @@ KomaUchiResult RetimeCurves(const CurveSet& set, const KomaUchiOptions& options)
   std::vector<TimingGroupResult> named;
   for (size_t g = 0; g < options.groups.size(); ++g) {
     named.push_back(RetimeGroup(set, members[g], GroupOptions(options, options.groups[g]),
-                                options.groups[g].mode == TimingGroupMode::kKeep, result));
+                                options.groups[g].mode == TimingGroupMode::kKeep,
+                                options.groups[g].name, result));
     named.back().name = options.groups[g].name;
   }
   // Listed only when some curve is in a named group: a request whose curves are all in the

@@ -10,6 +10,7 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "core/curves.h"
 #include "core/key_drawings.h"
 #include "core/timing_groups.h"
@@ -22,6 +23,16 @@ struct SegmentOverride {
   std::optional<int> frames_per_drawing;  // n for this segment (curves without their own n)
   std::optional<double> tame;             // s_a for this segment
   std::optional<double> tsume;            // s_b for this segment
+};
+
+// A timing given for one timing group instead of computed (docs/semantics.md, "A given
+// timing"): per counted frame (grid frame with a grid, else source frame), all of the clip's,
+// the tau of the drawing it shows; equal consecutive taus are one drawing.
+struct GivenGroupTiming {
+  std::vector<double> taus;
+  // True: every drawing shows the curves at its tau, no key drawn; false: the curves' keys are
+  // drawn as for a computed timing (core/key_drawings.h).
+  bool exact_taus = false;
 };
 
 struct KomaUchiOptions {
@@ -51,6 +62,10 @@ struct KomaUchiOptions {
   // Timing groups (core/timing_groups.h): each matched curve is timed with its group's key
   // poses, n and spacing; curves no group matches (the default group) with the options above.
   std::vector<CurveTimingGroup> groups;
+  // Group name (kDefaultTimingGroupName for the default group) -> its given timing. A group
+  // given one has that timing alone: its curves' own n (curve_frames_per_drawing) and its key
+  // poses do not shape it. The caller checks them (CheckGivenGroupTiming).
+  std::map<std::string, GivenGroupTiming> given;
 };
 
 // INVALID_ARGUMENT naming the option and value: keys unsorted, duplicate or outside the
@@ -58,6 +73,13 @@ struct KomaUchiOptions {
 // segment out of range, or given twice; timing_fps not finite or over 1000, or a grid on
 // which the clip spans fewer than 2 frames (OUT_OF_RANGE).
 absl::Status ValidateKomaUchiOptions(const KomaUchiOptions& options, const CurveSet& set);
+
+// A given timing for a clip of `frame_count` frames counted in `counted_frames` frames (its
+// grid frames with a grid): exactly counted_frames taus, each finite and within
+// [0, frame_count - 1]. INVALID_ARGUMENT naming `field` ("given_timings[0].source_frame[3]: 61.5
+// is past the clip's last frame 59").
+absl::Status CheckGivenGroupTiming(const GivenGroupTiming& given, int frame_count,
+                                   int counted_frames, absl::string_view field);
 
 // The key poses actually used: options.key_frames (or the keyframe times of the curves
 // `members` lists, all when null) plus 0 and frame_count - 1, sorted, unique. Before merging.
@@ -114,13 +136,19 @@ struct DrawingTiming {
   // its last frame. A curve's own keys may move what it shows off tau (RetimedCurve::keys).
   std::vector<double> source_frame;
   std::vector<int> drawing_start;     // per drawing: its first output frame
-  // With a grid: per drawing, the grid frame it starts on, its start time in (fractional)
-  // source frames, and its tau in source frames (a drawing between two output frames has
-  // none of its own in source_frame).
+  // With a grid: per drawing, the grid frame it starts on and its start time in (fractional)
+  // source frames.
   std::vector<int> drawing_start_grid;
   std::vector<double> drawing_time;
+  // Per drawing: its tau in source frames (on a grid, a drawing between two output frames has
+  // none of its own in source_frame).
   std::vector<double> drawing_tau;
+  bool given = false;  // from KomaUchiOptions::given, not computed
 };
+
+// Per drawing of `timing`, its tau in source frames (the same for every curve of the timing;
+// also for a drawing on a grid that no output frame shows).
+std::vector<double> DrawingTaus(const DrawingTiming& timing);
 
 struct RetimedCurve {
   int timing = 0;              // index into KomaUchiResult::timings; -1: a kKeep group's curve

@@ -162,4 +162,28 @@ absl::Status ValidateKomaUchiOptions(const KomaUchiOptions& options, const Curve
   return CheckSegmentOverrides(options.segment_overrides, segment_count);
 }
 
+absl::Status CheckGivenGroupTiming(const GivenGroupTiming& given, int frame_count,
+                                   int counted_frames, absl::string_view field) {
+  const int length = static_cast<int>(given.taus.size());
+  if (length != counted_frames) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        field, ": ", length, " values, but the clip has ", counted_frames,
+        counted_frames == frame_count ? " frames" : " grid frames", " (one tau per frame)"));
+  }
+  const double last = static_cast<double>(frame_count - 1);
+  for (int g = 0; g < length; ++g) {
+    const double tau = given.taus[static_cast<size_t>(g)];
+    if (!std::isfinite(tau) || tau < 0.0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, "[", g, "]: ", tau, " must be finite and >= 0 (source frames)"));
+    }
+    if (tau > last) {
+      return absl::InvalidArgumentError(absl::StrCat(field, "[", g, "]: ", tau,
+                                                     " is past the clip's last frame ",
+                                                     frame_count - 1));
+    }
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace koma

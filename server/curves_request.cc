@@ -1,5 +1,7 @@
 #include "server/curves_request.h"
 
+#include <algorithm>
+#include <map>
 #include <string>
 #include <utility>
 
@@ -124,6 +126,49 @@ absl::Status CheckGroupModes(const v1::RetimeCurvesRequest& request) {
   return absl::OkStatus();
 }
 
+// The request's given_timings -> options.given, by group name (docs/semantics.md, "A given
+// timing"): each names a group of options.groups or the default group, not a GROUP_KEEP one,
+// at most once, with one finite tau in [0, frame_count - 1] per counted frame.
+absl::Status ConvertGivenTimings(const v1::RetimeCurvesRequest& request, const CurveSet& set,
+                                 KomaUchiOptions& options) {
+  if (request.given_timings_size() == 0) return absl::OkStatus();
+  const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, options.timing_fps);
+  const int counted = grid ? grid->GridFrameCount(set.frame_count) : set.frame_count;
+  std::map<std::string, int> first_of;
+  for (int i = 0; i < request.given_timings_size(); ++i) {
+    const v1::GivenDrawingTiming& in = request.given_timings(i);
+    const std::string path = absl::StrCat("given_timings[", i, "]");
+    const std::string name = in.group().empty() ? std::string(kDefaultTimingGroupName) : in.group();
+    if (name != kDefaultTimingGroupName) {
+      const auto group = std::find_if(options.groups.begin(), options.groups.end(),
+                                      [&name](const CurveTimingGroup& g) { return g.name == name; });
+      if (group == options.groups.end()) {
+        std::string names(kDefaultTimingGroupName);
+        for (const CurveTimingGroup& g : options.groups) absl::StrAppend(&names, ", ", g.name);
+        return absl::InvalidArgumentError(absl::StrCat(path, ".group: no timing group named \"",
+                                                       name, "\" (the groups: ", names, ")"));
+      }
+      if (group->mode == TimingGroupMode::kKeep) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            path, ".group: \"", name, "\" is a GROUP_KEEP group: its curves have no timing"));
+      }
+    }
+    const auto [it, inserted] = first_of.emplace(name, i);
+    if (!inserted) {
+      return absl::InvalidArgumentError(absl::StrCat(path, ".group: \"", name,
+                                                     "\" already has given_timings[", it->second,
+                                                     "]"));
+    }
+    GivenGroupTiming given;
+    given.taus.assign(in.source_frame().begin(), in.source_frame().end());
+    given.exact_taus = in.exact_taus();
+    KOMA_RETURN_IF_ERROR(
+        CheckGivenGroupTiming(given, set.frame_count, counted, path + ".source_frame"));
+    options.given.emplace(name, std::move(given));
+  }
+  return absl::OkStatus();
+}
+
 void FillTiming(const DrawingTiming& timing, v1::DrawingTiming* out) {
   out->set_frames_per_drawing(timing.frames_per_drawing);
   out->mutable_drawing_of_frame()->Add(timing.drawing_of_frame.begin(),
@@ -132,6 +177,8 @@ void FillTiming(const DrawingTiming& timing, v1::DrawingTiming* out) {
   out->mutable_drawing_start()->Add(timing.drawing_start.begin(), timing.drawing_start.end());
   out->mutable_drawing_start_grid()->Add(timing.drawing_start_grid.begin(),
                                          timing.drawing_start_grid.end());
+  out->mutable_drawing_source_frame()->Add(timing.drawing_tau.begin(), timing.drawing_tau.end());
+  out->set_given(timing.given);
 }
 
 absl::Status CheckFinite(const KomaUchiResult& result) {
@@ -154,6 +201,7 @@ absl::StatusOr<CurvesJob> ValidateCurvesRequest(const v1::RetimeCurvesRequest& r
   KOMA_RETURN_IF_ERROR(CheckGroupWork(job.set, job.options, limits));
   KOMA_RETURN_IF_ERROR(ValidateKomaUchiOptions(job.options, job.set));
   KOMA_RETURN_IF_ERROR(CheckGridSize(job.set, job.options.timing_fps, limits));
+  KOMA_RETURN_IF_ERROR(ConvertGivenTimings(request, job.set, job.options));
   KOMA_ASSIGN_OR_RETURN(job.lip_blinks,
                         PrepareGroupLipBlinks(request, job.set, job.options, limits));
   return job;

@@ -40,6 +40,8 @@ constexpr uint8_t kDrawingOfFrame = Tag(2, kLength);
 constexpr uint8_t kSourceFrame = Tag(3, kLength);
 constexpr uint8_t kDrawingStart = Tag(4, kLength);
 constexpr uint8_t kDrawingStartGrid = Tag(5, kLength);
+constexpr uint8_t kDrawingSourceFrame = Tag(6, kLength);
+constexpr uint8_t kGiven = Tag(7, kVarint);
 }  // namespace timing
 namespace retimed {  // RetimedCurve
 constexpr uint8_t kId = Tag(1, kLength);
@@ -193,7 +195,8 @@ CurvesResponseEncoder::CurvesResponseEncoder(const CurveSet& set, const KomaUchi
     sizes.drawing_start_grid = PackedInt32Bytes(t.drawing_start_grid);
     sizes.body = Int32Field(t.frames_per_drawing) + PackedField(sizes.drawing_of_frame) +
                  PackedField(8 * t.source_frame.size()) + PackedField(sizes.drawing_start) +
-                 PackedField(sizes.drawing_start_grid);
+                 PackedField(sizes.drawing_start_grid) +
+                 PackedField(8 * t.drawing_tau.size()) + (t.given ? 2 : 0);
     size_ += LengthField(sizes.body);
     timings_.push_back(sizes);
   }
@@ -259,6 +262,11 @@ uint8_t* CurvesResponseEncoder::WriteHead(uint8_t* out) const {
     out = WritePackedInt32(timing::kDrawingStart, sizes.drawing_start, t.drawing_start, out);
     out = WritePackedInt32(timing::kDrawingStartGrid, sizes.drawing_start_grid,
                            t.drawing_start_grid, out);
+    out = WritePackedDouble(timing::kDrawingSourceFrame, t.drawing_tau, out);
+    if (t.given) {
+      *out++ = timing::kGiven;
+      *out++ = 1;
+    }
   }
   return out;
 }

@@ -1,4 +1,5 @@
-// RetimeCurves answers pinned byte for byte: the exact bytes the server sends (a generic call,
+// RetimeCurves answers pinned byte for byte (re-pinned by issue 46, which adds
+// DrawingTiming.drawing_source_frame: without that field the answers are the earlier bytes): the exact bytes the server sends (a generic call,
 // so nothing is parsed and serialised again on the client) for fixed requests that use every
 // segment type, dense samples, curve and segment overrides, tame and tsume. A change that only
 // makes the server faster must leave these fingerprints as they are; a change that means to
@@ -97,8 +98,8 @@ TEST(CurvesGoldenTest, DefaultOptionsAnswerTheSameBytes) {
   request.set_merge_key_poses(false);
   const std::string bytes = AnswerBytes(server, request);
   ExpectValuesAtTau(request, bytes);
-  EXPECT_EQ(bytes.size(), 119095u);
-  EXPECT_EQ(Fnv1a64(bytes), 6920716133105291948ULL);
+  EXPECT_EQ(bytes.size(), 120938u);
+  EXPECT_EQ(Fnv1a64(bytes), 3348426551331241719ULL);
 }
 
 // The same 30 fps curves on the 24 fps film grid, every keyframe time a key pose; and the same
@@ -109,8 +110,8 @@ TEST(CurvesGoldenTest, FilmGridAnswersArePinned) {
   unmerged.set_merge_key_poses(false);
   const std::string grid = AnswerBytes(server, unmerged);
   // Changed by issue 40 on purpose: key poses show their own times, every key is drawn.
-  EXPECT_EQ(grid.size(), 106944u);
-  EXPECT_EQ(Fnv1a64(grid), 706597035292568264ULL);
+  EXPECT_EQ(grid.size(), 108459u);
+  EXPECT_EQ(Fnv1a64(grid), 13040335558170620256ULL);
   v1::RetimeCurvesRequest at24 = MixedRequest(12, 300, 1);
   at24.mutable_curves()->set_fps(24.0);
   v1::RetimeCurvesRequest at24_no_grid = at24;
@@ -138,8 +139,8 @@ TEST(CurvesGoldenTest, OverridesTameAndTsumeAnswerTheSameBytes) {
   segment->set_tsume(2.0);
   const std::string bytes = AnswerBytes(server, request);
   ExpectValuesAtTau(request, bytes);
-  EXPECT_EQ(bytes.size(), 71123u);
-  EXPECT_EQ(Fnv1a64(bytes), 7681765816151035790ULL);
+  EXPECT_EQ(bytes.size(), 75596u);
+  EXPECT_EQ(Fnv1a64(bytes), 2126682062598705441ULL);
 }
 
 // The defaults since key-pose merging (issue 29): keyframes closer than a drawing form one key
@@ -150,13 +151,13 @@ TEST(CurvesGoldenTest, MergedKeyPosesAndGroupsArePinned) {
   koma::testing::InProcessServer server;
   const std::string grid = AnswerBytes(server, MixedRequest(12, 300, 1));
   // Changed by issue 40 on purpose: every key drawn, key poses at their own times.
-  EXPECT_EQ(grid.size(), 70332u);
-  EXPECT_EQ(Fnv1a64(grid), 17114901743922210709ULL);
+  EXPECT_EQ(grid.size(), 70935u);
+  EXPECT_EQ(Fnv1a64(grid), 10423263193455877647ULL);
   v1::RetimeCurvesRequest frames = MixedRequest(12, 300, 1);
   frames.set_timing_fps(0.0);
   const std::string source = AnswerBytes(server, frames);
-  EXPECT_EQ(source.size(), 74888u);
-  EXPECT_EQ(Fnv1a64(source), 3431234680995409468ULL);
+  EXPECT_EQ(source.size(), 75619u);
+  EXPECT_EQ(Fnv1a64(source), 8678024445457953433ULL);
   v1::RetimeCurvesRequest grouped = MixedRequest(12, 300, 1);
   const char* ids[] = {"ParamAngleX", "ParamBodyAngleX", "ParamArmLA",    "ParamHandL",
                        "ParamHairFront", "ParamHairBack", "ParamEyeLOpen", "ParamEyeROpen",
@@ -174,8 +175,8 @@ TEST(CurvesGoldenTest, MergedKeyPosesAndGroupsArePinned) {
   face->add_ids("ParamBrow*");
   face->set_tame(1.5);
   const std::string groups = AnswerBytes(server, grouped);
-  EXPECT_EQ(groups.size(), 77140u);
-  EXPECT_EQ(Fnv1a64(groups), 18020571112715684428ULL);
+  EXPECT_EQ(groups.size(), 79117u);
+  EXPECT_EQ(Fnv1a64(groups), 2771909451714685427ULL);
 }
 
 // RetimeCurves parses its own request (a raw method): bytes that are no request get

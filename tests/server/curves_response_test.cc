@@ -113,6 +113,8 @@ void RandomAnswer(SplitMix64& rng, CurveSet* set, KomaUchiResult* result) {
     timing.drawing_of_frame = EdgeInts(rng, EdgeCount(rng, 5000));
     timing.source_frame = EdgeDoubles(rng, EdgeCount(rng, 5000));
     timing.drawing_start = EdgeInts(rng, EdgeCount(rng, 5000));
+    timing.drawing_tau = EdgeDoubles(rng, EdgeCount(rng, 5000));
+    timing.given = rng.OneIn(2);
     result->timings.push_back(timing);
   }
   const int curves = rng.Int(0, 6);
