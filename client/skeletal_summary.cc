@@ -141,11 +141,26 @@ std::string SkeletalSummaryText(const SkeletalArgs& args, const SkeletalClip& cl
   for (const std::string& warning : response.warnings()) {
     absl::StrAppend(&text, "  warning    ", warning, "\n");
   }
-  absl::StrAppendFormat(&text, "  omitted    %3d inbetweens; source frames gone: %s\n",
-                        response.omissions_applied(), Ranges(deleted));
   const bool grid = response.timing_fps() > 0;
   // Counts of the retiming are in grid frames with a film grid (docs/semantics.md).
   const char* unit = grid ? "grid frames" : "frames";
+  if (response.timing_given()) {
+    // --timing-from: no step ran; the sheet chose every drawing.
+    absl::StrAppendFormat(
+        &text, "  given      the timing of %s; source frames shown nowhere: %s\n",
+        args.timing_from.empty() ? "the request" : InputName(args.timing_from), Ranges(deleted));
+    const double out_ms = 1000.0 * OutputFrameTime(args, clip, response);
+    const int longest = grid ? LongestGridRun(response) : LongestRun(response);
+    const size_t drawings = RunLengths(response).size();
+    absl::StrAppendFormat(&text, "  drawings   %zu shown, %.1f a second; longest hold %d %s\n",
+                          drawings, DrawingsPerSecond(drawings, response, out_ms), longest, unit);
+    if (!args.timing.empty()) {
+      absl::StrAppend(&text, "  timing sheet: ", OutputName(args.timing), "\n");
+    }
+    return text;
+  }
+  absl::StrAppendFormat(&text, "  omitted    %3d inbetweens; source frames gone: %s\n",
+                        response.omissions_applied(), Ranges(deleted));
   absl::StrAppendFormat(
       &text, "  duplicated %3d %s to keep the length%s; DUPLICATE at output frames %s\n",
       response.duplicates_applied(), unit, DuplicateFates(response),

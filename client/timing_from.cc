@@ -67,10 +67,10 @@ absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& t
     if (static_cast<int>(frames->size()) > counted) {
       const std::string& cell = cells.cells[static_cast<size_t>(counted)];
       return absl::InvalidArgumentError(absl::StrCat(
-          InputName(path), ": track ", formats::QuoteForError(cells.name), ", frame ",
-          counted + 1, ": cell ", formats::QuoteForError(cell),
-          " is past the clip's end: the sheet has ", frames->size(), " frames, the clip ",
-          counted, grid ? absl::StrCat(" on the ", timing_fps, " fps grid") : std::string(),
+          InputName(path), ": track ", formats::QuoteForError(cells.name), ", frame ", counted + 1,
+          ": cell ", formats::QuoteForError(cell), " is past the clip's end: the sheet has ",
+          frames->size(), " frames, the clip ", counted,
+          grid ? absl::StrCat(" on the ", timing_fps, " fps grid") : std::string(),
           " (a sheet may be shorter, not longer)"));
     }
   }
@@ -99,8 +99,8 @@ absl::StatusOr<std::string> TimingFromFor(const std::string& timing_from,
     if (::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode)) return path;
   }
   return absl::NotFoundError(absl::StrCat("--timing-from ", timing_from, ": no sheet for ",
-                                          InputName(input), " (", folder, name, ".xdts or ",
-                                          folder, name, ".timing.csv)"));
+                                          InputName(input), " (", folder, name, ".xdts or ", folder,
+                                          name, ".timing.csv)"));
 }
 
 }  // namespace koma::client

@@ -45,8 +45,7 @@ absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& t
 // NAME.xdts, else NAME.timing.csv (the names `koma batch --xdts` and `--timing` write), NAME
 // the clip's file name without its extension; NOT_FOUND naming both when neither is there.
 // `timing_from` itself when it names a file.
-absl::StatusOr<std::string> TimingFromFor(const std::string& timing_from,
-                                          const std::string& input);
+absl::StatusOr<std::string> TimingFromFor(const std::string& timing_from, const std::string& input);
 
 }  // namespace koma::client
 

@@ -16,7 +16,9 @@
 namespace koma::formats {
 namespace {
 
-std::string TrackLabel(const std::string& name) { return absl::StrCat("track ", QuoteForError(name)); }
+std::string TrackLabel(const std::string& name) {
+  return absl::StrCat("track ", QuoteForError(name));
+}
 
 // One CSV line split on commas, each value trimmed of spaces (and the line of its CR).
 std::vector<std::string> CsvValues(std::string_view line) {
@@ -41,9 +43,8 @@ absl::StatusOr<int> CsvCount(const std::string& value, int line, const char* col
   if (value.empty() || value.size() > 9 ||
       value.find_first_not_of("0123456789") != std::string::npos ||
       !absl::SimpleAtoi(value, &number)) {
-    return absl::InvalidArgumentError(absl::StrCat("line ", line, ": ", column, " ",
-                                                   QuoteForError(value),
-                                                   " is not a whole number >= 0"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "line ", line, ": ", column, " ", QuoteForError(value), " is not a whole number >= 0"));
   }
   return number;
 }
@@ -59,10 +60,9 @@ absl::StatusOr<SheetTiming> ReadSheetTimingXdts(std::string_view text,
     sheet.tracks.push_back({std::move(track.name), std::move(track.cells)});
   }
   if (xdts.ignored_time_tables > 0) {
-    sheet.warnings.push_back(absl::StrCat(xdts.ignored_time_tables, " extra time table",
-                                          xdts.ignored_time_tables == 1 ? "" : "s",
-                                          " ignored: koma reads the first (",
-                                          QuoteForError(xdts.name), ")"));
+    sheet.warnings.push_back(absl::StrCat(
+        xdts.ignored_time_tables, " extra time table", xdts.ignored_time_tables == 1 ? "" : "s",
+        " ignored: koma reads the first (", QuoteForError(xdts.name), ")"));
   }
   return sheet;
 }
@@ -85,10 +85,10 @@ absl::StatusOr<SheetTiming> ReadSheetTimingCsv(std::string_view text, int max_ro
     if (header[c] == "grid_frame") grid_column = static_cast<int>(c);
   }
   if (source_column < 0) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("line ", first + 1, ": no source_frame column in the header ",
-                     QuoteForError(lines[first]), " (koma's --timing sheet: "
-                     "output_frame,source_frame,kind,time_s[,grid_frame])"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "line ", first + 1, ": no source_frame column in the header ", QuoteForError(lines[first]),
+        " (koma's --timing sheet: "
+        "output_frame,source_frame,kind,time_s[,grid_frame])"));
   }
   SheetTimingTrack track;
   int previous_grid = -1;
@@ -139,8 +139,7 @@ absl::StatusOr<SheetTiming> ReadSheetTimingCsv(std::string_view text, int max_ro
     previous_grid = grid;
   }
   if (track.cells.empty()) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("no rows after the header on line ", first + 1));
+    return absl::InvalidArgumentError(absl::StrCat("no rows after the header on line ", first + 1));
   }
   SheetTiming sheet;
   sheet.rows = static_cast<int>(track.cells.size());
@@ -167,8 +166,8 @@ absl::StatusOr<std::vector<int>> MatchSheetTracks(const SheetTiming& sheet,
     while (next < taken.size() && taken[next]) ++next;
     if (next == taken.size()) {
       return absl::InvalidArgumentError(absl::StrCat(
-          "no track for ", QuoteForError(koma_tracks[k]), ": the sheet's ",
-          sheet.tracks.size(), " Cell track", sheet.tracks.size() == 1 ? " is" : "s are",
+          "no track for ", QuoteForError(koma_tracks[k]), ": the sheet's ", sheet.tracks.size(),
+          " Cell track", sheet.tracks.size() == 1 ? " is" : "s are",
           " taken by the clip's other tracks (tracks match by name, then by order)"));
     }
     match[k] = static_cast<int>(next);
@@ -196,11 +195,12 @@ absl::StatusOr<std::vector<int>> SheetDrawings(const SheetTimingTrack& track, in
       continue;
     }
     int number = 0;
-    const bool digits = cell.size() <= 9 && cell.find_first_not_of("0123456789") == std::string::npos;
+    const bool digits =
+        cell.size() <= 9 && cell.find_first_not_of("0123456789") == std::string::npos;
     if (!digits || !absl::SimpleAtoi(cell, &number) || number < 1 || number > drawing_count) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          TrackLabel(track.name), ", frame ", row + 1, ": cell ", QuoteForError(cell),
-          " names no drawing (cells are ", what, ")"));
+      return absl::InvalidArgumentError(absl::StrCat(TrackLabel(track.name), ", frame ", row + 1,
+                                                     ": cell ", QuoteForError(cell),
+                                                     " names no drawing (cells are ", what, ")"));
     }
     drawings[row] = number - 1;
     if (first_drawing < 0) first_drawing = number - 1;

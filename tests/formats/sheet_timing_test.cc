@@ -13,9 +13,9 @@
 namespace koma::formats {
 namespace {
 
+using ::koma::testing::StatusIs;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
-using ::koma::testing::StatusIs;
 
 std::string Id() { return std::string(kXdtsIdentifier) + "\n"; }
 
@@ -145,8 +145,7 @@ TEST(SheetTimingXdtsTest, KomaSheetsReadBackToTheirCells) {
       XdtsCellTrack track{"track " + std::to_string(t), {}};
       for (int r = 0; r < written.duration; ++r) {
         const bool hold = r > 0 && random() % 3 != 0;
-        track.cells.push_back(hold ? track.cells.back()
-                                   : std::to_string(1 + random() % drawings));
+        track.cells.push_back(hold ? track.cells.back() : std::to_string(1 + random() % drawings));
       }
       written.cell_tracks.push_back(std::move(track));
     }
@@ -159,7 +158,8 @@ TEST(SheetTimingXdtsTest, KomaSheetsReadBackToTheirCells) {
     for (size_t t = 0; t < sheet.tracks.size(); ++t) {
       EXPECT_EQ(match[t], static_cast<int>(t));
       EXPECT_EQ(sheet.tracks[t].cells, written.cell_tracks[t].cells);
-      ASSERT_OK_AND_ASSIGN(const std::vector<int> read, SheetDrawings(sheet.tracks[t], drawings, ""));
+      ASSERT_OK_AND_ASSIGN(const std::vector<int> read,
+                           SheetDrawings(sheet.tracks[t], drawings, ""));
       for (size_t r = 0; r < read.size(); ++r) {
         EXPECT_EQ(read[r] + 1, std::stoi(written.cell_tracks[t].cells[r]));
       }

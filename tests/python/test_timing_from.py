@@ -305,6 +305,7 @@ def test_extra_time_tables_are_ignored_with_a_warning(server, client, tmp_path):
                    server.address)
     warning = f'{sheet}: 1 extra time table ignored: koma reads the first ("pitch")'
     assert warning in done.stdout + done.stderr
+    assert f"given      the timing of {sheet}" in done.stdout
     check_motion_shows_sheet(out, clip, sheet, 1)  # the first table's cells
     assert warning in client.retime_skeletal(clip, timing_from=sheet).warnings
 
