@@ -234,10 +234,12 @@ void KomaServer::Shutdown(absl::Duration grace) {
   StopServing();
   if (service_ != nullptr) service_->EndLiveStreams();
   const auto deadline = std::chrono::system_clock::now() + absl::ToChronoMilliseconds(grace);
+  // The HTTP port stops beside the gRPC drain: it stops accepting at once, and waits for its
+  // requests in flight, whose in-process calls the drain answers or cancels; a kept-alive idle
+  // connection holds its civetweb thread up to 2 s (civetweb's poll quantum), within the grace.
+  std::thread http_stop([this] { http_.reset(); });
   server_->Shutdown(deadline);
-  // After the gRPC drain: an HTTP request in flight has its answer (or its cancellation) by
-  // now, and mg_stop waits for civetweb's threads.
-  http_.reset();
+  http_stop.join();
   pool_.reset();  // runs what was accepted; every reactor gets its Finish
   server_->Wait();
 }
