@@ -119,6 +119,11 @@ class KomaSettings(bpy.types.PropertyGroup):
         name="Take", description="File mode: the FBX take or the glTF animation to retime; "
                                  "empty: the server's default (an FBX file's current take, "
                                  "every glTF animation)")
+    xsheet_file: bpy.props.StringProperty(
+        name="X-sheet", subtype="FILE_PATH",
+        description="Apply X-sheet: an exposure sheet an animator edited (.xdts from koma "
+                    "--xdts, CLIP STUDIO PAINT, OpenToonz, TVPaint) or a koma --timing CSV; "
+                    "cell N shows source frame N, a blank cell holds the frame before")
     last_summary: bpy.props.StringProperty(
         name="Last result", description="What the last file retime did (also in the Info log)")
 
@@ -212,34 +217,81 @@ class KOMA_OT_retime_action(bpy.types.Operator):
                 and obj.animation_data.action is not None)
 
     def execute(self, context):
-        settings = context.scene.koma
-        armature = context.active_object
-        source = armature.animation_data.action
-        start, end = (int(round(f)) for f in source.frame_range)
-        if end - start < 1:
-            self.report({"ERROR"}, f"{source.name}: needs at least 2 frames")
-            return {"CANCELLED"}
-        koma = _koma_or_none(self, context)
-        if koma is None:
-            return {"CANCELLED"}
-        names, parents, values = sample_positions(context, armature, start, end)
-        fps = context.scene.render.fps / context.scene.render.fps_base
-        options = dict(request_options(settings), return_motion=False)
-        try:
-            with koma.Client(settings.server, timeout=settings.timeout) as client:
-                result = client.retime_skeletal(
-                    koma.Positions(names, parents, 1.0 / fps, values), **options)
-        except koma.KomaError as error:
-            self.report({"ERROR"}, f"koma: {error.code.name}: {error.message}")
-            return {"CANCELLED"}
-        source.use_fake_user = True
-        anime = write_anime_action(source, start, result.source_frames)
-        armature.animation_data.action = anime
-        c = result.counts
-        cuts = f"; cuts before frames {result.cut_frames}" if result.cut_frames else ""
-        self.report({"INFO"}, f"{anime.name}: {c['frames']} frames, omitted "
-                              f"{c['omissions_applied']}, held {c['holds_applied']}{cuts}")
+        return retime_active_action(self, context, None)
+
+
+def retime_active_action(operator, context, xsheet):
+    """The active armature's action retimed (xsheet None) or given the timing of the X-sheet
+    at `xsheet`, into a new action "<name>.anime"."""
+    settings = context.scene.koma
+    armature = context.active_object
+    source = armature.animation_data.action
+    start, end = (int(round(f)) for f in source.frame_range)
+    if end - start < 1:
+        operator.report({"ERROR"}, f"{source.name}: needs at least 2 frames")
+        return {"CANCELLED"}
+    koma = _koma_or_none(operator, context)
+    if koma is None:
+        return {"CANCELLED"}
+    names, parents, values = sample_positions(context, armature, start, end)
+    fps = context.scene.render.fps / context.scene.render.fps_base
+    options = dict(request_options(settings), return_motion=False)
+    if xsheet is not None:
+        options = {"timing_from": xsheet, "return_motion": False}
+        if settings.is_property_set("timing_fps"):
+            options["timing_fps"] = settings.timing_fps
+    try:
+        with koma.Client(settings.server, timeout=settings.timeout) as client:
+            result = client.retime_skeletal(
+                koma.Positions(names, parents, 1.0 / fps, values), **options)
+    except koma.KomaError as error:
+        operator.report({"ERROR"}, f"koma: {error.code.name}: {error.message}")
+        return {"CANCELLED"}
+    except koma.SheetError as error:
+        operator.report({"ERROR"}, f"koma: {error}")
+        return {"CANCELLED"}
+    except OSError as error:
+        operator.report({"ERROR"}, f"koma: cannot read {xsheet}: {error.strerror or error}")
+        return {"CANCELLED"}
+    for warning in result.warnings:
+        operator.report({"WARNING"}, f"koma: {warning}")
+    return write_result(operator, armature, source, start, result, xsheet)
+
+
+def write_result(operator, armature, source, start, result, xsheet):
+    """The "<name>.anime" action of `result`, made the armature's, and the report."""
+    source.use_fake_user = True
+    anime = write_anime_action(source, start, result.source_frames)
+    armature.animation_data.action = anime
+    c = result.counts
+    if xsheet is not None:
+        operator.report({"INFO"}, f"{anime.name}: {c['frames']} frames, the timing of "
+                                  f"{os.path.basename(xsheet)}")
         return {"FINISHED"}
+    cuts = f"; cuts before frames {result.cut_frames}" if result.cut_frames else ""
+    operator.report({"INFO"}, f"{anime.name}: {c['frames']} frames, omitted "
+                              f"{c['omissions_applied']}, held {c['holds_applied']}{cuts}")
+    return {"FINISHED"}
+
+
+class KOMA_OT_apply_xsheet(bpy.types.Operator):
+    """Give the active armature's action the timing of an edited X-sheet (XDTS or koma's
+    timing CSV): a new action "<name>.anime" showing, at every frame, the drawing its cell
+    names"""
+    bl_idname = "koma.apply_xsheet"
+    bl_label = "Apply X-sheet (koma)"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return KOMA_OT_retime_action.poll(context)
+
+    def execute(self, context):
+        settings = context.scene.koma
+        if not settings.xsheet_file:
+            self.report({"ERROR"}, "koma: choose the X-sheet (.xdts or timing .csv) to apply")
+            return {"CANCELLED"}
+        return retime_active_action(self, context, bpy.path.abspath(settings.xsheet_file))
 
 
 # File mode: the formats `koma skeletal` reads as its IN that Blender can import back (the
@@ -476,6 +528,8 @@ class KOMA_PT_panel(bpy.types.Panel):
                      "drawings_per_second", "timing_fps", "server", "timeout"):
             layout.prop(settings, name)
         layout.operator(KOMA_OT_retime_action.bl_idname)
+        layout.prop(settings, "xsheet_file")
+        layout.operator(KOMA_OT_apply_xsheet.bl_idname)
         box = layout.box()
         box.label(text="File (FBX, glTF, BVH)")
         for name in ("motion_file", "take", "output_file"):
@@ -485,8 +539,8 @@ class KOMA_PT_panel(bpy.types.Panel):
             box.label(text=settings.last_summary)
 
 
-_classes = (KomaPreferences, KomaSettings, KOMA_OT_retime_action, KOMA_OT_retime_file,
-            KOMA_PT_panel)
+_classes = (KomaPreferences, KomaSettings, KOMA_OT_retime_action, KOMA_OT_apply_xsheet,
+            KOMA_OT_retime_file, KOMA_PT_panel)
 
 
 def register():

@@ -10,7 +10,8 @@ frame keyed, CONSTANT interpolation, each key the source pose the timing map nam
 is the one koma answers for the same bone positions sampled here independently. Once at
 24 fps (no grid), once for a 120 fps action on the 24 fps film grid (the paper's counts, then
 on threes), and once with the panel's defaults (the server's anime timing). Then a wrong
-server address: the operator cancels with koma's error and writes nothing. Then the file
+server address: the operator cancels with koma's error and writes nothing. Then "Apply
+X-sheet" (xsheet_checks.py): edited sheets on an action, frame by frame. Then the file
 mode (file_mode_checks.py): real FBX, GLB and BVH files retimed, written with the CLI's bytes,
 imported and checked against the source; and its errors.
 """
@@ -30,6 +31,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from blender_test_helpers import (check_anime_action, expected_source_frames,  # noqa: E402
                                   make_armature, run_operator, start_server, stop_server)
 from file_mode_checks import check_file_mode  # noqa: E402
+from xsheet_checks import check_xsheet  # noqa: E402
 
 
 def main():
@@ -134,6 +136,7 @@ def main():
         assert obj.animation_data.action == source
 
         settings.server = address
+        check_xsheet(address, workdir)
         check_file_mode(address, cli_bin, source_dir, workdir)
     finally:
         stop_server(process)
