@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/lip_blink.h"
+#include "core/lip_blink_given.h"
 #include "core/lip_blink_internal.h"
 
 namespace koma {
@@ -370,6 +371,22 @@ EyeResult ConvertEyes(const std::vector<absl::Span<const double>>& eyes, const E
     result.levels.push_back(CurveLevels(eyes[c], result.blinks.back(), levels[c], options));
     result.values.push_back(Paint(eyes[c], result.blinks.back(), result.levels.back(),
                                   levels[c].closed, options.mid_ratio));
+  }
+  return result;
+}
+
+EyeResult PaintGivenEyes(const std::vector<absl::Span<const double>>& eyes,
+                         const EyeOptions& options, const std::vector<std::vector<Blink>>& blinks) {
+  EyeResult result;
+  for (size_t c = 0; c < eyes.size(); ++c) {
+    const Levels levels = LevelsOf(eyes[c], options);
+    result.closed.push_back(levels.closed);
+    result.mid.push_back(levels.mid);
+    result.open.push_back(levels.open);
+    result.blinks.push_back(blinks[c]);
+    result.levels.push_back(CurveLevels(eyes[c], blinks[c], levels, options));
+    result.values.push_back(
+        Paint(eyes[c], blinks[c], result.levels.back(), levels.closed, options.mid_ratio));
   }
   return result;
 }

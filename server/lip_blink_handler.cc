@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "convert/curves_convert.h"
+#include "core/lip_blink_given.h"
 #include "core/lip_blink_grid.h"
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
@@ -120,7 +121,9 @@ absl::StatusOr<LipBlinkDrawing> DrawLipBlink(const LipBlinkJob& job) {
     }
     // Mouth curve m draws from its own stream, seed + m, so adding a curve leaves the
     // others' shapes as they were.
-    drawing.mouths.push_back(ConvertMouth(input, job.mouth, job.seed + m));
+    drawing.mouths.push_back(job.given_mouths
+                                 ? PaintGivenMouth(input, job.mouth, (*job.given_mouths)[m])
+                                 : ConvertMouth(input, job.mouth, job.seed + m));
     curve.drawn = drawing.mouths.back().values;
     curve.repainted = SpeechMask(drawing.mouths.back().speech, frames);
     drawing.curves.push_back(std::move(curve));
@@ -136,7 +139,8 @@ absl::StatusOr<LipBlinkDrawing> DrawLipBlink(const LipBlinkJob& job) {
     drawing.curves.push_back(std::move(curve));
   }
   const std::vector<absl::Span<const double>> spans(inputs.begin(), inputs.end());
-  drawing.eyes = ConvertEyes(spans, job.eyes, job.seed);
+  drawing.eyes = job.given_eyes ? PaintGivenEyes(spans, job.eyes, *job.given_eyes)
+                                : ConvertEyes(spans, job.eyes, job.seed);
   for (size_t i = 0; i < job.eye_curves.size(); ++i) {
     LipBlinkDrawnCurve& curve = drawing.curves[job.mouth_curves.size() + i];
     curve.drawn = drawing.eyes.values[i];
@@ -153,6 +157,12 @@ void DescribeMotion(const LipBlinkJob& job, LipBlinkMotionShape* shape) {
 
 absl::Status HandleLipBlink(const v1::LipBlinkRequest& request, const RequestLimits& limits,
                             v1::LipBlinkResponse* response, LipBlinkMotionShape* shape) {
+  if (request.has_given_timing() && (request.input_case() == v1::LipBlinkRequest::kSpineJson ||
+                                     request.voice_case() != v1::LipBlinkRequest::VOICE_NOT_SET)) {
+    return absl::InvalidArgumentError(
+        "given_timing: not with a voice (audio, rhubarb_cues) or spine_json; give the mouth "
+        "and eye curves (curves, motion3_json or csv_text)");
+  }
   if (request.input_case() == v1::LipBlinkRequest::kSpineJson) {
     return HandleLipBlinkSpine(request, limits, response, shape);
   }
@@ -172,10 +182,14 @@ absl::Status HandleLipBlink(const v1::LipBlinkRequest& request, const RequestLim
 absl::Status RunLipBlinkJob(const LipBlinkJob& job, v1::LipBlinkResponse* response) {
   KOMA_ASSIGN_OR_RETURN(const LipBlinkDrawing drawing, DrawLipBlink(job));
   for (size_t m = 0; m < drawing.mouths.size(); ++m) {
-    FillMouth(job.set.curves[job.mouth_curves[m]].id, drawing.mouths[m], response->add_mouths());
+    v1::MouthTrack* track = response->add_mouths();
+    FillMouth(job.set.curves[job.mouth_curves[m]].id, drawing.mouths[m], track);
+    track->set_given(job.given_mouths.has_value());
   }
   for (size_t i = 0; i < job.eye_curves.size(); ++i) {
-    FillEye(job.set.curves[job.eye_curves[i]].id, drawing.eyes, i, response->add_eyes());
+    v1::EyeTrack* track = response->add_eyes();
+    FillEye(job.set.curves[job.eye_curves[i]].id, drawing.eyes, i, track);
+    track->set_given(job.given_eyes.has_value());
   }
   // Every other frame keeps its input value (docs/semantics.md, "LipBlink").
   for (const LipBlinkDrawnCurve& curve : drawing.curves) {

@@ -36,6 +36,11 @@ struct LipBlinkJob {
   // for, on the frames holds count (grid frames, else source frames). The mouth curves'
   // inputs are then these drawings' levels, and their source values the closed level.
   std::optional<VoiceActivity> voice;
+  // A given timing (LipBlinkRequest.given_timing, docs/semantics.md, "A given timing"), on the
+  // frames holds count: per mouth curve (mouth_curves' order) its holds, per eye curve
+  // (eye_curves' order) its blinks. Unset: computed.
+  std::optional<std::vector<std::vector<MouthHold>>> given_mouths;
+  std::optional<std::vector<std::vector<Blink>>> given_eyes;
 };
 
 // A job on `set` with these settings (the fields of a LipBlinkRequest, or of a GROUP_LIP_BLINK

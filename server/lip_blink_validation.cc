@@ -7,6 +7,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "convert/field_error.h"
+#include "core/lip_blink_given.h"
 #include "core/lip_blink_grid.h"
 #include "core/status_macros.h"
 #include "server/curve_convert.h"
@@ -167,15 +168,124 @@ absl::StatusOr<LipBlinkJob> LipBlinkJobFor(CurveSet set, const v1::MouthSettings
   return job;
 }
 
+namespace {
+
+// The index of curve `id` in `curves` (job.mouth_curves or eye_curves), or -1.
+int TrackOf(const LipBlinkJob& job, const std::vector<int>& curves, const std::string& id) {
+  for (size_t i = 0; i < curves.size(); ++i) {
+    if (job.set.curves[static_cast<size_t>(curves[i])].id == id) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+std::string IdsOf(const LipBlinkJob& job, const std::vector<int>& curves) {
+  std::string ids;
+  for (int c : curves) absl::StrAppend(&ids, ids.empty() ? "" : ", ", job.set.curves[static_cast<size_t>(c)].id);
+  return ids.empty() ? "none" : ids;
+}
+
+// Every track of `curves` given once, by id: per track its index into the given list.
+template <typename Given>
+absl::StatusOr<std::vector<int>> MatchTracks(
+    const LipBlinkJob& job, const std::vector<int>& curves,
+    const google::protobuf::RepeatedPtrField<Given>& given, absl::string_view path,
+    absl::string_view kind) {
+  std::vector<int> of_track(curves.size(), -1);
+  for (int i = 0; i < given.size(); ++i) {
+    const int track = TrackOf(job, curves, given[i].id());
+    if (track < 0) {
+      return absl::InvalidArgumentError(absl::StrCat(path, "[", i, "].id: \"", given[i].id(),
+                                                     "\" is not a ", kind, " curve (they are ",
+                                                     IdsOf(job, curves), ")"));
+    }
+    if (of_track[track] >= 0) {
+      return absl::InvalidArgumentError(absl::StrCat(path, "[", i, "].id: \"", given[i].id(),
+                                                     "\" is already ", path, "[",
+                                                     of_track[track], "]"));
+    }
+    of_track[track] = i;
+  }
+  for (size_t t = 0; t < curves.size(); ++t) {
+    if (of_track[t] < 0) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          path, ": no timing for ", kind, " curve \"", job.set.curves[static_cast<size_t>(curves[t])].id,
+          "\"; give every ", kind, " curve one, or none to time them as usual"));
+    }
+  }
+  return of_track;
+}
+
+// LipBlinkRequest.given_timing into the job, on the frames holds count.
+absl::Status ConvertGivenTiming(const v1::GivenLipBlinkTiming& given, LipBlinkJob& job) {
+  const int frames = job.grid ? job.grid_frames : job.set.frame_count;
+  if (given.mouths_size() > 0) {
+    KOMA_ASSIGN_OR_RETURN(const std::vector<int> of_track,
+                          MatchTracks(job, job.mouth_curves, given.mouths(),
+                                      "given_timing.mouths", "mouth"));
+    job.given_mouths.emplace();
+    for (int i : of_track) {
+      const v1::GivenMouthTiming& track = given.mouths(i);
+      const std::string path = absl::StrCat("given_timing.mouths[", i, "].holds");
+      std::vector<MouthHold> holds;
+      for (int h = 0; h < track.holds_size(); ++h) {
+        const v1::MouthHold& in = track.holds(h);
+        MouthHold out{in.begin(), in.length(), MouthShape::kClosed};
+        switch (in.shape()) {
+          case v1::MOUTH_CLOSED:
+            break;
+          case v1::MOUTH_MID:
+            out.shape = MouthShape::kMid;
+            break;
+          case v1::MOUTH_OPEN:
+            out.shape = MouthShape::kOpen;
+            break;
+          default:
+            return absl::InvalidArgumentError(absl::StrCat(
+                path, "[", h, "].shape: ", static_cast<int>(in.shape()),
+                " is not a mouth drawing (1 MOUTH_CLOSED, 2 MOUTH_MID, 3 MOUTH_OPEN)"));
+        }
+        holds.push_back(out);
+      }
+      KOMA_RETURN_IF_ERROR(ValidateGivenHolds(holds, frames, path));
+      job.given_mouths->push_back(std::move(holds));
+    }
+  }
+  if (given.eyes_size() > 0) {
+    KOMA_ASSIGN_OR_RETURN(const std::vector<int> of_track,
+                          MatchTracks(job, job.eye_curves, given.eyes(), "given_timing.eyes",
+                                      "eye"));
+    job.given_eyes.emplace();
+    for (int i : of_track) {
+      std::vector<Blink> blinks;
+      for (const v1::Blink& in : given.eyes(i).blinks()) {
+        blinks.push_back({in.closing_begin(), in.closed_begin(), in.closed_end(), in.open_span(),
+                          in.hold(), in.automatic()});
+      }
+      KOMA_RETURN_IF_ERROR(
+          ValidateGivenBlinks(blinks, frames, absl::StrCat("given_timing.eyes[", i, "].blinks")));
+      job.given_eyes->push_back(std::move(blinks));
+    }
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
 absl::StatusOr<LipBlinkJob> ValidateLipBlinkRequest(const v1::LipBlinkRequest& request,
                                                     const RequestLimits& limits) {
   if (!request.has_curves()) return absl::InvalidArgumentError("curves: required, not set");
   KOMA_ASSIGN_OR_RETURN(CurveSet set, CurveSetFromProto(request.curves(), "curves", limits));
-  return LipBlinkJobFor(std::move(set), request.mouth(), request.eyes(),
-                        request.has_seed() ? std::optional<uint64_t>(request.seed()) : std::nullopt,
-                        request.has_timing_fps() ? std::optional<double>(request.timing_fps())
-                                                 : std::nullopt,
-                        limits, /*need_curves=*/true, "the request");
+  KOMA_ASSIGN_OR_RETURN(
+      LipBlinkJob job,
+      LipBlinkJobFor(std::move(set), request.mouth(), request.eyes(),
+                     request.has_seed() ? std::optional<uint64_t>(request.seed()) : std::nullopt,
+                     request.has_timing_fps() ? std::optional<double>(request.timing_fps())
+                                              : std::nullopt,
+                     limits, /*need_curves=*/true, "the request"));
+  if (request.has_given_timing()) {
+    KOMA_RETURN_IF_ERROR(ConvertGivenTiming(request.given_timing(), job));
+  }
+  return job;
 }
 
 }  // namespace koma::server
