@@ -18,12 +18,14 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "client/curves_convert.h"
 #include "client/skeletal_convert.h"
 #include "core/curves.h"
+#include "core/film_grid.h"
 #include "formats/bvh.h"
 #include "formats/curve_csv.h"
 #include "formats/motion3.h"
@@ -122,6 +124,9 @@ int main(int argc, char** argv) {
     request.set_omissions(2);
     request.set_holds(1);
     WriteRequest(out / "retime_skeletal", stem + "_grid", request);
+    // A given timing (issue 46): holds, a repeat and a swap over the first grid frames.
+    for (int s : {0, 0, 3, 3, 3, 1, 9, 9, 2}) request.mutable_given_timing()->add_source_frames(s);
+    WriteRequest(out / "retime_skeletal", stem + "_given", request);
   }
 
   for (const fs::path& path : FilesEndingIn(inputs, ".csv")) {
@@ -152,6 +157,16 @@ int main(int argc, char** argv) {
     curves.set_timing_fps(24);
     curves.set_frames_per_drawing(2);
     WriteRequest(out / "retime_curves", stem + "_grid", curves);
+    {  // A given timing for the default group, on twos, one tau per grid frame.
+      koma::v1::RetimeCurvesRequest given = curves;
+      given.set_default_timing_groups(false);
+      const std::optional<koma::FilmGrid> grid = koma::FilmGrid::Make(file->curves.fps, 24);
+      const int counted =
+          grid ? grid->GridFrameCount(file->curves.frame_count) : file->curves.frame_count;
+      koma::v1::GivenDrawingTiming* timing = given.add_given_timings();
+      for (int g = 0; g < counted; ++g) timing->add_source_frame((g / 2 * 2) % file->curves.frame_count);
+      WriteRequest(out / "retime_curves", stem + "_given", given);
+    }
     *curves.mutable_curves() = koma::client::CurveSetToProto(dense);
     WriteRequest(out / "retime_curves", stem + "_dense", curves);
 
@@ -167,6 +182,28 @@ int main(int argc, char** argv) {
     lip.set_seed(7);
     lip.set_timing_fps(24);
     WriteRequest(out / "lip_blink", stem + "_auto_grid", lip);
+    {  // A given timing: a mouth hold and a blink per curve, on the grid's first frames.
+      koma::v1::LipBlinkRequest given = lip;
+      for (const std::string& id : lip.mouth().ids()) {
+        koma::v1::GivenMouthTiming* m = given.mutable_given_timing()->add_mouths();
+        m->set_id(id);
+        koma::v1::MouthHold* h = m->add_holds();
+        h->set_begin(1);
+        h->set_length(2);
+        h->set_shape(koma::v1::MOUTH_OPEN);
+      }
+      for (const std::string& id : lip.eyes().ids()) {
+        koma::v1::GivenEyeTiming* e = given.mutable_given_timing()->add_eyes();
+        e->set_id(id);
+        koma::v1::Blink* b = e->add_blinks();
+        b->set_closing_begin(1);
+        b->set_closed_begin(2);
+        b->set_closed_end(2);
+        b->set_open_span(1);
+        b->set_hold(1);
+      }
+      WriteRequest(out / "lip_blink", stem + "_given", given);
+    }
   }
   for (const fs::path& path : FilesEndingIn({inputs[0] / "spine", inputs[1]}, ".json")) {
     const std::string text = ReadFile(path);
