@@ -129,6 +129,26 @@ std::set<const CLI::Option*> AddBatchOptions(CLI::App* cmd, BatchCommandArgs& a)
   return own;
 }
 
+// The files --timing-from names: a file itself, a folder's regular files (not below it) in
+// name order.
+std::vector<std::string> SheetFiles(const std::vector<std::string>& values) {
+  std::vector<std::string> files;
+  for (const std::string& value : values) {
+    std::error_code error;
+    if (!std::filesystem::is_directory(value, error)) {
+      files.push_back(value);
+      continue;
+    }
+    std::vector<std::string> in_folder;
+    for (const auto& entry : std::filesystem::directory_iterator(value, error)) {
+      if (entry.is_regular_file(error)) in_folder.push_back(entry.path().string());
+    }
+    std::sort(in_folder.begin(), in_folder.end());
+    files.insert(files.end(), in_folder.begin(), in_folder.end());
+  }
+  return files;
+}
+
 // Every option of `cmd` given on the command line, except `skip`, with its values as typed,
 // in the order the command declares them (so argument order and aliases do not matter), as a
 // 64-bit FNV-1a digest in hex: the options that shape the outputs. Conservative: a value
@@ -148,6 +168,15 @@ std::string OptionsFingerprint(const std::string& rpc, const CLI::App& cmd,
     if (skip.count(option) > 0 || option->count() == 0) continue;
     mix(option->get_name());
     for (const std::string& value : option->results()) mix(value);
+    // --timing-from: the sheets' contents too, so an edited sheet redoes the clips (every
+    // clip, for a folder: conservative, as above).
+    if (option->get_name() == "--timing-from") {
+      for (const std::string& path : SheetFiles(option->results())) {
+        mix(path);
+        absl::StatusOr<std::string> bytes = ReadFile(path);
+        mix(bytes.ok() ? *bytes : std::string(bytes.status().message()));
+      }
+    }
   }
   return absl::StrFormat("%016x", hash);
 }

@@ -340,6 +340,15 @@ def test_batch_applies_one_sheet_or_each_clips_own(server, tmp_path):
     check_motion_shows_sheet(out / "pitch.bvh", clips / "pitch.bvh", sheet, 1)
     check_motion_shows_sheet(out / "pitch_final.bvh", clips / "pitch_final.bvh",
                              sheets / "pitch_final.xdts.expected", 1)
+    # A rerun is up to date; an edited sheet redoes the clips.
+    rerun = run_cli("batch", "skeletal", str(clips), "-o", str(out), "--timing-from",
+                    str(sheets), "--server", server.address)
+    assert "0 done, 2 up to date" in rerun.stderr + rerun.stdout
+    (sheets / "pitch.xdts").write_text(koma_sheet(repeat_later(rows), "pitch"))
+    rerun = run_cli("batch", "skeletal", str(clips), "-o", str(out), "--timing-from",
+                    str(sheets), "--server", server.address)
+    assert "2 done, 0 up to date" in rerun.stderr + rerun.stdout
+    check_motion_shows_sheet(out / "pitch.bvh", clips / "pitch.bvh", sheets / "pitch.xdts", 1)
     (sheets / "pitch_final.timing.csv").unlink()
     done = run_cli("batch", "skeletal", str(clips), "-o", str(tmp_path / "none"),
                    "--timing-from", str(sheets), "--server", server.address, check=False)
