@@ -193,6 +193,10 @@ absl::Status CheckSkeletalFlags(const SkeletalArgs& args) {
       !s.ok()) {
     return s;
   }
+  if (IsStdio(args.input) && IsStdio(args.timing_from)) {
+    return absl::InvalidArgumentError(
+        "--timing-from -: the input is standard input already; give the sheet's path");
+  }
   if (args.omissions && args.omissions_per_second) {
     return absl::InvalidArgumentError(absl::StrCat(
         "--omit ", *args.omissions, " and --omissions-per-second ", *args.omissions_per_second,

@@ -225,6 +225,7 @@ nlohmann::json SkeletalSummaryJson(const SkeletalArgs& args, const SkeletalClip&
   if (!args.timing.empty()) j["outputs"]["timing"] = args.timing;
   if (!args.report.empty()) j["outputs"]["report"] = args.report;
   if (!args.xdts.empty()) j["outputs"]["xdts"] = args.xdts;
+  if (!args.timing_from.empty()) j["timing_from"] = args.timing_from;
   j["input_frames"] = clip.frame_count;
   j["joints"] = clip.skeleton.joints.size();
   j["input_fps"] = 1.0 / clip.frame_time;
