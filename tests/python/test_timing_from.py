@@ -284,10 +284,18 @@ def test_sheets_that_do_not_fit_name_track_frame_and_cell(server, tmp_path):
                            'are "pitch"')
     cases["bad.csv"] = ("output_frame,source_frame\n0,0\n1,-3\n",
                         'line 3: source_frame "-3" is not a whole number >= 0')
+    cases["grid.csv"] = ("output_frame,source_frame,kind,time_s,grid_frame\n0,0,HELD,0,0\n"
+                         "1,1,HELD,0,1\n2,2,HELD,0,1\n",
+                         'line 4: grid_frame 1 shows source_frame 2 here and a different one')
+    # On the film grid: mocap_120fps's 61 frames are 13 grid frames at 24 fps.
+    mocap = source_path("samples/mocap_120fps.bvh")
+    cases["grid_long.xdts"] = (koma_sheet([0] * 14, "mocap_120fps"),
+                               'track "mocap_120fps", frame 14: cell "1" is past the clip\'s end: '
+                               "the sheet has 14 frames, the clip 13 on the 24 fps grid")
     for file_name, (content, message) in cases.items():
         sheet = tmp_path / file_name
         sheet.write_text(content)
-        cpp, py = both_fail(clip, sheet, server)
+        cpp, py = both_fail(mocap if file_name == "grid_long.xdts" else clip, sheet, server)
         assert cpp.startswith(f"koma: {sheet}: {message}"), cpp
         assert py == cpp
 
