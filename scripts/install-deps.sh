@@ -59,6 +59,8 @@ if [ "${1:-}" != "--build-only" ]; then
   # curl: the HTTP port's tests call the Connect JSON API as a user would
   # (tests/e2e/http_api_e2e_test.sh).
   packages+=(curl)
+  # libcurl4-openssl-dev: koma_http_load (bench/http_load.cc) drives the HTTP port through it.
+  packages+=(libcurl4-openssl-dev)
   # libassimp-dev: Debian's assimp is the third reader of the FBX files koma writes
   # (blender.fbx_retimed builds tests/e2e/fbx/assimp_poses against it, pivots off, beside
   # Blender's importer and three.js's FBXLoader).
