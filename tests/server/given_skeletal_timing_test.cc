@@ -6,6 +6,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 #include "tests/server/bad_request_table.h"
 #include "tests/server/in_process_server.h"
 #include "tests/server/request_builder.h"
+#include "tests/testing/gltf_builder.h"
 
 namespace koma::server {
 namespace {
@@ -210,6 +213,62 @@ TEST_F(GivenSkeletalTimingTest, OneTimingOnAProxyAndAFinalRigGivesOneMap) {
                          b.source_frames().begin(), b.source_frames().end()));
   EXPECT_EQ(a.motion().channels().SerializeAsString(), b.motion().channels().SerializeAsString());
   EXPECT_NE(a.motion().skeleton().SerializeAsString(), b.motion().skeleton().SerializeAsString());
+}
+
+std::string ReadSample(const std::string& name) {
+  std::ifstream in(std::string(KOMA_SAMPLES_DIR) + "/" + name, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Files over the wire: the BVH and the glTF a computed answer writes, written again from its
+// timing given back, byte for byte.
+TEST_F(GivenSkeletalTimingTest, FileAnswersGivenBackAreTheSameFiles) {
+  struct Case {
+    std::string name;
+    v1::RetimeSkeletalRequest request;
+  };
+  std::vector<Case> cases;
+  for (const double timing_fps : {0.0, 12.0}) {  // the pitch is 24 fps: no grid, and on twos
+    v1::RetimeSkeletalRequest r;
+    r.set_bvh_text(ReadSample("pitch.bvh"));
+    r.set_timing_fps(timing_fps);
+    cases.push_back({"pitch.bvh at " + std::to_string(timing_fps), r});
+  }
+  v1::RetimeSkeletalRequest gltf;
+  gltf.set_gltf(::koma::testing::ArmGltf().Glb());
+  cases.push_back({"arm.glb", gltf});
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    v1::RetimeSkeletalRequest at_timing_rate = c.request;
+    at_timing_rate.set_output_rate(v1::TIMING_RATE);
+    at_timing_rate.set_return_motion(false);
+    v1::RetimeSkeletalResponse counted;
+    ASSERT_TRUE(CallRpc(server_.stub(), at_timing_rate, &counted).ok());
+    ASSERT_GT(counted.source_frames_size(), 2);
+    v1::RetimeSkeletalResponse computed;
+    ASSERT_TRUE(CallRpc(server_.stub(), c.request, &computed).ok());
+    v1::RetimeSkeletalRequest back = c.request;
+    *back.mutable_given_timing()->mutable_source_frames() = counted.source_frames();
+    v1::RetimeSkeletalResponse given;
+    const grpc::Status status = CallRpc(server_.stub(), back, &given);
+    ASSERT_TRUE(status.ok()) << status.error_message();
+    EXPECT_TRUE(given.timing_given());
+    EXPECT_EQ(given.bvh_text(), computed.bvh_text());
+    EXPECT_EQ(given.gltf(), computed.gltf());
+    EXPECT_FALSE(given.bvh_text().empty() && given.gltf().empty());
+  }
+  // A glTF request must retime exactly one animation for a timing to be given.
+  v1::RetimeSkeletalRequest none = gltf;
+  none.set_gltf_retime_none(true);
+  none.mutable_given_timing()->add_source_frames(0);
+  v1::RetimeSkeletalResponse refused;
+  const grpc::Status status = CallRpc(server_.stub(), none, &refused);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(),
+              ::testing::HasSubstr("given_timing: a given timing applies to one animation, but "
+                                   "this request retimes 0; name one in gltf_animations"));
 }
 
 }  // namespace
