@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "absl/strings/escaping.h"
@@ -74,7 +75,13 @@ std::string ShellLine(const std::vector<std::string>& words) {
 HttpResponse Run(const HttpRequest& request, const std::shared_ptr<grpc::Channel>& channel) {
   absl::StatusOr<client::FileJob> job = PageJobFromQuery(request.query, request.body);
   if (!job.ok()) return ErrorResponse(400, "invalid_argument", std::string(job.status().message()));
-  absl::StatusOr<client::FileJobResult> result = client::RunFileJob(*job, channel);
+  // On a thread of its own: civetweb's threads have small stacks (Debian builds it with
+  // USE_STACK_SIZE=102400), too small for the CLI's command and a gRPC call; a std::thread
+  // gets the process default (8 MiB). Joined at once: civetweb's --http_threads still bound
+  // the jobs at a time.
+  absl::StatusOr<client::FileJobResult> result = absl::InternalError("the job did not run");
+  std::thread worker([&] { result = client::RunFileJob(*job, channel); });
+  worker.join();
   if (!result.ok()) return ErrorResponse(400, "invalid_argument", std::string(result.status().message()));
   nlohmann::json files = nlohmann::json::array();
   for (const client::FileJobFile& file : result->files) {

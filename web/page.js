@@ -5,9 +5,9 @@
 (function () {
   'use strict';
   var COMMAND_TEXT = {
-    skeletal: 'koma skeletal: the motion on anime timing (omissions, holds)',
-    curves: 'koma curves: the curves on twos or threes (tame, tsume)',
-    lipblink: 'koma lipblink: three-drawing mouths and anime blinks'
+    skeletal: 'koma skeletal: omissions and holds',
+    curves: 'koma curves: twos, threes, tame, tsume',
+    lipblink: 'koma lipblink: mouths and blinks'
   };
   var file = null;       // the File picked
   var links = [];        // object URLs of the last result, revoked on the next
@@ -149,7 +149,7 @@
     var query = ['command=' + encodeURIComponent(command), 'name=' + encodeURIComponent(file.name)];
     var fields = $('run-form').querySelectorAll('select[name], input[name]');
     fields.forEach(function (field) {
-      if (field.name === 'command' || field.disabled || field.value === '') return;
+      if (field.name === 'command' || field.matches(':disabled') || field.value === '') return;
       query.push(encodeURIComponent(field.name) + '=' + encodeURIComponent(field.value));
     });
     $('run').disabled = true;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -109,7 +110,14 @@ INSTANTIATE_TEST_SUITE_P(
                 {"result", "timing", "xdts", "report"}},
         JobCase{"lipblink", "talk_blink.motion3.json", {"--seed", "7"}, {"result", "xdts", "report"}},
         JobCase{"lipblink", "voice.flac", {"--preset", "subtle", "--auto-blink", "3"},
-                {"result", "xdts", "report"}}));
+                {"result", "xdts", "report"}}),
+    [](const ::testing::TestParamInfo<JobCase>& info) {
+      std::string name = std::string(info.param.command) + "_" + info.param.file;
+      for (char& c : name) {
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      }
+      return name;
+    });
 
 TEST(FileJob, AFailureIsKomasMessageAndNoFiles) {
   testing::InProcessServer server;
