@@ -112,6 +112,10 @@ absl::Status ValidateHttpServerConfig(const HttpServerConfig& config) {
   if (config.request_timeout_ms < 100) {
     return invalid("--http_request_timeout_ms: ", config.request_timeout_ms, " must be >= 100");
   }
+  if (config.keep_alive_ms < 0 || config.keep_alive_ms > 600'000) {
+    return invalid("--http_keep_alive_ms: ", config.keep_alive_ms,
+                   " must be in [0, 600000] (0 = one request per connection)");
+  }
   if (config.threads < 1 || config.threads > 1024) {
     return invalid("--http_threads: ", config.threads, " must be in [1, 1024]");
   }
@@ -147,6 +151,7 @@ absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(const HttpServerCo
   const std::string ports = absl::StrCat(config.address, ":", config.port);
   const std::string threads = absl::StrCat(config.threads);
   const std::string timeout = absl::StrCat(config.request_timeout_ms);
+  const std::string keep_alive = absl::StrCat(config.keep_alive_ms);
   // No document_root: civetweb opens no file. access_control_allow_origin empty: civetweb
   // answers no CORS preflight itself (its default is "*"); AddCommonHeaders does, if asked.
   const char* options[] = {"listening_ports",
@@ -156,9 +161,9 @@ absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(const HttpServerCo
                            "request_timeout_ms",
                            timeout.c_str(),
                            "enable_keep_alive",
-                           "yes",
+                           config.keep_alive_ms > 0 ? "yes" : "no",
                            "keep_alive_timeout_ms",
-                           "5000",
+                           keep_alive.c_str(),
                            // The header and the body go out in two writes: without it Nagle
                            // holds the body for the client's delayed ACK (40 ms a call).
                            "tcp_nodelay",
@@ -384,7 +389,13 @@ int HttpServer::OnRequest(mg_connection* connection, void* self_pointer) {
     }
     request.body.append(buffer, static_cast<size_t>(n));
   }
-  const HttpResponse response = self.Respond(request);
+  // The handler runs on a thread of its own: Debian builds civetweb with 100 KiB thread stacks
+  // (USE_STACK_SIZE=102400), too small for protobuf's JSON parser, a gRPC call (whose inline
+  // handler may run on the calling thread) or the readers' nesting; a std::thread gets the
+  // process default (8 MiB). --http_threads still bounds how many run: this one waits for it.
+  HttpResponse response;
+  std::thread handler([&] { response = self.Respond(request); });
+  handler.join();
   Send(connection, response, continued);
   return response.status;
 }

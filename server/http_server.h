@@ -39,9 +39,13 @@ struct HttpServerConfig {
   // the whole body, milliseconds (--http_request_timeout_ms): a client that sends slowly is cut
   // off (408) instead of holding a thread.
   int request_timeout_ms = 30'000;
-  // Requests served at once (--http_threads): each holds one civetweb thread while its call
-  // runs; further connections wait in the listen queue.
-  int threads = 4;
+  // Connections served at once (--http_threads): each holds one civetweb thread while its
+  // request arrives and its call runs, and while it is kept alive idle (keep_alive_ms);
+  // further connections wait in the listen queue. A browser opens up to 6 at once.
+  int threads = 8;
+  // How long a connection may stay open idle for its next request, milliseconds
+  // (--http_keep_alive_ms); 0 = one request per connection.
+  int keep_alive_ms = 1000;
   // The one origin allowed to call from a browser page elsewhere (--http_cors_origin), e.g.
   // "https://tools.example.com"; empty = no CORS headers at all (same-origin only).
   std::string cors_origin;

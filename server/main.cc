@@ -128,9 +128,12 @@ ABSL_FLAG(int64_t, http_max_body_bytes, 64 * 1024 * 1024,
 ABSL_FLAG(int, http_request_timeout_ms, 30000,
           "longest the HTTP port waits for a request's headers and body, milliseconds; a "
           "slower client gets 408 and the connection is closed");
-ABSL_FLAG(int, http_threads, 4,
-          "HTTP requests served at once (each holds a thread while its call runs); more wait "
-          "for a thread");
+ABSL_FLAG(int, http_threads, 8,
+          "HTTP connections served at once (each holds a thread while its request arrives and "
+          "its call runs, and while kept alive idle); more wait for a thread");
+ABSL_FLAG(int, http_keep_alive_ms, 1000,
+          "how long an HTTP connection may stay open idle for its next request, milliseconds; "
+          "0 = one request per connection");
 ABSL_FLAG(std::string, http_cors_origin, "",
           "the one origin (https://host[:port], or *) whose pages may call the HTTP port from a "
           "browser; empty = no CORS headers (same-origin only)");
@@ -149,7 +152,8 @@ constexpr const char* kEnvironmentFlags[] = {
     "live_max_streams",    "live_max_seconds",    "live_max_message_bytes",
     "live_max_queued_frames",                     "live_idle_seconds",
     "http_port",           "http_address",        "http_port_file",      "http_max_body_bytes",
-    "http_request_timeout_ms",                    "http_threads",        "http_cors_origin"};
+    "http_request_timeout_ms",                    "http_threads",        "http_cors_origin",
+    "http_keep_alive_ms"};
 // clang-format on
 
 // Each flag may also come from the environment as KOMA_<FLAG> (KOMA_ADDRESS,
@@ -222,6 +226,7 @@ koma::server::ServerConfig ConfigFromFlags() {
   config.http.max_body_bytes = absl::GetFlag(FLAGS_http_max_body_bytes);
   config.http.request_timeout_ms = absl::GetFlag(FLAGS_http_request_timeout_ms);
   config.http.threads = absl::GetFlag(FLAGS_http_threads);
+  config.http.keep_alive_ms = absl::GetFlag(FLAGS_http_keep_alive_ms);
   config.http.cors_origin = absl::GetFlag(FLAGS_http_cors_origin);
   const int64_t max_memory_mb = absl::GetFlag(FLAGS_max_memory_mb);
   config.max_memory_mb =

@@ -125,9 +125,9 @@ expect_status 200 "$code" "LipBlink after the errors" "$work/out"
 "$python" "$helper" grpc "$target" LipBlink "$work/LipBlink.bin" "$work/again.grpc"
 stop_server
 
-# CORS only for the configured origin.
+# CORS only for the configured origin; --http_keep_alive_ms=0: one request per connection.
 start_server "$server_bin" --http_port=0 --http_port_file="$work/http.port" \
-  --http_cors_origin=https://tools.example.com
+  --http_cors_origin=https://tools.example.com --http_keep_alive_ms=0
 base="http://127.0.0.1:$(cat "$work/http.port")"
 preflight() {
   curl -sS --max-time 10 -o /dev/null -D - -X OPTIONS -H "Origin: $1" \
@@ -137,5 +137,9 @@ preflight https://tools.example.com | grep -qi '^Access-Control-Allow-Origin: ht
   fail "the configured origin got no CORS preflight answer"
 preflight https://evil.example | grep -qi '^Access-Control-Allow-Origin' &&
   fail "another origin got CORS headers"
+code=$(post LipBlink application/proto "$work/LipBlink.bin" "$work/out")
+expect_status 200 "$code" "LipBlink without keep-alive" "$work/out"
+grep -qi '^Connection: close' "$work/out.headers" ||
+  fail "--http_keep_alive_ms=0 kept the connection: $(cat "$work/out.headers")"
 stop_server
 echo "http_api_e2e: PASS"

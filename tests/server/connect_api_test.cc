@@ -360,6 +360,9 @@ TEST(HttpServerConfigTest, EachFlagOutOfRangeIsNamed) {
                 .rfind("--http_request_timeout_ms: 5", 0),
             0u);
   EXPECT_EQ(message([](auto& c) { c.threads = 0; }).rfind("--http_threads: 0", 0), 0u);
+  EXPECT_EQ(message([](auto& c) { c.keep_alive_ms = -1; }).rfind("--http_keep_alive_ms: -1", 0),
+            0u);
+  EXPECT_EQ(message([](auto& c) { c.keep_alive_ms = 0; }), "");
   EXPECT_EQ(message([](auto& c) { c.cors_origin = "https://a.example/path"; })
                 .rfind("--http_cors_origin", 0),
             0u);
