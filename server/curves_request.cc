@@ -135,6 +135,7 @@ absl::Status ConvertGivenTimings(const v1::RetimeCurvesRequest& request, const C
   const std::optional<FilmGrid> grid = FilmGrid::Make(set.fps, options.timing_fps);
   const int counted = grid ? grid->GridFrameCount(set.frame_count) : set.frame_count;
   std::map<std::string, int> first_of;
+  std::vector<std::vector<int>> members;  // per group, its curves: found once, when needed
   for (int i = 0; i < request.given_timings_size(); ++i) {
     const v1::GivenDrawingTiming& in = request.given_timings(i);
     const std::string path = absl::StrCat("given_timings[", i, "]");
@@ -151,6 +152,12 @@ absl::Status ConvertGivenTimings(const v1::RetimeCurvesRequest& request, const C
       if (group->mode == TimingGroupMode::kKeep) {
         return absl::InvalidArgumentError(absl::StrCat(
             path, ".group: \"", name, "\" is a GROUP_KEEP group: its curves have no timing"));
+      }
+      // A named group no curve matched has no timing: the given one would vanish unseen.
+      if (members.empty()) members = GroupMembers(options, set);
+      if (members[static_cast<size_t>(group - options.groups.begin())].empty()) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(path, ".group: \"", name, "\" has no curves in this request"));
       }
     }
     const auto [it, inserted] = first_of.emplace(name, i);

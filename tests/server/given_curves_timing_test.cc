@@ -69,6 +69,12 @@ std::vector<BadRequest> BadRequests() {
        "given_timings[1].group: no timing group named \"hat\" (the groups: body, hair, keep)"},
       {"KeepGroup", [&](auto& r) { Give(r, "keep", taus(31, 0)); }, kInvalid,
        "given_timings[1].group: \"keep\" is a GROUP_KEEP group: its curves have no timing"},
+      {"GroupWithoutCurves",
+       [&](auto& r) {
+         r.mutable_timing_groups(0)->set_ids(0, "Nothing*");
+         Give(r, "hair", taus(31, 0));
+       },
+       kInvalid, "given_timings[1].group: \"hair\" has no curves in this request"},
       {"GroupTwice", [&](auto& r) { Give(r, "", taus(31, 0)); }, kInvalid,
        "given_timings[1].group: \"body\" already has given_timings[0]"},
       {"TooShort", [&](auto& r) { r.mutable_given_timings(0)->mutable_source_frame()->RemoveLast(); },
