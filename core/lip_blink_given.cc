@@ -37,9 +37,10 @@ absl::Status ValidateGivenBlinks(const std::vector<Blink>& blinks, int frame_cou
     if (b.hold < 1 || b.hold > 3) {
       return absl::InvalidArgumentError(absl::StrCat(at, ".hold: ", b.hold, " must be 1, 2 or 3"));
     }
-    if (b.open_span < 0) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(at, ".open_span: ", b.open_span, " must be >= 0"));
+    if (b.open_span < 0 || b.open_span > frame_count) {  // bounded: the paint adds it to frames
+      return absl::InvalidArgumentError(absl::StrCat(
+          at, ".open_span: ", b.open_span, " must be within 0 .. the clip's ", frame_count,
+          " frames"));
     }
     if (!(0 <= b.closing_begin && b.closing_begin <= b.closed_begin &&
           b.closed_begin <= b.closed_end && b.closed_end < frame_count)) {

@@ -20,7 +20,7 @@ absl::Status ValidateGivenHolds(const std::vector<MouthHold>& holds, int frame_c
                                 absl::string_view path);
 
 // Blinks in time order: 0 <= closing_begin <= closed_begin <= closed_end < frame_count, hold
-// 1..3, open_span >= 0, each closing_begin after the previous blink's closed_end (so every
+// 1..3, 0 <= open_span <= frame_count, each closing_begin after the previous blink's closed_end (so every
 // blink's paint is a forward run of frames). INVALID_ARGUMENT naming `path`[i].
 absl::Status ValidateGivenBlinks(const std::vector<Blink>& blinks, int frame_count,
                                  absl::string_view path);

@@ -223,6 +223,39 @@ TEST_F(GivenCurvesTimingTest, AGivenTimingComesBackUnchangedAndTheCurvesShowIt) 
   }
 }
 
+TEST_F(GivenCurvesTimingTest, ExactTausShowEachDrawingAtItsTauWhateverTheOrder) {
+  // A keyframe curve that is its own time (one linear segment 0 -> last frame; its first and
+  // last keys are keys the rule would draw), drawings swapped and repeated backwards: with
+  // exact_taus each output frame shows the curve at the tau given for its grid frame.
+  SplitMix64 rng(4603);
+  for (int round = 0; round < 30; ++round) {
+    const int fps = kRates[rng.Int(0, 3)];
+    const int frames = rng.Int(fps / 12 + 3, 80);
+    v1::RetimeCurvesRequest r;
+    r.set_default_timing_groups(false);
+    v1::CurveSet* set = r.mutable_curves();
+    set->set_fps(fps);
+    set->set_frame_count(frames);
+    v1::Curve* time = set->add_curves();
+    time->set_id("T");
+    ::koma::testing::SetPoint(0, 0, time->mutable_start());
+    v1::CurveSegment* segment = time->add_segments();
+    segment->set_type(v1::SEGMENT_LINEAR);
+    ::koma::testing::SetPoint(frames - 1, frames - 1, segment->mutable_end());
+    const int counted = CountedFrames(frames, fps);
+    const std::vector<double> taus = RandomTaus(rng, counted, frames);
+    Give(r, "body", taus)->set_exact_taus(true);
+    SCOPED_TRACE(::testing::Message() << "round " << round << ": " << frames << " at " << fps);
+    v1::RetimeCurvesResponse a;
+    const grpc::Status status = CallRpc(server_.stub(), r, &a);
+    ASSERT_TRUE(status.ok()) << status.error_message();
+    for (int k = 0; k < frames; ++k) {
+      const double tau = taus[static_cast<size_t>(fps == 24 ? k : GridFrameOf(k, fps))];
+      EXPECT_NEAR(a.curves(0).values(k), tau, 1e-9 * frames) << k;
+    }
+  }
+}
+
 TEST_F(GivenCurvesTimingTest, AComputedTimingGivenBackGivesTheSameBytes) {
   SplitMix64 rng(4600);
   for (int round = 0; round < 40; ++round) {

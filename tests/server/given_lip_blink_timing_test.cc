@@ -92,7 +92,9 @@ std::vector<BadRequest> BadRequests() {
       {"BlinkHold4", [&](auto& r) { eye(r)->mutable_blinks(0)->set_hold(4); }, kInvalid,
        "given_timing.eyes[0].blinks[0].hold: 4 must be 1, 2 or 3"},
       {"BlinkSpanNegative", [&](auto& r) { eye(r)->mutable_blinks(1)->set_open_span(-2); },
-       kInvalid, "given_timing.eyes[0].blinks[1].open_span: -2 must be >= 0"},
+       kInvalid, "given_timing.eyes[0].blinks[1].open_span: -2 must be within 0 .. the clip's 48"},
+      {"BlinkSpanHuge", [&](auto& r) { eye(r)->mutable_blinks(1)->set_open_span(2147483647); },
+       kInvalid, "given_timing.eyes[0].blinks[1].open_span: 2147483647 must be within 0"},
       {"BlinkReversed", [&](auto& r) { eye(r)->mutable_blinks(0)->set_closed_end(15); }, kInvalid,
        "given_timing.eyes[0].blinks[0]: closing_begin 15, closed_begin 16, closed_end 15 must be "
        "in order within the clip's 48 frames"},
