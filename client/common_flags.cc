@@ -117,6 +117,11 @@ void AddCurveFileFlags(CLI::App* cmd, CurveFileArgs& args, const std::string& ti
             "format of the output -o - (default: the input's; an input's format is read from its "
             "contents)");
   AddSendFileFlag(cmd, &args.send_file, "motion3_json or csv_text, csv_fps = --fps");
+  cmd->add_option("--timing-from", args.timing_from,
+                  "apply the timing of an edited XDTS (the sheet --xdts wrote, edited in CLIP "
+                  "STUDIO PAINT, OpenToonz, TVPaint) instead of computing one; its cells are "
+                  "read against koma's answer for the same input and flags (docs/usage.md)")
+      ->type_name("SHEET.xdts");
   AddPresetFlag(cmd);
   AddCommonFlags(cmd, &args, "60");
 }

@@ -68,6 +68,7 @@ struct CurveFileArgs : CallFlags {
   std::optional<double> timing_fps;  // --timing-fps: the film grid; unset: the server's 24
   std::string format;                // --format motion3|csv: of the output "-"
   bool send_file = false;  // --send-file: the file's text (motion3_json or csv_text + csv_fps)
+  std::string timing_from;  // --timing-from: an edited XDTS to apply; empty: none
 };
 
 // --send-file: `request` (RetimeCurvesRequest or LipBlinkRequest) carries the file as read

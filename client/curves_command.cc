@@ -22,6 +22,7 @@
 #include "formats/xdts.h"
 #include "client/retime_call.h"
 #include "client/spine_curves.h"
+#include "client/timing_from_curves.h"
 #include "core/timing_groups.h"
 #include "formats/drawing_sheet.h"
 #include "koma/v1/retime.grpc.pb.h"
@@ -377,6 +378,10 @@ int RunCurves(const CurvesArgs& args) {
   absl::StatusOr<CurveInput> input =
       ReadCurveInput(args.input, args.csv_fps, CurveFormat::kAuto, "curves");
   if (!input.ok()) return out.Failure(input.status());
+  if (input->spine && !args.timing_from.empty()) {
+    return out.UsageFailure(absl::InvalidArgumentError(
+        absl::StrCat("--timing-from: not for a Spine skeleton (", InputName(args.input), ")")));
+  }
   if (input->spine) return RunSpineCurves(args, *input, out);
   if (!args.animations.empty()) {
     return out.UsageFailure(absl::InvalidArgumentError(
@@ -400,6 +405,24 @@ int RunCurves(const CurvesArgs& args) {
     return out.Failure(s);
 
   v1::RetimeCurvesResponse response;
+  if (!args.timing_from.empty()) {
+    // The sheet's cells name the drawings of koma's own answer: ask for it, then give the
+    // sheet's timing (docs/usage.md, "Timing from an edited sheet").
+    if (int code = CallRetime(args, out, &v1::Retime::Stub::RetimeCurves,
+                              file_request ? *file_request : *request, &response);
+        code >= 0) {
+      return code;
+    }
+    const std::string name = XdtsClipName(args.input, args.timing_from);
+    for (v1::RetimeCurvesRequest* r : {&*request, file_request ? &*file_request : nullptr}) {
+      if (r == nullptr) continue;
+      if (absl::Status s = SetCurvesTimingFrom(args.timing_from, name, response, r, nullptr);
+          !s.ok()) {
+        return out.Failure(s);
+      }
+    }
+    response.Clear();
+  }
   if (int code = CallRetime(args, out, &v1::Retime::Stub::RetimeCurves,
                             file_request ? *file_request : *request, &response);
       code >= 0) {

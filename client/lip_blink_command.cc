@@ -17,6 +17,7 @@
 #include "client/report/lip_blink_voice_report.h"
 #include "client/retime_call.h"
 #include "client/spine_lip_blink.h"
+#include "client/timing_from_curves.h"
 #include "client/xdts_sheets.h"
 #include "formats/xdts.h"
 #include "koma/v1/retime.grpc.pb.h"
@@ -302,6 +303,10 @@ absl::Status WriteLipBlinkOutputs(const LipBlinkArgs& args, const CurveInput& in
 int RunLipBlink(const LipBlinkArgs& args) {
   const CommandOutput out("lipblink", args.json, args.quiet, args.server);
   if (absl::Status s = CheckLipBlinkFlags(args); !s.ok()) return out.UsageFailure(s);
+  if (!args.timing_from.empty() && (HasVoice(args) || HasSpineFlags(args))) {
+    return out.UsageFailure(absl::InvalidArgumentError(
+        "--timing-from: not with a voice (--audio, --rhubarb) or a Spine skeleton"));
+  }
   // A Spine skeleton IN goes its own way (client/spine_lip_blink.h), named by its flags.
   if (HasSpineFlags(args)) {
     if (args.input.empty()) {
@@ -327,11 +332,30 @@ int RunLipBlink(const LipBlinkArgs& args) {
   if (!format.ok()) return out.UsageFailure(format.status());
   if (absl::Status s = CheckWritable({args.output, args.report, args.xdts}); !s.ok()) return out.Failure(s);
 
-  const v1::LipBlinkRequest request = BuildLipBlinkRequest(args, input->curves);
+  v1::LipBlinkRequest request = BuildLipBlinkRequest(args, input->curves);
   // --send-file: the wire carries the file; the report still reads the decoded request.
   std::optional<v1::LipBlinkRequest> file_request;
   if (args.send_file) file_request = BuildLipBlinkFileRequest(args, *input);
   v1::LipBlinkResponse response;
+  if (!args.timing_from.empty()) {
+    // The sheet's cells name koma's own answer's tracks: ask for it, then give the sheet's
+    // timing (docs/usage.md, "Timing from an edited sheet").
+    if (int code = CallRetime(args, out, &v1::Retime::Stub::LipBlink,
+                              file_request ? *file_request : request, &response);
+        code >= 0) {
+      return code;
+    }
+    const std::string name = XdtsClipName(args.input, args.timing_from);
+    for (v1::LipBlinkRequest* r : {&request, file_request ? &*file_request : nullptr}) {
+      if (r == nullptr) continue;
+      if (absl::Status s = SetLipBlinkTimingFrom(args.timing_from, name, input->curves.fps,
+                                                 response, r, nullptr);
+          !s.ok()) {
+        return out.Failure(s);
+      }
+    }
+    response.Clear();
+  }
   if (int code = CallRetime(args, out, &v1::Retime::Stub::LipBlink,
                             file_request ? *file_request : request, &response);
       code >= 0) {

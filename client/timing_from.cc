@@ -43,38 +43,36 @@ absl::StatusOr<formats::SheetTiming> ReadTimingFrom(const std::string& path) {
   return sheet;
 }
 
-absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& track,
-                                   const SkeletalClipShape& clip,
-                                   v1::RetimeSkeletalRequest* request,
-                                   std::vector<std::string>* warnings) {
+absl::StatusOr<std::vector<std::vector<int>>> ReadSheetDrawings(
+    const std::string& path, const std::vector<KomaSheetTrack>& tracks, int counted,
+    bool shorter_ok, const std::string& counted_note, std::vector<std::string>* warnings) {
   absl::StatusOr<formats::SheetTiming> sheet = ReadTimingFrom(path);
   if (!sheet.ok()) return sheet.status();
-  absl::StatusOr<std::vector<int>> match = formats::MatchSheetTracks(*sheet, {track});
+  std::vector<std::string> names;
+  for (const KomaSheetTrack& track : tracks) names.push_back(track.name);
+  absl::StatusOr<std::vector<int>> match = formats::MatchSheetTracks(*sheet, names);
   if (!match.ok()) return Prefixed(path, match.status());
-  const formats::SheetTimingTrack& cells = sheet->tracks[static_cast<size_t>((*match)[0])];
-  // Without the clip's frame count (a file the server reads) any cell number passes here and
-  // the server names the one past the clip (given_timing.source_frames[i]).
-  const int drawings = clip.frame_count > 0 ? clip.frame_count : 1 << 30;
-  const std::string what = clip.frame_count > 0
-                               ? absl::StrCat("the clip's source frames 1 to ", clip.frame_count)
-                               : "source frames from 1";
-  absl::StatusOr<std::vector<int>> frames = formats::SheetDrawings(cells, drawings, what);
-  if (!frames.ok()) return Prefixed(path, frames.status());
-  if (clip.frame_count > 0) {
-    const double timing_fps = clip.timing_fps.value_or(kDefaultTimingFps);
-    const std::optional<FilmGrid> grid = FilmGrid::Make(clip.source_fps, timing_fps);
-    const int counted = grid ? grid->GridFrameCount(clip.frame_count) : clip.frame_count;
-    if (static_cast<int>(frames->size()) > counted) {
-      const std::string& cell = cells.cells[static_cast<size_t>(counted)];
+  std::vector<std::vector<int>> out;
+  for (size_t t = 0; t < tracks.size(); ++t) {
+    const formats::SheetTimingTrack& cells = sheet->tracks[static_cast<size_t>((*match)[t])];
+    absl::StatusOr<std::vector<int>> drawings =
+        formats::SheetDrawings(cells, tracks[t].drawings, tracks[t].what);
+    if (!drawings.ok()) return Prefixed(path, drawings.status());
+    const int rows = static_cast<int>(drawings->size());
+    if (counted > 0 && (rows > counted || (rows < counted && !shorter_ok))) {
+      const std::string where =
+          rows > counted
+              ? absl::StrCat(", frame ", counted + 1, ": cell ",
+                             formats::QuoteForError(cells.cells[static_cast<size_t>(counted)]),
+                             " is past the clip's end")
+              : absl::StrCat(", frame ", rows, ": the sheet ends before the clip");
       return absl::InvalidArgumentError(absl::StrCat(
-          InputName(path), ": track ", formats::QuoteForError(cells.name), ", frame ", counted + 1,
-          ": cell ", formats::QuoteForError(cell), " is past the clip's end: the sheet has ",
-          frames->size(), " frames, the clip ", counted,
-          grid ? absl::StrCat(" on the ", timing_fps, " fps grid") : std::string(),
-          " (a sheet may be shorter, not longer)"));
+          InputName(path), ": track ", formats::QuoteForError(cells.name), where,
+          ": the sheet has ", rows, " frames, the clip ", counted, counted_note,
+          shorter_ok ? " (a sheet may be shorter, not longer)" : " (a sheet has every frame)"));
     }
+    out.push_back(*std::move(drawings));
   }
-  request->mutable_given_timing()->mutable_source_frames()->Add(frames->begin(), frames->end());
   for (std::string& warning : sheet->warnings) {
     if (warnings != nullptr) {
       warnings->push_back(std::move(warning));
@@ -82,6 +80,32 @@ absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& t
       std::cerr << "koma: warning: " << warning << "\n";
     }
   }
+  return out;
+}
+
+absl::Status SetSkeletalTimingFrom(const std::string& path, const std::string& track,
+                                   const SkeletalClipShape& clip,
+                                   v1::RetimeSkeletalRequest* request,
+                                   std::vector<std::string>* warnings) {
+  // Without the clip's frame count (a file the server reads) any cell number passes here and
+  // the server names the one past the clip (given_timing.source_frames[i]).
+  const int drawings = clip.frame_count > 0 ? clip.frame_count : 1 << 30;
+  const std::string what = clip.frame_count > 0
+                               ? absl::StrCat("the clip's source frames 1 to ", clip.frame_count)
+                               : "source frames from 1";
+  int counted = 0;
+  std::string note;
+  if (clip.frame_count > 0) {
+    const double timing_fps = clip.timing_fps.value_or(kDefaultTimingFps);
+    const std::optional<FilmGrid> grid = FilmGrid::Make(clip.source_fps, timing_fps);
+    counted = grid ? grid->GridFrameCount(clip.frame_count) : clip.frame_count;
+    if (grid) note = absl::StrCat(" on the ", timing_fps, " fps grid");
+  }
+  absl::StatusOr<std::vector<std::vector<int>>> frames =
+      ReadSheetDrawings(path, {{track, drawings, what}}, counted, true, note, warnings);
+  if (!frames.ok()) return frames.status();
+  const std::vector<int>& shown = (*frames)[0];
+  request->mutable_given_timing()->mutable_source_frames()->Add(shown.begin(), shown.end());
   return absl::OkStatus();
 }
 

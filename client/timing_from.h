@@ -20,6 +20,23 @@ namespace koma::client {
 // warnings are prefixed with the path ("edit.xdts: track \"pitch\", frame 12: ...").
 absl::StatusOr<formats::SheetTiming> ReadTimingFrom(const std::string& path);
 
+// One of koma's tracks a sheet is read for: its name in koma's sheet, its drawings (cells 1
+// to `drawings`) and how an error names them ("the clip's source frames 1 to 130").
+struct KomaSheetTrack {
+  std::string name;
+  int drawings = 0;
+  std::string what;
+};
+
+// The sheet's tracks for koma's `tracks` (matched by name, then order), each as 0-based
+// drawings per sheet row (formats::SheetDrawings: a blank holds the drawing before).
+// `counted` > 0: the clip's counted frames (`counted_note` says on which grid); more rows are
+// INVALID_ARGUMENT naming track, frame and cell, and so are fewer unless `shorter_ok`. The
+// sheet's warnings go to `warnings` (nullptr: standard error). Errors start with the path.
+absl::StatusOr<std::vector<std::vector<int>>> ReadSheetDrawings(
+    const std::string& path, const std::vector<KomaSheetTrack>& tracks, int counted,
+    bool shorter_ok, const std::string& counted_note, std::vector<std::string>* warnings);
+
 // The clip a skeletal timing is applied to, as far as the client knows it: a decoded clip
 // has `frame_count` and `source_fps`; a file the server reads whole (glTF, FBX) has neither
 // (0), and the server checks the sheet's range and length (given_timing's errors).

@@ -71,10 +71,8 @@ std::vector<XdtsCellTrack> GroupTracks(const std::vector<std::string>& ids,
   return tracks;
 }
 
-// Eye drawings (0 open, 1 half, 2 closed) a blink repaints, over `rows` rows; -1 elsewhere.
-// The repaint of docs/semantics.md (core/lip_blink_eyes.cc, Paint): the closing phase open,
-// closed from C_start through max(C_end, C_start + k - 1), half for k frames, open to the end
-// of the opening span (or of the half-open frames when later), never into the next blink.
+}  // namespace
+
 std::vector<int> BlinkRows(const v1::EyeTrack& eye, int rows) {
   std::vector<int> out(static_cast<size_t>(rows), -1);
   const auto fill = [&](int from, int to, int drawing) {
@@ -95,6 +93,8 @@ std::vector<int> BlinkRows(const v1::EyeTrack& eye, int rows) {
   }
   return out;
 }
+
+namespace {
 
 // The layer of timing `t` (before its " (on N)"): with timing groups, its group's name, or
 // "GROUP: ID, ..." for a timing of the group's curve overrides; without, `only` when it is the

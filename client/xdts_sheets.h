@@ -6,6 +6,7 @@
 #define KOMA_CLIENT_XDTS_SHEETS_H_
 
 #include <string>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "formats/xdts.h"
@@ -44,6 +45,13 @@ absl::StatusOr<formats::XdtsSheet> CurvesXdtsSheet(const v1::RetimeCurvesRespons
 // nearest the row's time (ties to the first of closed, mid, open).
 absl::StatusOr<formats::XdtsSheet> LipBlinkXdtsSheet(const v1::LipBlinkResponse& response,
                                                      double source_fps, const std::string& name);
+
+// Eye drawings (0 open, 1 half, 2 closed) an eye's blinks repaint, over `rows` rows; -1
+// elsewhere. The repaint of docs/semantics.md (core/lip_blink_eyes.cc, Paint): the closing
+// phase open, closed from C_start through max(C_end, C_start + k - 1), half for k frames, open
+// to the end of the opening span (or of the half-open frames when later), never into the next
+// blink.
+std::vector<int> BlinkRows(const v1::EyeTrack& eye, int rows);
 
 }  // namespace koma::client
 
