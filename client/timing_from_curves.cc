@@ -191,6 +191,12 @@ absl::Status SetCurvesTimingFrom(const std::string& path, const std::string& nam
     const v1::DrawingTiming& timing = computed.timings(timing_of_track[k]);
     v1::GivenDrawingTiming* given = request->add_given_timings();
     given->set_group(groups[k]);
+    std::vector<int> unedited;  // the drawings koma wrote, 0-based
+    for (const std::string& cell : sheet->cell_tracks[k].cells)
+      unedited.push_back(std::stoi(cell) - 1);
+    // An edited track shows each drawing at its tau exactly: the keys koma draws on the drawing
+    // whose hold contains them would land on whatever drawing the animator moved there.
+    given->set_exact_taus((*drawings)[k] != unedited);
     for (const int d : (*drawings)[k]) given->add_source_frame(timing.drawing_source_frame(d));
   }
   return absl::OkStatus();
