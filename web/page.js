@@ -160,7 +160,10 @@
         if (answer.error) throw new Error(answer.error.message);
         if (answer.exit_code !== 0) {
           var message = answer.summary && answer.summary.error ? answer.summary.error.message : answer.messages;
-          throw new Error(message.trim());
+          // koma's message without its pointer to --help, which the page's fields replace.
+          throw new Error(message.split('\n').filter(function (line) {
+            return line && line.indexOf('Run `koma') !== 0;
+          }).join(' '));
         }
         showResult(answer);
         setStatus('Done: drawing the report ...');

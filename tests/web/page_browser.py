@@ -154,20 +154,38 @@ def run_case(browser, downloads, source, command, fields, enter_field):
           f"report with {figures} figures in {seconds:.2f} s")
 
 
-def check_frame_strokes(browser, shot):
-    """At a phone's width the report's before and after views sit side by side and the after
-    one may be scrolled out of the frame: its figures' strokes, blue (before) or orange
-    (after), must be drawn inside the frame's box."""
+def frame_strokes(browser, shot, orange_only):
+    """A screenshot to `shot`, and the figure strokes drawn inside the report's frame: orange
+    (#d2572b, the retimed figure) and, unless `orange_only`, blue (the input's). At a phone's
+    width the report's before and after views sit side by side and the after one may be
+    scrolled out of the frame."""
     from PIL import Image
+    browser.screenshot(shot)
     image = Image.open(shot).convert("RGB")
     box = browser.evaluate("(() => { const r = document.getElementById('report').getBoundingClientRect();"
                            " return [r.left + scrollX, r.top + scrollY, r.width, r.height]; })()")
     x, y, w, h = (int(v) for v in box)
-    strokes = sum(1 for (r, g, bl) in image.crop((x, y, x + w, y + h)).getdata()
-                  if (r > 180 and 60 < g < 120 and bl < 80) or (bl > 140 and r < 90 and g < 150))
-    if strokes < 50:
-        fail(f"{shot}: no figure strokes in the report's frame ({strokes} pixels)")
-    print(f"ok: {shot}: {strokes} figure-stroke pixels in the report's frame")
+    return sum(1 for (r, g, bl) in image.crop((x, y, x + w, y + h)).getdata()
+               if (r > 180 and 60 < g < 120 and bl < 80) or
+               (not orange_only and bl > 140 and r < 90 and g < 150))
+
+
+def check_error_shown(browser):
+    """A value out of range: koma's own message in the status line, marked as an error."""
+    set_file(browser, f"{samples}/arm_head.motion3.json")
+    wait_for(browser, "document.querySelector('#about dd').textContent.startsWith('arm_head') && !document.getElementById('command').disabled",
+             "arm_head.motion3.json: inspected")
+    browser.evaluate("""(() => { const c = document.getElementById('command'); c.value = 'curves';
+      c.dispatchEvent(new Event('change')); const t = document.getElementById('tame');
+      t.value = '0.5'; t.focus(); return true; })()""")
+    press_enter(browser)
+    want = "--tame: 0.5 is out of range"
+    status = wait_for(browser, f"(() => {{ const s = document.getElementById('status'); return s.className === 'error' && s.textContent.includes({want!r}) && s.textContent; }})()",
+                      "the out-of-range --tame shown")
+    if "--help" in status:
+        fail(f"the status points at --help: {status}")
+    browser.evaluate("document.getElementById('tame').value = ''; true")
+    print(f"ok: an out-of-range value: the status says {status!r}")
 
 
 def main():
@@ -179,6 +197,7 @@ def main():
         wait_for(b, "document.readyState === 'complete' && !!document.getElementById('file')", "page loaded", 10)
         for source, command, fields, enter_field in CASES:
             run_case(b, downloads, source, command, fields, enter_field)
+        check_error_shown(b)
         if b.errors:
             fail(f"script errors on the page: {b.errors}")
         # The last report (the voice's) and, re-run, the pitch's at both widths.
@@ -197,11 +216,19 @@ def main():
             if overflow > 0:
                 fail(f"{width} px: the page is {overflow} px wider than the window")
             shot = os.path.join(shots, f"page_{width}.png")
-            if width >= 1000:
+            # The frame repaints on its own after the resize: wait (bounded) for its strokes.
+            wide = width >= 1000
+            deadline = time.monotonic() + 15
+            while frame_strokes(b, shot, wide) < 50 and time.monotonic() < deadline:
+                time.sleep(0.25)
+            if wide:
                 check_screenshot(b, shot, "#report")  # the retimed figure's orange strokes
             else:
                 check_screenshot(b, shot)
-                check_frame_strokes(b, shot)
+                strokes = frame_strokes(b, shot, False)
+                if strokes < 50:
+                    fail(f"{shot}: no figure strokes in the report's frame ({strokes} pixels)")
+                print(f"ok: {shot}: {strokes} figure-stroke pixels in the report's frame")
 
 
 shots = os.environ.get("KOMA_PAGE_SHOTS") or work
