@@ -68,6 +68,8 @@ struct JobCase {
   std::vector<std::string> roles;  // the outputs the job must write
 };
 
+void PrintTo(const JobCase& c, std::ostream* out) { *out << c.command << " " << c.file; }
+
 class FileJobTest : public ::testing::TestWithParam<JobCase> {};
 
 TEST_P(FileJobTest, WritesTheCliBytes) {
