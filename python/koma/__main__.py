@@ -247,9 +247,17 @@ def _parser():
     p.add_argument("--fps", type=float, help="frames per second of a CSV input (default 30)")
     p.add_argument("--timing-fps", type=float,
                    help="film grid in frames per second (default 24; 0: source frames)")
+    p.add_argument("--timing-from", metavar="SHEET.xdts",
+                   help="apply the timing of an edited XDTS (the sheet --xdts wrote) instead "
+                        "of computing one; its cells are read against koma's answer for the "
+                        "same input and flags (docs/usage.md)")
     _common(p)
 
     p = commands.add_parser("lipblink", help="mouth flaps and anime blinks (LipBlink)")
+    p.add_argument("--timing-from", metavar="SHEET.xdts",
+                   help="apply the timing of an edited XDTS (the sheet --xdts wrote) instead "
+                        "of computing one; its cells are read against koma's answer for the "
+                        "same input and flags (docs/usage.md)")
     p.add_argument("input", nargs="?",
                    help="motion3.json, Spine skeleton JSON, or CSV (frame,<id>,... per frame); "
                         "optional with --audio or --rhubarb (a new motion is written)")
@@ -428,6 +436,8 @@ def _run(args):
                       f"{', '.join(n for n in names if n) or '(the only one)'}: "
                       f"{counts['curves']} curves, {counts['drawings']} drawings")
                 return 0
+            if args.timing_from is not None:
+                options["timing_from"] = args.timing_from
             result = client.retime_curves(
                 args.input, csv_fps=args.fps if _is_csv_path(args.input) else None,
                 **options)
@@ -457,6 +467,11 @@ def _run(args):
                                voice_output="VOICE_OUTPUT_CSV"
                                if _is_csv_path(args.output)
                                else "VOICE_OUTPUT_MOTION3_JSON")
+            if args.timing_from is not None:
+                if spine or args.audio is not None or args.rhubarb is not None:
+                    _usage("--timing-from: not with a voice (--audio, --rhubarb) or a Spine "
+                           "skeleton")
+                options["timing_from"] = args.timing_from
             result = client.lip_blink(
                 args.input, csv_fps=args.fps if csv_input else None,
                 audio=args.audio, rhubarb_cues=args.rhubarb,

@@ -328,13 +328,24 @@ class Client:
             `--animation` naming the one animation).
         """
         request = retime_pb2.RetimeCurvesRequest()
+        timing_from = options.pop("timing_from", None)
         options = _presets.apply(_presets.CURVES, preset, options)
         _options.fill(request, options,
                       skip=("curves", "motion3_json", "csv_text", "csv_fps", "spine_json",
                             "spine_animation"))
         path, _ = self._curve_request(request, source, format, csv_fps, animation)
+        warnings = []
+        if timing_from is not None:
+            if request.HasField("spine_json"):
+                raise ValueError("timing_from: not for a Spine skeleton")
+            # The sheet's cells name the drawings of koma's own answer (koma curves).
+            computed = self._call(self._stub.RetimeCurves, request)
+            warnings = _sheet_timing.curves_given_timings(
+                timing_from, _xdts.clip_name(path or "-", os.fspath(timing_from)), computed,
+                request)
         result = CurvesResult(self._call(self._stub.RetimeCurves, request))
         result.source_path = path
+        result.warnings = list(warnings) + list(getattr(result, "warnings", []))
         return result
 
     def lip_blink(self, source=None, format=None, csv_fps=None, audio=None, rhubarb_cues=None,
@@ -376,6 +387,7 @@ class Client:
             with a voice also .voice (the analysis) and .rhubarb_json / .rhubarb_tsv.
         """
         request = retime_pb2.LipBlinkRequest()
+        timing_from = options.pop("timing_from", None)
         options = _presets.apply(_presets.LIP_BLINK, preset, options)
         _options.fill(request, options, skip=("curves", "motion3_json", "csv_text", "csv_fps",
                                               "audio", "rhubarb_cues", "spine_json", "spine"))
@@ -418,9 +430,21 @@ class Client:
         else:
             # A new motion at voice_motion_fps (unset or 0: 30, as the server writes it).
             path, fps = voice_path, lambda: request.voice_motion_fps or 30.0
+        warnings = []
+        if timing_from is not None:
+            if source is None or audio is not None or rhubarb_cues is not None or \
+                    request.HasField("spine_json"):
+                raise ValueError("timing_from: not with a voice (audio, rhubarb_cues) or a "
+                                 "Spine skeleton")
+            # The sheet's cells name koma's own answer's tracks (koma lipblink).
+            computed = self._call(self._stub.LipBlink, request)
+            warnings = _sheet_timing.lip_blink_given_timing(
+                timing_from, _xdts.clip_name(path or "-", os.fspath(timing_from)), fps(),
+                computed, request)
         result = LipBlinkResult(self._call(self._stub.LipBlink, request))
         result.source_path = path
         result._source_fps = fps
+        result.warnings = list(warnings) + list(getattr(result, "warnings", []))
         return result
 
     def live(self, audio_chunks, sample_rate, channels, sample_format="s16le", *, lookahead=2,

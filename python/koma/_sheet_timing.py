@@ -314,31 +314,193 @@ def read(path):
 def skeletal_source_frames(path, track, frame_count, source_fps, timing_fps):
     """client::SetSkeletalTimingFrom: (given_timing.source_frames, warnings). frame_count 0:
     the clip's length is unknown here (a file the server reads whole; it checks)."""
-    sheet = read(path)
-    where = os.fspath(path)
-    try:
-        index = match_tracks(sheet, [track])[0]
-        name, cells = sheet["tracks"][index]
-        if frame_count > 0:
-            count, what = frame_count, f"the clip's source frames 1 to {frame_count}"
-        else:
-            count, what = 1 << 30, "source frames from 1"
-        frames = drawings(name, cells, count, what)
-    except SheetError as error:
-        raise SheetError(f"{where}: {error}") from None
+    if frame_count > 0:
+        count, what = frame_count, f"the clip's source frames 1 to {frame_count}"
+    else:
+        count, what = 1 << 30, "source frames from 1"
+    counted, note = 0, ""
     if frame_count > 0:
         fps = 24.0 if timing_fps is None else timing_fps
         grid = _xdts._FilmGrid.make(source_fps, fps)
         counted = grid.grid_frame_count(frame_count) if grid else frame_count
-        if len(frames) > counted:
-            on = f" on the {_number(fps)} fps grid" if grid else ""
-            raise SheetError(f"{where}: track {quote(name)}, frame {counted + 1}: cell "
-                             f"{quote(cells[counted])} is past the clip's end: the sheet has "
-                             f"{len(frames)} frames, the clip {counted}{on} (a sheet may be "
-                             "shorter, not longer)")
-    return frames, sheet["warnings"]
+        note = f" on the {_number(fps)} fps grid" if grid else ""
+    shown, warnings = read_drawings(path, [(track, count, what)], counted, True, note)
+    return shown[0], warnings
 
 
 def _number(value):
     """absl::StrCat of a double: %g with 6 significant digits."""
     return "%g" % value
+
+
+def read_drawings(path, koma_tracks, counted, shorter_ok, counted_note):
+    """client::ReadSheetDrawings: koma_tracks is [(name, drawing count, what)]; returns (per
+    track the 0-based drawing per row, warnings)."""
+    sheet = read(path)
+    where = os.fspath(path)
+    out = []
+    try:
+        match = match_tracks(sheet, [name for name, _, _ in koma_tracks])
+        for (_, count, what), index in zip(koma_tracks, match):
+            name, cells = sheet["tracks"][index]
+            shown = drawings(name, cells, count, what)
+            rows = len(shown)
+            if counted > 0 and (rows > counted or (rows < counted and not shorter_ok)):
+                if rows > counted:
+                    at = (f", frame {counted + 1}: cell {quote(cells[counted])} is past the "
+                          "clip's end")
+                else:
+                    at = f", frame {rows}: the sheet ends before the clip"
+                rule = ("(a sheet may be shorter, not longer)" if shorter_ok
+                        else "(a sheet has every frame)")
+                raise SheetError(f"track {quote(name)}{at}: the sheet has {rows} frames, the "
+                                 f"clip {counted}{counted_note} {rule}")
+            out.append(shown)
+    except SheetError as error:
+        raise SheetError(f"{where}: {error}") from None
+    return out, sheet["warnings"]
+
+
+def _grid_note(timing_fps):
+    return f" on the {_number(timing_fps)} fps grid" if timing_fps > 0 else ""
+
+
+def curves_given_timings(path, name, computed, request):
+    """client::SetCurvesTimingFrom: request.given_timings from the sheet, read against
+    koma's own answer `computed`; returns the warnings."""
+    sheet = _xdts.curves_sheet(computed, name)
+    timing_of_track = [t for t in range(len(computed.timings))
+                       if any(c.timing == t for c in computed.curves)]
+    tracks, groups = [], []
+    for k, t in enumerate(timing_of_track):
+        track = sheet["cells"][k][0]
+        group = next((g.name for g in computed.timing_groups if g.timing == t), None)
+        if group is None and not computed.timing_groups and t == 0:
+            group = "body"
+        if group is None:
+            raise SheetError(f"{os.fspath(path)}: track {quote(track)}: the timing of "
+                             "--curve-on curves cannot be given, only a timing group's own")
+        groups.append(group)
+        count = len(computed.timings[t].drawing_source_frame)
+        tracks.append((track, count, f"its drawings 1 to {count}"))
+    shown, warnings = read_drawings(path, tracks, sheet["duration"], False,
+                                    _grid_note(computed.timing_fps))
+    for k, t in enumerate(timing_of_track):
+        timing = computed.timings[t]
+        given = request.given_timings.add(group=groups[k])
+        unedited = [int(cell) - 1 for cell in sheet["cells"][k][1]]
+        # An edited track shows each drawing at its tau exactly (as the C++ client).
+        given.exact_taus = shown[k] != unedited
+        given.source_frame.extend(timing.drawing_source_frame[d] for d in shown[k])
+    return warnings
+
+
+_MOUTH_LEGEND = " (1 closed, 2 mid, 3 open)"
+_EYE_LEGEND = " (1 open, 2 half, 3 closed)"
+
+
+def _mouth_from_cells(mouth, cells, unedited, given):
+    """client's MouthFromCells: holds over koma's speech and the changed rows."""
+    rows = len(cells)
+    held = [False] * rows
+    for speech in mouth.speech:
+        for r in range(max(speech.begin, 0), min(speech.end, rows)):
+            held[r] = True
+    held = [h or cells[r] != unedited[r] for r, h in enumerate(held)]
+    r = 0
+    while r < rows:
+        if not held[r]:
+            r += 1
+            continue
+        end = r
+        while end < rows and held[end] and cells[end] == cells[r]:
+            end += 1
+        # Cells 1, 2, 3 are MOUTH_CLOSED, MOUTH_MID, MOUTH_OPEN (1, 2, 3).
+        given.holds.add(begin=r, length=end - r, shape=cells[r] + 1)
+        r = end
+
+
+def _blink_of_run(cells, begin, end, track):
+    closed_end = begin
+    while closed_end < end and cells[closed_end] == 2:
+        closed_end += 1
+    half_end = closed_end
+    while half_end < end and cells[half_end] == 1:
+        half_end += 1
+    closed, half = closed_end - begin, half_end - closed_end
+    if closed == 0 or half_end != end or not 1 <= half <= 3 or half > closed:
+        shown = "".join(str(c + 1) for c in cells[begin:end])
+        raise SheetError(f"track {quote(track)}, frame {begin + 1}: cells {shown} are no blink "
+                         "koma paints: a blink is closed (3) for c frames, then half (2) for 1 "
+                         "to 3 frames, at most c, then open (1)")
+    return {"closing_begin": begin, "closed_begin": begin, "closed_end": closed_end - 1,
+            "hold": half, "open_span": 0}
+
+
+def _eye_from_cells(eye, cells, unedited, track, given):
+    """client's EyeFromCells: koma's blinks where unchanged, else runs of non-open cells."""
+    rows = len(cells)
+    painted = _xdts._blink_rows(eye, rows)
+    kept = [False] * rows
+    blinks = []
+    for i, blink in enumerate(eye.blinks):
+        limit = eye.blinks[i + 1].closing_begin if i + 1 < len(eye.blinks) else rows
+        end = max(blink.closed_begin, 0)
+        while end < min(limit, rows) and painted[end] >= 0:
+            end += 1
+        begin = max(blink.closing_begin, 0)
+        if cells[begin:end] != unedited[begin:end]:
+            continue
+        for r in range(begin, end):
+            kept[r] = True
+        blinks.append({f.name: getattr(blink, f.name) for f in blink.DESCRIPTOR.fields})
+    r = 0
+    while r < rows:
+        if cells[r] == 0 or kept[r]:
+            r += 1
+            continue
+        end = r
+        while end < rows and cells[end] != 0 and not kept[end]:
+            end += 1
+        blink = _blink_of_run(cells, r, end, track)
+        before = r
+        while before > 0 and cells[before - 1] == 0 and painted[before - 1] >= 0 \
+                and not kept[before - 1]:
+            before -= 1
+        after = end
+        while after < rows and cells[after] == 0 and painted[after] >= 0 and not kept[after]:
+            after += 1
+        blink["closing_begin"] = before
+        blink["open_span"] = max(0, after - 1 - blink["closed_end"])
+        blinks.append(blink)
+        r = end
+    for blink in sorted(blinks, key=lambda b: b["closed_begin"]):
+        given.blinks.add(**blink)
+
+
+def lip_blink_given_timing(path, name, source_fps, computed, request):
+    """client::SetLipBlinkTimingFrom: request.given_timing from the sheet, read against koma's
+    own answer `computed`; returns the warnings."""
+    sheet = _xdts.lip_blink_sheet(computed, source_fps, name)
+    tracks = [(track, 3, "1 to 3") for track, _ in sheet["cells"]]
+    shown, warnings = read_drawings(path, tracks, sheet["duration"], False,
+                                    _grid_note(computed.timing_fps))
+    for k, (track, written) in enumerate(sheet["cells"]):
+        cells, unedited = shown[k], [int(cell) - 1 for cell in written]
+        mouth = track.endswith(_MOUTH_LEGEND)
+        ids = track[:-len(_MOUTH_LEGEND if mouth else _EYE_LEGEND)].split(", ")
+        for curve_id in ids:
+            if mouth:
+                for m in computed.mouths:
+                    if m.id == curve_id:
+                        _mouth_from_cells(m, cells, unedited,
+                                          request.given_timing.mouths.add(id=curve_id))
+                continue
+            for e in computed.eyes:
+                if e.id == curve_id:
+                    try:
+                        _eye_from_cells(e, cells, unedited, track,
+                                        request.given_timing.eyes.add(id=curve_id))
+                    except SheetError as error:
+                        raise SheetError(f"{os.fspath(path)}: {error}") from None
+    return warnings

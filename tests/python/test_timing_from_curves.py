@@ -12,7 +12,7 @@ import csv
 import pytest
 
 import xdts_reference as ref
-from conftest import run_cli, source_path
+from conftest import run_cli, run_python_cli, source_path
 from test_timing_from import EDITS, LAYOUTS, koma_sheet
 
 CURVES = "samples/arm_head.motion3.json"
@@ -48,17 +48,23 @@ def written(tmp_path, server, command, clip, *flags):
     return csv_rows(out), sheet_tracks(xdts), xdts
 
 
-def applied(tmp_path, server, command, clip, sheet_text, *flags):
-    """The answer with --timing-from the sheet `sheet_text` (CSV rows)."""
+def applied(tmp_path, server, client, command, clip, sheet_text, *flags):
+    """The answer with --timing-from the sheet `sheet_text` (CSV rows), checked to be the
+    same motion3.json bytes from the Python package (retime_curves / lip_blink timing_from=)."""
     sheet, out = tmp_path / "edited.xdts", tmp_path / "applied.csv"
+    motion, py_motion = tmp_path / "applied.motion3.json", tmp_path / "py.motion3.json"
     sheet.write_bytes(sheet_text.encode("utf-8"))
-    run_cli(command, clip, "-o", str(out), "--timing-from", str(sheet), *flags,
-            "--server", server.address)
+    for path in (out, motion):
+        run_cli(command, clip, "-o", str(path), "--timing-from", str(sheet), *flags,
+                "--server", server.address)
+    call = client.retime_curves if command == "curves" else client.lip_blink
+    call(clip, timing_fps=float(flags[1]), timing_from=sheet).write(py_motion)
+    assert py_motion.read_bytes() == motion.read_bytes(), "Python and C++ differ"
     return csv_rows(out), sheet
 
 
 @pytest.mark.parametrize("layout", LAYOUTS)
-def test_curves_sheets_edited_are_shown_frame_by_frame(server, tmp_path, layout):
+def test_curves_sheets_edited_are_shown_frame_by_frame(server, client, tmp_path, layout):
     clip = source_path(CURVES)
     flags = ("--timing-fps", "0")  # one sheet row per output frame
     unedited, [(name, rows)], _ = written(tmp_path, server, "curves", clip, *flags)
@@ -67,7 +73,7 @@ def test_curves_sheets_edited_are_shown_frame_by_frame(server, tmp_path, layout)
         first_frame.setdefault(d, r)
     for edit, change in EDITS.items():
         edited = change(rows)
-        values, sheet = applied(tmp_path, server, "curves", clip,
+        values, sheet = applied(tmp_path, server, client, "curves", clip,
                                 LAYOUTS[layout](edited, name), *flags)
         [(_, shown)] = sheet_tracks(sheet)
         assert len(values) == len(unedited) == len(shown)
@@ -102,7 +108,7 @@ def two_track_sheet(tracks, edited):
     return first.replace(f'"names": ["{tracks[0][0]}"]', f'"names": [{names}]', 1)
 
 
-def test_lipblink_sheets_edited_are_shown_frame_by_frame(server, tmp_path):
+def test_lipblink_sheets_edited_are_shown_frame_by_frame(server, client, tmp_path):
     clip = source_path(LIPBLINK)
     flags = ("--timing-fps", "0")
     unedited, tracks, _ = written(tmp_path, server, "lipblink", clip, *flags)
@@ -118,7 +124,7 @@ def test_lipblink_sheets_edited_are_shown_frame_by_frame(server, tmp_path):
                 per_cell.setdefault(c, []).append(unedited[r][curve])
             levels[curve] = {c: max(set(v), key=v.count) for c, v in per_cell.items()}
     for edit, edited in lipblink_edits(tracks):
-        values, sheet = applied(tmp_path, server, "lipblink", clip,
+        values, sheet = applied(tmp_path, server, client, "lipblink", clip,
                                 two_track_sheet(tracks, edited), *flags)
         shown = sheet_tracks(sheet)
         assert len(values) == len(unedited)
@@ -159,7 +165,10 @@ def test_sheets_that_do_not_fit(server, tmp_path):
     sheet.write_text(two_track_sheet(tracks, [tracks[0][1], eyes]))
     done = run_cli("lipblink", lip, "-o", str(tmp_path / "x.csv"), "--timing-from", str(sheet),
                    "--server", server.address, check=False)
-    assert done.returncode != 0
+    py = run_python_cli("lipblink", lip, "-o", str(tmp_path / "x.motion3.json"), "--timing-from",
+                        str(sheet), "--server", server.address)
+    assert done.returncode != 0 and py.returncode != 0
+    assert done.stderr.split(": ", 1)[1] in py.stderr, (done.stderr, py.stderr)
     # A long track name is cut to 40 characters in messages (formats/error_text.h).
     assert (f'bad.xdts: track "{tracks[1][0][:40]}"..., frame {closed + 1}: cells 32222 are no '
             "blink koma paints") in done.stderr
@@ -174,6 +183,10 @@ def test_sheets_that_do_not_fit(server, tmp_path):
         done = run_cli("curves", curves, "-o", str(tmp_path / "x.csv"), "--timing-from",
                        str(sheet), "--server", server.address, check=False)
         assert done.returncode != 0 and message in done.stderr, done.stderr
+        py = run_python_cli("curves", curves, "-o", str(tmp_path / "x.motion3.json"),
+                            "--timing-from",
+                            str(sheet), "--server", server.address)
+        assert py.returncode != 0 and done.stderr.split(": ", 1)[1] in py.stderr, py.stderr
     done = run_cli("curves", curves, "-o", str(tmp_path / "x.csv"), "--timing-from",
                    str(tmp_path / "missing.xdts"), "--server", server.address, check=False)
     assert done.returncode != 0 and "missing.xdts" in done.stderr
