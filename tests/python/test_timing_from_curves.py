@@ -190,3 +190,14 @@ def test_sheets_that_do_not_fit(server, tmp_path):
     done = run_cli("curves", curves, "-o", str(tmp_path / "x.csv"), "--timing-from",
                    str(tmp_path / "missing.xdts"), "--server", server.address, check=False)
     assert done.returncode != 0 and "missing.xdts" in done.stderr
+
+
+@pytest.mark.parametrize("command,clip", [("curves", CURVES), ("lipblink", LIPBLINK)])
+def test_batch_refuses_a_sheet_for_curves_and_lipblink(server, tmp_path, command, clip):
+    """Not applied per clip in a batch yet: refused (exit 2) rather than ignored."""
+    done = run_cli("batch", command, source_path(clip), "--output-dir", str(tmp_path / "out"),
+                   "--timing-from", str(tmp_path / "edit.xdts"), "--server", server.address,
+                   check=False)
+    assert done.returncode == 2
+    assert "--timing-from: koma batch applies sheets to skeletal clips only" in done.stderr
+    assert not (tmp_path / "out").exists()
