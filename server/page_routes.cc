@@ -72,16 +72,21 @@ std::string ShellLine(const std::vector<std::string>& words) {
   return line;
 }
 
+// Runs `work` on a thread of its own and waits: civetweb's threads have small stacks (koma_server
+// overflowed one in a job's gRPC call), too small for the CLI's command, a gRPC call or the
+// readers' recursion on a hostile file; a std::thread gets the process default (8 MiB). Joined
+// at once, so civetweb's --http_threads still bound the jobs at a time.
+template <typename Work>
+void OnFullStack(Work work) {
+  std::thread worker(work);
+  worker.join();
+}
+
 HttpResponse Run(const HttpRequest& request, const std::shared_ptr<grpc::Channel>& channel) {
   absl::StatusOr<client::FileJob> job = PageJobFromQuery(request.query, request.body);
   if (!job.ok()) return ErrorResponse(400, "invalid_argument", std::string(job.status().message()));
-  // On a thread of its own: civetweb's threads have small stacks (Debian builds it with
-  // USE_STACK_SIZE=102400), too small for the CLI's command and a gRPC call; a std::thread
-  // gets the process default (8 MiB). Joined at once: civetweb's --http_threads still bound
-  // the jobs at a time.
   absl::StatusOr<client::FileJobResult> result = absl::InternalError("the job did not run");
-  std::thread worker([&] { result = client::RunFileJob(*job, channel); });
-  worker.join();
+  OnFullStack([&] { result = client::RunFileJob(*job, channel); });
   if (!result.ok()) return ErrorResponse(400, "invalid_argument", std::string(result.status().message()));
   nlohmann::json files = nlohmann::json::array();
   for (const client::FileJobFile& file : result->files) {
@@ -110,7 +115,9 @@ HttpResponse Inspect(const HttpRequest& request) {
     }
     name = value;
   }
-  return JsonResponse(200, client::InspectFile(name, request.body));
+  nlohmann::json info;
+  OnFullStack([&] { info = client::InspectFile(name, request.body); });
+  return JsonResponse(200, info);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // writes the bytes the CLI writes from files on disk with the same command line; the query's
 // options are checked; the routes answer with the page's CSP, errors as JSON naming the field.
 #include <gtest/gtest.h>
+#include <pthread.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -262,6 +263,74 @@ TEST(PageRoutes, ServeTheAssetsAndJobs) {
   server::HttpResponse failed = respond("POST", "/page/run", "command=skeletal&name=x.bvh", "MOTION");
   EXPECT_EQ(failed.status, 400);
   EXPECT_EQ(nlohmann::json::parse(failed.body)["exit_code"], 1);
+}
+
+// server.Respond(request) on a thread with a 100 KiB stack, as civetweb's.
+server::HttpResponse RespondOnSmallStack(const server::HttpServer& server,
+                                         const server::HttpRequest& request) {
+  struct Call {
+    const server::HttpServer* server;
+    const server::HttpRequest* request;
+    server::HttpResponse response;
+  } call{&server, &request, {}};
+  pthread_attr_t attributes;
+  pthread_attr_init(&attributes);
+  pthread_attr_setstacksize(&attributes, 100 * 1024);
+  pthread_t thread;
+  const int error = pthread_create(
+      &thread, &attributes,
+      [](void* p) -> void* {
+        auto* c = static_cast<Call*>(p);
+        c->response = c->server->Respond(*c->request);
+        return nullptr;
+      },
+      &call);
+  pthread_attr_destroy(&attributes);
+  EXPECT_EQ(error, 0);
+  if (error == 0) pthread_join(thread, nullptr);
+  return call.response;
+}
+
+TEST(PageRoutes, HostileFilesGetAnAnswer) {
+  // Truncated samples, deep JSON and noise under every name and command: each answered (200
+  // or 400 with JSON), never a crash, on a thread with a stack as small as civetweb's
+  // (about 100 KiB: a job's gRPC call overflowed one 100 KB in), where koma_server runs them.
+  testing::InProcessServer grpc_server;
+  server::HttpServerConfig config;
+  config.port = 0;
+  absl::StatusOr<std::unique_ptr<server::HttpServer>> http = server::HttpServer::Start(config);
+  ASSERT_TRUE(http.ok()) << http.status();
+  server::RegisterPageRoutes(**http, grpc_server.server().InProcessChannel());
+  std::vector<std::pair<std::string, std::string>> files;  // name, bytes
+  for (const char* sample : {"pitch.bvh", "arm_head.motion3.json", "hero.json", "wave.glb",
+                             "voice.flac", "huesitos.fbx"}) {
+    const std::string bytes = ReadBytes(fs::path(KOMA_SAMPLES_DIR) / sample);
+    files.emplace_back(sample, bytes.substr(0, bytes.size() / 2));
+  }
+  files.emplace_back("deep.motion3.json", std::string(200000, '[') + std::string(200000, ']'));
+  files.emplace_back("deep.json", "{\"skeleton\":" + std::string(200000, '['));
+  files.emplace_back("deep.gltf", "{\"asset\":" + std::string(200000, '['));
+  files.emplace_back("noise.wav", std::string("RIFF\xff\xff\xff\x7fWAVEfmt ") + std::string(64, '\x01'));
+  for (const auto& [name, bytes] : files) {
+    for (const char* command : {"skeletal", "curves", "lipblink"}) {
+      server::HttpRequest request;
+      request.method = "POST";
+      request.path = "/page/run";
+      request.query = std::string("command=") + command + "&name=" + name;
+      request.body = bytes;
+      const server::HttpResponse run = RespondOnSmallStack(**http, request);
+      EXPECT_EQ(run.status, 400) << name << " " << command << ": " << run.body.substr(0, 300);
+      EXPECT_TRUE(nlohmann::json::accept(run.body)) << name;
+    }
+    server::HttpRequest inspect;
+    inspect.method = "POST";
+    inspect.path = "/page/inspect";
+    inspect.query = "name=" + name;
+    inspect.body = bytes;
+    const server::HttpResponse info = RespondOnSmallStack(**http, inspect);
+    EXPECT_EQ(info.status, 200) << name;
+    EXPECT_TRUE(nlohmann::json::parse(info.body).contains("format")) << name;
+  }
 }
 
 }  // namespace
