@@ -8,12 +8,13 @@ changed shows the level of its new cell, an unchanged row the unedited answer's 
 sheet -> timing -> sheet is the identity (on the 24 fps grid and without), and a sheet that
 does not fit gets an error naming the track, frame and cells."""
 import csv
+import json
 
 import pytest
 
 import xdts_reference as ref
 from conftest import run_cli, run_python_cli, source_path
-from test_timing_from import EDITS, LAYOUTS, koma_sheet
+from test_timing_from import EDITS, IDENTIFIER, LAYOUTS, koma_sheet
 
 CURVES = "samples/arm_head.motion3.json"
 LIPBLINK = "samples/talk_blink.motion3.json"
@@ -95,20 +96,33 @@ def lipblink_edits(tracks):
     yield "a blink closed 1 frame longer", [mouth, longer_blink]
 
 
-def two_track_sheet(tracks, edited):
-    """koma's layout with two Cell tracks (koma_sheet writes one: join two)."""
-    sheets = [koma_sheet(rows, name) for (name, _), rows in zip(tracks, edited)]
-    # The second sheet's track becomes track 1 of the first.
-    first, second = sheets
-    frames_of = lambda text: text[text.index('"frames": ['):text.index('"trackNo"')]
-    track2 = ('{' + frames_of(second) + '"trackNo": 1}')
-    first = first.replace('"trackNo": 0\n            }',
-                          '"trackNo": 0\n            },\n            ' + track2, 1)
-    names = ", ".join(f'"{name}"' for name, _ in tracks)
-    return first.replace(f'"names": ["{tracks[0][0]}"]', f'"names": [{names}]', 1)
+def two_track_sheet(tracks, edited, layout="hand-edited"):
+    """A sheet of several Cell tracks in a layout of test_timing_from.py (whose writers write
+    one): each track written alone, then joined into the first one's field, in that layout's
+    JSON style (OpenToonz: sorted keys, 4-space indent; CSP: one line after a CRLF; koma's
+    own: one entry a line, hand-edited)."""
+    documents = []
+    for (name, _), rows in zip(tracks, edited):
+        text = LAYOUTS[layout](rows, name)
+        identifier, body = text.split("\n", 1)
+        documents.append(json.loads(body))
+    first = documents[0]["timeTables"][0]
+    for k, document in enumerate(documents[1:], start=1):
+        table = document["timeTables"][0]
+        track = table["fields"][0]["tracks"][0]
+        track["trackNo"] = k
+        first["fields"][0]["tracks"].append(track)
+        first["timeTableHeaders"][0]["names"] += table["timeTableHeaders"][0]["names"]
+    if layout == "opentoonz":
+        return IDENTIFIER + "\n" + json.dumps(documents[0], indent=4, sort_keys=True) + "\n"
+    if layout == "csp":
+        return IDENTIFIER + "\r\n" + json.dumps(documents[0], ensure_ascii=False,
+                                                 separators=(",", ":"))
+    return IDENTIFIER + "\n" + json.dumps(documents[0], indent=2) + "\n"
 
 
-def test_lipblink_sheets_edited_are_shown_frame_by_frame(server, client, tmp_path):
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_lipblink_sheets_edited_are_shown_frame_by_frame(server, client, tmp_path, layout):
     clip = source_path(LIPBLINK)
     flags = ("--timing-fps", "0")
     unedited, tracks, _ = written(tmp_path, server, "lipblink", clip, *flags)
@@ -125,7 +139,7 @@ def test_lipblink_sheets_edited_are_shown_frame_by_frame(server, client, tmp_pat
             levels[curve] = {c: max(set(v), key=v.count) for c, v in per_cell.items()}
     for edit, edited in lipblink_edits(tracks):
         values, sheet = applied(tmp_path, server, client, "lipblink", clip,
-                                two_track_sheet(tracks, edited), *flags)
+                                two_track_sheet(tracks, edited, layout), *flags)
         shown = sheet_tracks(sheet)
         assert len(values) == len(unedited)
         for t, ids in enumerate(curves_of):
@@ -152,6 +166,9 @@ def test_koma_sheets_round_trip(server, tmp_path, command, clip, timing_fps):
     run_cli(command, clip, "-o", str(b), "--xdts", str(sheet_b), "--timing-from", str(sheet_a),
             *flags)
     assert sheet_b.read_bytes() == sheet_a.read_bytes()
+    assert b.read_bytes() == a.read_bytes()
+    # --send-file: the file travels whole, the sheet's timing with it.
+    run_cli(command, clip, "-o", str(b), "--send-file", "--timing-from", str(sheet_a), *flags)
     assert b.read_bytes() == a.read_bytes()
 
 
