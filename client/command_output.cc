@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "client/command_io.h"
+#include "client/files.h"
 #include "koma/version.h"
 
 namespace koma::client {
@@ -101,6 +102,11 @@ void CommandOutput::Success(const std::string& text, nlohmann::json summary,
 
 std::string XdtsLine(const std::string& xdts_path) {
   return xdts_path.empty() ? std::string() : "  exposure sheet (XDTS): " + xdts_path + "\n";
+}
+
+std::string TimingFromLine(const std::string& sheet_path) {
+  return sheet_path.empty() ? std::string()
+                            : "  given: the timing of " + InputName(sheet_path) + "\n";
 }
 
 std::string ReportLine(const std::string& report_path) {

@@ -56,6 +56,8 @@ class CommandOutput {
 std::string ReportLine(const std::string& report_path);
 // "  exposure sheet (XDTS): PATH\n" when --xdts was given, else "".
 std::string XdtsLine(const std::string& xdts_path);
+// "  given: the timing of SHEET\n" when --timing-from was given (curves, lipblink), else "".
+std::string TimingFromLine(const std::string& sheet_path);
 
 }  // namespace koma::client
 

@@ -436,7 +436,8 @@ int RunCurves(const CurvesArgs& args) {
       return out.Failure(s);
     }
   }
-  out.Success(CurvesSummaryText(args, input->curves, *request, response) + XdtsLine(args.xdts) +
+  out.Success(CurvesSummaryText(args, input->curves, *request, response) + TimingFromLine(args.timing_from) +
+                  XdtsLine(args.xdts) +
                   ReportLine(args.report),
               CurvesSummaryJson(args, input->curves, *request, response),
               IsStdio(args.output) || IsStdio(args.timing) || IsStdio(args.report) ||

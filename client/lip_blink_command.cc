@@ -370,7 +370,8 @@ int RunLipBlink(const LipBlinkArgs& args) {
       return out.Failure(s);
     }
   }
-  out.Success(LipBlinkSummaryText(args, input->curves, response) + XdtsLine(args.xdts) +
+  out.Success(LipBlinkSummaryText(args, input->curves, response) + TimingFromLine(args.timing_from) +
+                  XdtsLine(args.xdts) +
                   ReportLine(args.report),
               LipBlinkSummaryJson(args, input->curves, response),
               IsStdio(args.output) || IsStdio(args.report) || IsStdio(args.xdts));

@@ -163,8 +163,9 @@ def test_koma_sheets_round_trip(server, tmp_path, command, clip, timing_fps):
     a, b = tmp_path / "a.motion3.json", tmp_path / "b.motion3.json"
     sheet_a, sheet_b = tmp_path / "a.xdts", tmp_path / "b.xdts"
     run_cli(command, clip, "-o", str(a), "--xdts", str(sheet_a), *flags)
-    run_cli(command, clip, "-o", str(b), "--xdts", str(sheet_b), "--timing-from", str(sheet_a),
-            *flags)
+    done = run_cli(command, clip, "-o", str(b), "--xdts", str(sheet_b), "--timing-from",
+                   str(sheet_a), *flags)
+    assert f"  given: the timing of {sheet_a}\n" in done.stdout
     assert sheet_b.read_bytes() == sheet_a.read_bytes()
     assert b.read_bytes() == a.read_bytes()
     # --send-file: the file travels whole, the sheet's timing with it.
