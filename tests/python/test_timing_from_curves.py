@@ -176,20 +176,24 @@ def test_koma_sheets_round_trip(server, tmp_path, command, clip, timing_fps):
 def test_sheets_that_do_not_fit(server, tmp_path):
     lip = source_path(LIPBLINK)
     _, tracks, _ = written(tmp_path, server, "lipblink", lip)
-    eyes = list(tracks[1][1])
-    closed = eyes.index(2)
-    eyes[closed:closed + 6] = [2, 1, 1, 1, 1, 0]  # 1 closed then 4 half: no blink koma paints
+    closed = tracks[1][1].index(2)
     sheet = tmp_path / "bad.xdts"
-    sheet.write_text(two_track_sheet(tracks, [tracks[0][1], eyes]))
-    done = run_cli("lipblink", lip, "-o", str(tmp_path / "x.csv"), "--timing-from", str(sheet),
-                   "--server", server.address, check=False)
-    py = run_python_cli("lipblink", lip, "-o", str(tmp_path / "x.motion3.json"), "--timing-from",
-                        str(sheet), "--server", server.address)
-    assert done.returncode != 0 and py.returncode != 0
-    assert done.stderr.split(": ", 1)[1] in py.stderr, (done.stderr, py.stderr)
-    # A long track name is cut to 40 characters in messages (formats/error_text.h).
-    assert (f'bad.xdts: track "{tracks[1][0][:40]}"..., frame {closed + 1}: cells 32222 are no '
-            "blink koma paints") in done.stderr
+    # Runs of non-open eye cells koma paints no blink as: 4 half after 1 closed (at most 3,
+    # at most as many as closed), half before closed, closed straight to open.
+    for run, shown in [([2, 1, 1, 1, 1], "32222"), ([1, 2, 2, 1], "2332"), ([2, 2], "33")]:
+        eyes = list(tracks[1][1])
+        eyes[closed - 1:closed + 8] = [0] * 9
+        eyes[closed:closed + len(run)] = run
+        sheet.write_text(two_track_sheet(tracks, [tracks[0][1], eyes]))
+        done = run_cli("lipblink", lip, "-o", str(tmp_path / "x.csv"), "--timing-from",
+                       str(sheet), "--server", server.address, check=False)
+        py = run_python_cli("lipblink", lip, "-o", str(tmp_path / "x.motion3.json"),
+                            "--timing-from", str(sheet), "--server", server.address)
+        assert done.returncode != 0 and py.returncode != 0
+        assert done.stderr.split(": ", 1)[1] in py.stderr, (done.stderr, py.stderr)
+        # A long track name is cut to 40 characters in messages (formats/error_text.h).
+        assert (f'bad.xdts: track "{tracks[1][0][:40]}"..., frame {closed + 1}: cells {shown} '
+                "are no blink koma paints") in done.stderr, done.stderr
 
     curves = source_path(CURVES)
     _, [(name, rows)], _ = written(tmp_path, server, "curves", curves)
