@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <cmath>
 #include <cstring>
 #include <iostream>
 #include <optional>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "absl/strings/match.h"
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "client/files.h"
 #include "client/xdts_sheets.h"
@@ -45,16 +47,47 @@ absl::StatusOr<formats::SheetTiming> ReadTimingFrom(const std::string& path) {
 
 absl::StatusOr<std::vector<std::vector<int>>> ReadSheetDrawings(
     const std::string& path, const std::vector<KomaSheetTrack>& tracks, int counted,
-    bool shorter_ok, const std::string& counted_note, std::vector<std::string>* warnings) {
+    bool shorter_ok, const std::string& counted_note, std::vector<std::string>* warnings,
+    formats::SheetKind csv) {
   absl::StatusOr<formats::SheetTiming> sheet = ReadTimingFrom(path);
   if (!sheet.ok()) return sheet.status();
+  if (sheet->kind != formats::SheetKind::kXdts && sheet->kind != csv) {
+    const bool drawings = sheet->kind == formats::SheetKind::kDrawingCsv;
+    return absl::InvalidArgumentError(absl::StrCat(
+        InputName(path), ": ",
+        drawings ? "a drawing sheet CSV (koma curves --timing: a drawing column)"
+                 : "a source frame timing CSV (koma skeletal --timing: no drawing column)",
+        csv == formats::SheetKind::kXdts
+            ? "; this command reads only an XDTS sheet (--xdts)"
+            : csv == formats::SheetKind::kDrawingCsv
+                  ? "; koma curves reads its drawing sheet (--timing) or an XDTS (--xdts)"
+                  : "; koma skeletal reads its timing CSV (--timing) or an XDTS (--xdts)"));
+  }
+  const bool drawing_csv = sheet->kind == formats::SheetKind::kDrawingCsv;
+  if (drawing_csv && !counted_note.empty()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        InputName(path), ": a drawing sheet CSV has a row per output frame and this answer is "
+        "timed", counted_note, ": apply the XDTS (--xdts) instead, or write and apply the CSV "
+        "with --timing-fps 0"));
+  }
   std::vector<std::string> names;
-  for (const KomaSheetTrack& track : tracks) names.push_back(track.name);
+  for (const KomaSheetTrack& track : tracks) names.push_back(drawing_csv ? track.csv_name : track.name);
   absl::StatusOr<std::vector<int>> match = formats::MatchSheetTracks(*sheet, names);
   if (!match.ok()) return Prefixed(path, match.status());
   std::vector<std::vector<int>> out;
   for (size_t t = 0; t < tracks.size(); ++t) {
     const formats::SheetTimingTrack& cells = sheet->tracks[static_cast<size_t>((*match)[t])];
+    for (size_t r = 0; drawing_csv && r < cells.cells.size(); ++r) {
+      // A drawing sheet names drawings from 0 (its cells are drawing + 1): say so in its terms.
+      const std::string& cell = cells.cells[r];
+      if (!cell.empty() && std::stoll(cell) > tracks[t].drawings) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            InputName(path), ": line ", cells.lines[r], ": track ",
+            formats::QuoteForError(cells.name), ", frame ", r + 1, ": drawing ",
+            std::stoll(cell) - 1, " names no drawing (the drawings are 0 to ",
+            tracks[t].drawings - 1, ")"));
+      }
+    }
     absl::StatusOr<std::vector<int>> drawings =
         formats::SheetDrawings(cells, tracks[t].drawings, tracks[t].what);
     if (!drawings.ok()) return Prefixed(path, drawings.status());
@@ -70,6 +103,20 @@ absl::StatusOr<std::vector<std::vector<int>>> ReadSheetDrawings(
           InputName(path), ": track ", formats::QuoteForError(cells.name), where,
           ": the sheet has ", rows, " frames, the clip ", counted, counted_note,
           shorter_ok ? " (a sheet may be shorter, not longer)" : " (a sheet has every frame)"));
+    }
+    for (size_t r = 0; r < cells.stated_source_frames.size() && !tracks[t].taus.empty(); ++r) {
+      const std::string& stated = cells.stated_source_frames[r];
+      const double tau = tracks[t].taus[static_cast<size_t>((*drawings)[r])];
+      double value = 0;
+      if (stated.empty()) continue;
+      if (!absl::SimpleAtod(stated, &value) || !(std::abs(value - tau) <= kStatedTauTolerance)) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            InputName(path), ": line ", cells.lines[r], ": track ",
+            formats::QuoteForError(cells.name), ", frame ", r + 1, ": drawing ",
+            (*drawings)[r], " is source frame ", tau, ", the row's source_frame says ",
+            formats::QuoteForError(stated),
+            " (koma reads the drawing column: change the drawing, or clear source_frame)"));
+      }
     }
     out.push_back(*std::move(drawings));
   }

@@ -26,16 +26,29 @@ struct KomaSheetTrack {
   std::string name;
   int drawings = 0;
   std::string what;
+  // Its column in a drawing sheet CSV (`drawing` for the first group's, `G_drawing` for a
+  // further group G's), and per drawing its tau (source frames): a row's source_frame
+  // must be its drawing's within kStatedTauTolerance.
+  std::string csv_name;
+  std::vector<double> taus;
 };
+
+// How far a drawing sheet row's source_frame may be from its drawing's tau, in source frames:
+// a spreadsheet saving "as shown" rounds to a few decimals; drawings' taus differ by more.
+inline constexpr double kStatedTauTolerance = 0.01;
 
 // The sheet's tracks for koma's `tracks` (matched by name, then order), each as 0-based
 // drawings per sheet row (formats::SheetDrawings: a blank holds the drawing before).
 // `counted` > 0: the clip's counted frames (`counted_note` says on which grid); more rows are
 // INVALID_ARGUMENT naming track, frame and cell, and so are fewer unless `shorter_ok`. The
 // sheet's warnings go to `warnings` (nullptr: standard error). Errors start with the path.
+// `csv`: the CSV this command reads (kSourceFrameCsv: skeletal's, kDrawingCsv: curves'; kXdts:
+// none); another CSV is INVALID_ARGUMENT saying which it is, and so is a drawing sheet CSV
+// (a row per output frame) on a grid (`counted_note` not empty).
 absl::StatusOr<std::vector<std::vector<int>>> ReadSheetDrawings(
     const std::string& path, const std::vector<KomaSheetTrack>& tracks, int counted,
-    bool shorter_ok, const std::string& counted_note, std::vector<std::string>* warnings);
+    bool shorter_ok, const std::string& counted_note, std::vector<std::string>* warnings,
+    formats::SheetKind csv = formats::SheetKind::kSourceFrameCsv);
 
 // The clip a skeletal timing is applied to, as far as the client knows it: a decoded clip
 // has `frame_count` and `source_fps`; a file the server reads whole (glTF, FBX) has neither

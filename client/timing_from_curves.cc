@@ -41,10 +41,11 @@ absl::Status Prefixed(const std::string& path, const absl::Status& status) {
 // when > 0).
 absl::StatusOr<std::vector<std::vector<int>>> ReadKomaSheet(
     const std::string& path, const std::vector<KomaSheetTrack>& tracks, int rows, double timing_fps,
-    std::vector<std::string>* warnings) {
+    std::vector<std::string>* warnings, formats::SheetKind csv) {
   return ReadSheetDrawings(
       path, tracks, rows, false,
-      timing_fps > 0 ? absl::StrCat(" on the ", timing_fps, " fps grid") : std::string(), warnings);
+      timing_fps > 0 ? absl::StrCat(" on the ", timing_fps, " fps grid") : std::string(), warnings,
+      csv);
 }
 
 // The rows of one run of non-open eye cells [begin, end) (1 half, 2 closed) as a blink.
@@ -181,11 +182,23 @@ absl::Status SetCurvesTimingFrom(const std::string& path, const std::string& nam
     absl::StatusOr<std::string> group = GroupOfTiming(computed, timing_of_track[k], track);
     if (!group.ok()) return Prefixed(path, group.status());
     groups.push_back(*group);
+    // The drawing sheet CSV names its first group's columns `drawing`, a further group G's
+    // `G_drawing` (curves_command's --timing writer: groups with drawings, in order).
+    int first_csv_timing = 0;
+    for (int g = computed.timing_groups_size() - 1; g >= 0; --g) {
+      const v1::CurveTimingGroupResult& result = computed.timing_groups(g);
+      if (result.curves_size() > 0 && result.frames_per_drawing() != 0)
+        first_csv_timing = result.timing();
+    }
+    const bool first_csv_track = timing_of_track[k] == first_csv_timing;
     tracks.push_back({track, timing.drawing_source_frame_size(),
-                      absl::StrCat("its drawings 1 to ", timing.drawing_source_frame_size())});
+                      absl::StrCat("its drawings 1 to ", timing.drawing_source_frame_size()),
+                      first_csv_track ? std::string("drawing") : *group + "_drawing",
+                      {timing.drawing_source_frame().begin(), timing.drawing_source_frame().end()}});
   }
   absl::StatusOr<std::vector<std::vector<int>>> drawings =
-      ReadKomaSheet(path, tracks, sheet->duration, computed.timing_fps(), warnings);
+      ReadKomaSheet(path, tracks, sheet->duration, computed.timing_fps(), warnings,
+                    formats::SheetKind::kDrawingCsv);
   if (!drawings.ok()) return drawings.status();
   for (size_t k = 0; k < tracks.size(); ++k) {
     const v1::DrawingTiming& timing = computed.timings(timing_of_track[k]);
@@ -213,7 +226,8 @@ absl::Status SetLipBlinkTimingFrom(const std::string& path, const std::string& n
     tracks.push_back({track.name, 3, "1 to 3"});
   }
   absl::StatusOr<std::vector<std::vector<int>>> drawings =
-      ReadKomaSheet(path, tracks, sheet->duration, computed.timing_fps(), warnings);
+      ReadKomaSheet(path, tracks, sheet->duration, computed.timing_fps(), warnings,
+                    formats::SheetKind::kXdts);
   if (!drawings.ok()) return drawings.status();
   v1::GivenLipBlinkTiming* given = request->mutable_given_timing();
   for (size_t k = 0; k < tracks.size(); ++k) {

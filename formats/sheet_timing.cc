@@ -6,9 +6,11 @@
 
 #include "absl/status/status.h"
 #include "absl/strings/ascii.h"
+#include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "absl/strings/str_replace.h"
 #include "absl/strings/str_split.h"
 #include "core/status_macros.h"
 #include "formats/error_text.h"
@@ -20,12 +22,19 @@ std::string TrackLabel(const std::string& name) {
   return absl::StrCat("track ", QuoteForError(name));
 }
 
-// One CSV line split on commas, each value trimmed of spaces (and the line of its CR).
+// One CSV line split on commas, each value trimmed of spaces and unquoted (and the line of
+// its CR). A quoted comma is not kept together: the columns koma reads come before `keys`.
 std::vector<std::string> CsvValues(std::string_view line) {
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
   std::vector<std::string> values;
   for (absl::string_view value : absl::StrSplit(absl::string_view(line.data(), line.size()), ',')) {
-    values.emplace_back(absl::StripAsciiWhitespace(value));
+    value = absl::StripAsciiWhitespace(value);
+    // A spreadsheet may quote a cell ("12"): read without its quotes, "" inside as one.
+    if (value.size() >= 2 && value.front() == '"' && value.back() == '"') {
+      values.push_back(absl::StrReplaceAll(value.substr(1, value.size() - 2), {{"\"\"", "\""}}));
+      continue;
+    }
+    values.emplace_back(value);
   }
   return values;
 }
@@ -47,6 +56,61 @@ absl::StatusOr<int> CsvCount(const std::string& value, int line, const char* col
         "line ", line, ": ", column, " ", QuoteForError(value), " is not a whole number >= 0"));
   }
   return number;
+}
+
+// `koma curves --timing`'s drawing sheet (ReadSheetTimingCsv): lines[first] is its header.
+absl::StatusOr<SheetTiming> ReadDrawingSheetCsv(const std::vector<std::string_view>& lines,
+                                                size_t first, int max_rows) {
+  const std::vector<std::string> header = CsvValues(lines[first]);
+  struct Column {
+    int drawing = -1, source = -1;
+  };
+  SheetTiming sheet;
+  sheet.kind = SheetKind::kDrawingCsv;
+  std::vector<Column> columns;
+  for (size_t c = 0; c < header.size(); ++c) {
+    const std::string& name = header[c];
+    constexpr absl::string_view kSuffix = "_drawing";
+    if (name == "drawing" || (name.size() > kSuffix.size() && absl::EndsWith(name, kSuffix))) {
+      const std::string group = name == "drawing" ? "" : name.substr(0, name.size() - kSuffix.size());
+      Column column{static_cast<int>(c), -1};
+      const std::string source = group.empty() ? "source_frame" : group + "_source_frame";
+      for (size_t s = 0; s < header.size(); ++s) {
+        if (header[s] == source) column.source = static_cast<int>(s);
+      }
+      columns.push_back(column);
+      sheet.tracks.push_back({name, {}, {}, {}});
+    }
+  }
+  for (size_t l = first + 1; l < lines.size(); ++l) {
+    if (IsBlankLine(lines[l])) continue;
+    const int line = static_cast<int>(l) + 1;
+    if (static_cast<int>(sheet.rows) >= max_rows) {
+      return absl::InvalidArgumentError(absl::StrCat("line ", line, ": more than ", max_rows, " rows"));
+    }
+    const std::vector<std::string> values = CsvValues(lines[l]);
+    const auto value = [&](int column) {
+      return column >= 0 && static_cast<size_t>(column) < values.size() ? values[column]
+                                                                        : std::string();
+    };
+    for (size_t k = 0; k < columns.size(); ++k) {
+      SheetTimingTrack& track = sheet.tracks[k];
+      std::string cell;
+      if (!value(columns[k].drawing).empty()) {
+        KOMA_ASSIGN_OR_RETURN(const int drawing,
+                              CsvCount(value(columns[k].drawing), line, header[columns[k].drawing].c_str()));
+        cell = absl::StrCat(static_cast<long long>(drawing) + 1);
+      }
+      track.cells.push_back(std::move(cell));
+      track.lines.push_back(line);
+      track.stated_source_frames.push_back(value(columns[k].source));
+    }
+    ++sheet.rows;
+  }
+  if (sheet.rows == 0) {
+    return absl::InvalidArgumentError(absl::StrCat("no rows after the header on line ", first + 1));
+  }
+  return sheet;
 }
 
 }  // namespace
@@ -79,6 +143,9 @@ absl::StatusOr<SheetTiming> ReadSheetTimingCsv(std::string_view text, int max_ro
   while (first < lines.size() && IsBlankLine(lines[first])) ++first;
   if (first == lines.size()) return absl::InvalidArgumentError("no header line: the file is empty");
   const std::vector<std::string> header = CsvValues(lines[first]);
+  for (const std::string& name : header) {
+    if (name == "drawing") return ReadDrawingSheetCsv(lines, first, max_rows);
+  }
   int source_column = -1, grid_column = -1;
   for (size_t c = 0; c < header.size(); ++c) {
     if (header[c] == "source_frame") source_column = static_cast<int>(c);
@@ -142,6 +209,7 @@ absl::StatusOr<SheetTiming> ReadSheetTimingCsv(std::string_view text, int max_ro
     return absl::InvalidArgumentError(absl::StrCat("no rows after the header on line ", first + 1));
   }
   SheetTiming sheet;
+  sheet.kind = SheetKind::kSourceFrameCsv;
   sheet.rows = static_cast<int>(track.cells.size());
   sheet.tracks.push_back(std::move(track));
   return sheet;

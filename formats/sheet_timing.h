@@ -18,11 +18,21 @@ namespace koma::formats {
 
 // One track (an XDTS Cell layer; the CSV's one column of source frames).
 struct SheetTimingTrack {
-  std::string name;                // the layer name ("" in a CSV)
+  std::string name;  // the layer name ("" in a skeletal CSV; a drawing sheet's column name)
   std::vector<std::string> cells;  // per sheet row: the cell id, "" when blank
+  // A drawing sheet CSV only, per row: its file line and its source_frame text ("" when
+  // empty), checked against the drawing's tau by the caller (the drawing column is read).
+  std::vector<int> lines;
+  std::vector<std::string> stated_source_frames;
 };
 
+// What a sheet's cells name: XDTS cell ids; the source frames of koma's skeletal --timing
+// CSV (cell = source_frame + 1); the drawings of `koma curves --timing`'s drawing sheet CSV
+// (cell = drawing + 1, as the XDTS koma writes for the same answer).
+enum class SheetKind { kXdts, kSourceFrameCsv, kDrawingCsv };
+
 struct SheetTiming {
+  SheetKind kind = SheetKind::kXdts;
   int rows = 0;  // sheet rows (an XDTS's duration; the CSV's grid frames or output frames)
   std::vector<SheetTimingTrack> tracks;
   // Rules applied that the reader should hear of ("2 extra time tables ignored: koma reads
@@ -43,6 +53,10 @@ absl::StatusOr<SheetTiming> ReadSheetTimingXdts(std::string_view text,
 // the one before (as the XDTS rows do). A cell is source_frame + 1 (the XDTS cell id of that
 // source frame), "" for an empty source_frame. A UTF-8 byte order mark, CRLF, spaces around
 // values and blank lines are accepted. INVALID_ARGUMENT naming the line and value.
+// A header with a `drawing` column is `koma curves --timing`'s drawing sheet instead
+// (output_frame,drawing,source_frame,time_s[,G_drawing,G_source_frame...],keys): one track
+// per `drawing` / `G_drawing` column (named so), a row per sheet row, cell = drawing + 1
+// ("" when empty), the row's source_frame kept for the caller's check (kind kDrawingCsv).
 absl::StatusOr<SheetTiming> ReadSheetTimingCsv(std::string_view text, int max_rows = 1 << 24);
 
 // Which sheet track each of koma's tracks takes: a sheet track of the same name, else the

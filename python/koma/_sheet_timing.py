@@ -2,8 +2,10 @@
 (formats/sheet_timing.cc, client/timing_from.cc; docs/usage.md, "Timing from a sheet"), with
 the same messages. tests/python/test_timing_from.py compares the two on the same sheets.
 
-A sheet is {"rows": int, "tracks": [(name, [cell, ...])], "warnings": [str]}, a cell the
-XDTS cell id ("" blank) or, from a --timing CSV, source_frame + 1.
+A sheet is {"kind": "xdts"|"source_frames"|"drawings", "rows": int, "tracks": [(name,
+[cell, ...])], "warnings": [str]}, a cell the XDTS cell id ("" blank), from skeletal's --timing
+CSV source_frame + 1, from curves' drawing sheet CSV drawing + 1 (with "stated": per track
+[(line, source_frame text)] per row).
 """
 import json
 import os
@@ -156,7 +158,7 @@ def read_xdts(data):
         extra = len(tables) - 1
         warnings.append(f"{extra} extra time table{'' if extra == 1 else 's'} ignored: koma "
                         f"reads the first ({quote(name)})")
-    return {"rows": duration, "tracks": tracks, "warnings": warnings}
+    return {"kind": "xdts", "rows": duration, "tracks": tracks, "warnings": warnings}
 
 
 def _csv_count(value, line, column):
@@ -185,9 +187,14 @@ def read_csv(data, max_rows=_MAX_ROWS):
 
     def values_of(line):
         line = line[:-1] if line.endswith("\r") else line
-        return [v.strip(" \t\n\v\f\r") for v in line.split(",")]
+        values = [v.strip(" \t\n\v\f\r") for v in line.split(",")]
+        # A spreadsheet may quote a cell: read without its quotes, "" inside as one.
+        return [v[1:-1].replace('""', '"') if len(v) >= 2 and v[0] == v[-1] == '"' else v
+                for v in values]
 
     header = values_of(lines[first])
+    if "drawing" in header:
+        return _read_drawing_csv(lines, first, header, values_of, max_rows)
     source_column = grid_column = -1
     for c, name in enumerate(header):
         if name == "source_frame":
@@ -237,7 +244,48 @@ def read_csv(data, max_rows=_MAX_ROWS):
         previous_grid = grid
     if not cells:
         raise SheetError(f"no rows after the header on line {first + 1}")
-    return {"rows": len(cells), "tracks": [("", cells)], "warnings": []}
+    return {"kind": "source_frames", "rows": len(cells), "tracks": [("", cells)],
+            "warnings": []}
+
+
+def _read_drawing_csv(lines, first, header, values_of, max_rows):
+    """formats::ReadDrawingSheetCsv: `koma curves --timing`'s drawing sheet; per track also
+    "stated": [(line, source_frame text)] per row."""
+    columns, tracks, stated = [], [], []
+    for c, name in enumerate(header):
+        if name == "drawing" or (len(name) > len("_drawing") and name.endswith("_drawing")):
+            group = "" if name == "drawing" else name[:-len("_drawing")]
+            source_name = f"{group}_source_frame" if group else "source_frame"
+            source = -1
+            for s, other in enumerate(header):
+                if other == source_name:
+                    source = s
+            columns.append((c, source))
+            tracks.append((name, []))
+            stated.append([])
+    rows = 0
+    for index in range(first + 1, len(lines)):
+        if _blank_line(lines[index]):
+            continue
+        line = index + 1
+        if rows >= max_rows:
+            raise SheetError(f"line {line}: more than {max_rows} rows")
+        values = values_of(lines[index])
+
+        def value(column):
+            return values[column] if 0 <= column < len(values) else ""
+
+        for k, (drawing_column, source_column) in enumerate(columns):
+            cell = ""
+            if value(drawing_column):
+                cell = str(_csv_count(value(drawing_column), line, header[drawing_column]) + 1)
+            tracks[k][1].append(cell)
+            stated[k].append((line, value(source_column)))
+        rows += 1
+    if rows == 0:
+        raise SheetError(f"no rows after the header on line {first + 1}")
+    return {"kind": "drawings", "rows": rows, "tracks": tracks, "stated": stated,
+            "warnings": []}
 
 
 def match_tracks(sheet, koma_tracks):
@@ -328,21 +376,58 @@ def skeletal_source_frames(path, track, frame_count, source_fps, timing_fps):
     return shown[0], warnings
 
 
+def _float(text):
+    """absl::SimpleAtod: a decimal or exponent number (inf/nan too), else None."""
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
 def _number(value):
     """absl::StrCat of a double: %g with 6 significant digits."""
     return "%g" % value
 
 
-def read_drawings(path, koma_tracks, counted, shorter_ok, counted_note):
-    """client::ReadSheetDrawings: koma_tracks is [(name, drawing count, what)]; returns (per
-    track the 0-based drawing per row, warnings)."""
+_CSV_RULES = {
+    "xdts": "; this command reads only an XDTS sheet (--xdts)",
+    "drawings": "; koma curves reads its drawing sheet (--timing) or an XDTS (--xdts)",
+    "source_frames": "; koma skeletal reads its timing CSV (--timing) or an XDTS (--xdts)",
+}
+
+# client::kStatedTauTolerance: source frames a drawing sheet row's source_frame may be off.
+_STATED_TAU_TOLERANCE = 0.01
+
+
+def read_drawings(path, koma_tracks, counted, shorter_ok, counted_note, csv="source_frames"):
+    """client::ReadSheetDrawings: koma_tracks is [(name, drawing count, what[, column in a
+    drawing sheet CSV, taus])]; csv the CSV kind this command reads ("xdts": none); returns
+    (per track the 0-based drawing per row, warnings)."""
     sheet = read(path)
     where = os.fspath(path)
+    if sheet["kind"] != "xdts" and sheet["kind"] != csv:
+        what = ("a drawing sheet CSV (koma curves --timing: a drawing column)"
+                if sheet["kind"] == "drawings"
+                else "a source frame timing CSV (koma skeletal --timing: no drawing column)")
+        raise SheetError(f"{where}: {what}{_CSV_RULES[csv]}")
+    drawing_csv = sheet["kind"] == "drawings"
+    if drawing_csv and counted_note:
+        raise SheetError(f"{where}: a drawing sheet CSV has a row per output frame and this "
+                         f"answer is timed{counted_note}: apply the XDTS (--xdts) instead, or "
+                         "write and apply the CSV with --timing-fps 0")
     out = []
     try:
-        match = match_tracks(sheet, [name for name, _, _ in koma_tracks])
-        for (_, count, what), index in zip(koma_tracks, match):
+        names = [t[3] if drawing_csv else t[0] for t in koma_tracks]
+        match = match_tracks(sheet, names)
+        for koma_track, index in zip(koma_tracks, match):
+            count, what = koma_track[1], koma_track[2]
             name, cells = sheet["tracks"][index]
+            for r, cell in enumerate(cells if drawing_csv else []):
+                # A drawing sheet names drawings from 0 (its cells are drawing + 1).
+                if cell and int(cell) > count:
+                    raise SheetError(f"line {sheet['stated'][index][r][0]}: track {quote(name)}, "
+                                     f"frame {r + 1}: drawing {int(cell) - 1} names no drawing "
+                                     f"(the drawings are 0 to {count - 1})")
             shown = drawings(name, cells, count, what)
             rows = len(shown)
             if counted > 0 and (rows > counted or (rows < counted and not shorter_ok)):
@@ -355,6 +440,18 @@ def read_drawings(path, koma_tracks, counted, shorter_ok, counted_note):
                         else "(a sheet has every frame)")
                 raise SheetError(f"track {quote(name)}{at}: the sheet has {rows} frames, the "
                                  f"clip {counted}{counted_note} {rule}")
+            taus = koma_track[4] if len(koma_track) > 4 else []
+            for r, (line, stated) in enumerate(sheet.get("stated", [[]] * len(match))[index]):
+                if not stated or not taus:
+                    continue
+                tau = taus[shown[r]]
+                value = _float(stated)
+                if value is None or not abs(value - tau) <= _STATED_TAU_TOLERANCE:
+                    raise SheetError(
+                        f"line {line}: track {quote(name)}, frame {r + 1}: drawing {shown[r]} "
+                        f"is source frame {_number(tau)}, the row's source_frame says "
+                        f"{quote(stated)} (koma reads the drawing column: change the drawing, "
+                        "or clear source_frame)")
             out.append(shown)
     except SheetError as error:
         raise SheetError(f"{where}: {error}") from None
@@ -382,9 +479,15 @@ def curves_given_timings(path, name, computed, request):
                              "--curve-on curves cannot be given, only a timing group's own")
         groups.append(group)
         count = len(computed.timings[t].drawing_source_frame)
-        tracks.append((track, count, f"its drawings 1 to {count}"))
+        # The drawing sheet CSV's columns: `drawing` for its first group (groups with
+        # drawings, in order), `G_drawing` for a further group G.
+        first_csv = next((g.timing for g in computed.timing_groups
+                          if len(g.curves) > 0 and g.frames_per_drawing != 0), 0)
+        column = "drawing" if t == first_csv else f"{group}_drawing"
+        tracks.append((track, count, f"its drawings 1 to {count}", column,
+                       list(computed.timings[t].drawing_source_frame)))
     shown, warnings = read_drawings(path, tracks, sheet["duration"], False,
-                                    _grid_note(computed.timing_fps))
+                                    _grid_note(computed.timing_fps), "drawings")
     for k, t in enumerate(timing_of_track):
         timing = computed.timings[t]
         given = request.given_timings.add(group=groups[k])
@@ -484,7 +587,7 @@ def lip_blink_given_timing(path, name, source_fps, computed, request):
     sheet = _xdts.lip_blink_sheet(computed, source_fps, name)
     tracks = [(track, 3, "1 to 3") for track, _ in sheet["cells"]]
     shown, warnings = read_drawings(path, tracks, sheet["duration"], False,
-                                    _grid_note(computed.timing_fps))
+                                    _grid_note(computed.timing_fps), "xdts")
     for k, (track, written) in enumerate(sheet["cells"]):
         cells, unedited = shown[k], [int(cell) - 1 for cell in written]
         mouth = track.endswith(_MOUTH_LEGEND)

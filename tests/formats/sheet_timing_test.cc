@@ -49,6 +49,35 @@ TEST(SheetTimingCsvTest, ReadsSourceFramesAsOneBasedCells) {
   EXPECT_THAT(sheet.tracks[0].cells, ElementsAre("1", "1", "8", "", "3"));
 }
 
+TEST(SheetTimingCsvTest, DrawingSheetReadsADrawingColumnPerGroup) {
+  // koma curves --timing with a group "arms", saved by a spreadsheet: cells quoted, CRLF, a
+  // row inserted, one drawing cell emptied; keys (last, quoted with a comma) ignored.
+  const std::string text =
+      "output_frame,drawing,source_frame,time_s,arms_drawing,arms_source_frame,keys\r\n"
+      "\"0\",\"0\",\"0\",\"0\",\"0\",\"0\",\"a,b\"\r\n"
+      "1,0,0,0.1,1,2.5,\r\n1,2,6,0.1,1,2.5,\r\n2,,,0.2, 3 ,7,\r\n";
+  ASSERT_OK_AND_ASSIGN(const SheetTiming sheet, ReadSheetTimingCsv(text));
+  EXPECT_EQ(sheet.kind, SheetKind::kDrawingCsv);
+  EXPECT_EQ(sheet.rows, 4);
+  ASSERT_EQ(sheet.tracks.size(), 2u);
+  EXPECT_EQ(sheet.tracks[0].name, "drawing");
+  EXPECT_THAT(sheet.tracks[0].cells, ElementsAre("1", "1", "3", ""));
+  EXPECT_THAT(sheet.tracks[0].stated_source_frames, ElementsAre("0", "0", "6", ""));
+  EXPECT_THAT(sheet.tracks[0].lines, ElementsAre(2, 3, 4, 5));
+  EXPECT_EQ(sheet.tracks[1].name, "arms_drawing");
+  EXPECT_THAT(sheet.tracks[1].cells, ElementsAre("1", "2", "2", "4"));
+  EXPECT_THAT(sheet.tracks[1].stated_source_frames, ElementsAre("0", "2.5", "2.5", "7"));
+  EXPECT_THAT(ReadSheetTimingCsv("output_frame,drawing,source_frame\n0,-1,0\n"),
+              StatusIs(absl::StatusCode::kInvalidArgument,
+                       HasSubstr("line 2: drawing \"-1\" is not a whole number >= 0")));
+  EXPECT_THAT(ReadSheetTimingCsv("output_frame,drawing,source_frame\n"),
+              StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("no rows after the header")));
+  ASSERT_OK_AND_ASSIGN(const SheetTiming skeletal,
+                       ReadSheetTimingCsv("output_frame,source_frame\n0,\"4\"\n"));
+  EXPECT_EQ(skeletal.kind, SheetKind::kSourceFrameCsv);
+  EXPECT_THAT(skeletal.tracks[0].cells, ElementsAre("5"));
+}
+
 TEST(SheetTimingCsvTest, GridFramesAreTheRows) {
   // 120 fps on the 24 fps grid: five lines a grid frame; grid frame 3 named by no line.
   std::string text = "output_frame,source_frame,kind,time_s,grid_frame\n";

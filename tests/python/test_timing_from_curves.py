@@ -14,7 +14,7 @@ import pytest
 
 import xdts_reference as ref
 from conftest import run_cli, run_python_cli, source_path
-from test_timing_from import EDITS, IDENTIFIER, LAYOUTS, koma_sheet
+from test_timing_from import EDITS, IDENTIFIER, LAYOUTS, koma_sheet, swap_drawings
 
 CURVES = "samples/arm_head.motion3.json"
 LIPBLINK = "samples/talk_blink.motion3.json"
@@ -212,6 +212,159 @@ def test_sheets_that_do_not_fit(server, tmp_path):
     done = run_cli("curves", curves, "-o", str(tmp_path / "x.csv"), "--timing-from",
                    str(tmp_path / "missing.xdts"), "--server", server.address, check=False)
     assert done.returncode != 0 and "missing.xdts" in done.stderr
+
+
+def drawing_sheet(path):
+    """koma curves --timing's drawing sheet: (header, rows as lists of text)."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], rows[1:]
+
+
+def spreadsheet_edit(header, rows, edited, columns=("drawing", "source_frame")):
+    """The sheet with column `columns[0]` set to the edited drawings (None: both cells
+    emptied, a blank frame) and its source_frame to that drawing's, as a spreadsheet saves
+    it: CRLF line ends, every cell quoted, time_s and keys left stale."""
+    drawing, source = header.index(columns[0]), header.index(columns[1])
+    tau = {int(r[drawing]): r[source] for r in rows}
+    out = [list(header)]
+    for row, d in zip(rows, edited):
+        row = list(row)
+        row[drawing], row[source] = ("", "") if d is None else (str(d), tau[d])
+        out.append(row)
+    return "".join(",".join(f'"{v}"' for v in row) + "\r\n" for row in out)
+
+
+def shown_drawings(edited):
+    """Per row the drawing shown: a blank holds the one before."""
+    out = []
+    for d in edited:
+        out.append(d if d is not None else out[-1])
+    return out
+
+
+def test_curves_drawing_sheet_csv_edited_is_shown_frame_by_frame(server, client, tmp_path):
+    """The drawing sheet CSV (--timing) edited in a spreadsheet with the four edits: every
+    output frame shows the unedited answer's values of the row's drawing; the Python package
+    gives the same bytes."""
+    clip = source_path(CURVES)
+    flags = ("--timing-fps", "0")  # the CSV has a row per output frame
+    out, sheet = tmp_path / "unedited.csv", tmp_path / "timing.csv"
+    run_cli("curves", clip, "-o", str(out), "--timing", str(sheet), *flags,
+            "--server", server.address)
+    unedited = csv_rows(out)
+    header, rows = drawing_sheet(sheet)
+    drawings = [int(r[1]) for r in rows]
+    first_frame = {}
+    for r, d in enumerate(drawings):
+        first_frame.setdefault(d, r)
+    edited_csv, values_csv = tmp_path / "edited.csv", tmp_path / "applied.csv"
+    motion, py_motion = tmp_path / "applied.motion3.json", tmp_path / "py.motion3.json"
+    for edit, change in EDITS.items():
+        edited = change(drawings)
+        assert (edited != drawings) == (edit != "as written"), edit
+        edited_csv.write_text(spreadsheet_edit(header, rows, edited), newline="")
+        for path in (values_csv, motion):
+            run_cli("curves", clip, "-o", str(path), "--timing-from", str(edited_csv), *flags,
+                    "--server", server.address)
+        client.retime_curves(clip, timing_fps=0.0, timing_from=edited_csv).write(py_motion)
+        assert py_motion.read_bytes() == motion.read_bytes(), f"{edit}: Python and C++ differ"
+        values, shown = csv_rows(values_csv), shown_drawings(edited)
+        assert len(values) == len(unedited) == len(shown)
+        for k, frame in enumerate(values):
+            assert frame == pytest.approx(unedited[first_frame[shown[k]]], abs=1e-9), \
+                f"{edit}: frame {k} does not show drawing {shown[k]}"
+
+
+def test_curves_drawing_sheet_csv_of_two_groups(server, tmp_path):
+    """Two timing groups (columns drawing and arms_drawing): the CSV applied back gives the
+    same bytes; a swap in the arms column shows on the arms' curves only."""
+    clip = source_path(CURVES)
+    flags = ("--timing-fps", "0", "--group", "arms=ParamArm*:on=2", "--server", server.address)
+    out, sheet, again = tmp_path / "a.csv", tmp_path / "timing.csv", tmp_path / "b.csv"
+    run_cli("curves", clip, "-o", str(out), "--timing", str(sheet), *flags)
+    header, rows = drawing_sheet(sheet)
+    assert header[:6] == ["output_frame", "drawing", "source_frame", "time_s", "arms_drawing",
+                          "arms_source_frame"], header
+    run_cli("curves", clip, "-o", str(again), "--timing-from", str(sheet), *flags)
+    assert again.read_bytes() == out.read_bytes()
+    unedited = csv_rows(out)
+    arms = [int(r[4]) for r in rows]
+    edited = swap_drawings(arms)
+    edited_csv = tmp_path / "edited.csv"
+    edited_csv.write_text(spreadsheet_edit(header, rows, edited,
+                                           ("arms_drawing", "arms_source_frame")), newline="")
+    run_cli("curves", clip, "-o", str(again), "--timing-from", str(edited_csv), *flags)
+    first_frame = {}
+    for r, d in enumerate(arms):
+        first_frame.setdefault(d, r)
+    for k, frame in enumerate(csv_rows(again)):
+        for curve, value in frame.items():
+            source = first_frame[edited[k]] if curve.startswith("ParamArm") else k
+            assert value == pytest.approx(unedited[source][curve], abs=1e-9), (curve, k)
+
+
+def test_drawing_sheet_csv_that_does_not_fit(server, tmp_path):
+    """A bad row names the file, line, track (column), frame and value, the same from C++
+    and Python; a CSV for the wrong command or on a film grid is refused saying why."""
+    clip = source_path(CURVES)
+    flags = ("--timing-fps", "0", "--server", server.address)
+    sheet = tmp_path / "timing.csv"
+    run_cli("curves", clip, "-o", str(tmp_path / "a.csv"), "--timing", str(sheet), *flags)
+    header, rows = drawing_sheet(sheet)
+    last = max(int(r[1]) for r in rows)
+    bad = tmp_path / "bad.csv"
+
+    def with_row(index, column, value):
+        edited = [list(r) for r in rows]
+        edited[index][column] = value
+        return "\n".join(",".join(r) for r in [header] + edited) + "\n"
+
+    for text, message in [
+            (with_row(4, 1, str(last + 1)),
+             f'bad.csv: line 6: track "drawing", frame 5: drawing {last + 1} names no drawing '
+             f"(the drawings are 0 to {last})"),
+            (with_row(4, 1, "two"), 'bad.csv: line 6: drawing "two" is not a whole number'),
+            (with_row(4, 2, "99"),
+             f'bad.csv: line 6: track "drawing", frame 5: drawing {rows[4][1]} is source frame '
+             f'{rows[4][2]}, the row\'s source_frame says "99" (koma reads the drawing column'),
+            ("\n".join(",".join(r) for r in [header] + rows[:-1]) + "\n",
+             f'track "drawing", frame {len(rows) - 1}: the sheet ends before the clip')]:
+        bad.write_text(text)
+        done = run_cli("curves", clip, "-o", str(tmp_path / "x.csv"), "--timing-from",
+                       str(bad), *flags, check=False)
+        assert done.returncode != 0 and message in done.stderr, done.stderr
+        py = run_python_cli("curves", clip, "-o", str(tmp_path / "x.motion3.json"),
+                            "--timing-from", str(bad), *flags)
+        assert py.returncode != 0 and done.stderr.split(": ", 1)[1] in py.stderr, py.stderr
+    # A cleared source_frame is no disagreement: the drawing column is read.
+    bad.write_text(with_row(4, 2, ""))
+    run_cli("curves", clip, "-o", str(tmp_path / "x.csv"), "--timing-from", str(bad), *flags)
+    for command, input_clip, extra, message in [
+            ("curves", CURVES, ("--timing-fps", "24"),
+             "a drawing sheet CSV has a row per output frame and this answer is timed on the "
+             "24 fps grid"),
+            ("lipblink", LIPBLINK, ("--timing-fps", "0"),
+             "a drawing sheet CSV (koma curves --timing: a drawing column); this command reads "
+             "only an XDTS sheet (--xdts)"),
+            ("skeletal", "samples/pitch.bvh", (),
+             "a drawing sheet CSV (koma curves --timing: a drawing column); koma skeletal "
+             "reads its timing CSV (--timing) or an XDTS (--xdts)")]:
+        out = tmp_path / ("x.bvh" if command == "skeletal" else "x.motion3.json")
+        done = run_cli(command, source_path(input_clip), "-o", str(out), "--timing-from",
+                       str(sheet), *extra, "--server", server.address, check=False)
+        assert done.returncode != 0 and message in done.stderr, (command, done.stderr)
+        py = run_python_cli(command, source_path(input_clip), "-o", str(out), "--timing-from",
+                            str(sheet), *extra, "--server", server.address)
+        assert py.returncode != 0 and message in py.stderr, (command, py.stderr)
+    # skeletal's source frame CSV given to curves.
+    skeletal_csv = tmp_path / "skeletal.csv"
+    skeletal_csv.write_text("output_frame,source_frame,kind,time_s\n0,0,key,0\n")
+    done = run_cli("curves", clip, "-o", str(tmp_path / "x.csv"), "--timing-from",
+                   str(skeletal_csv), *flags, check=False)
+    assert done.returncode != 0 and ("a source frame timing CSV (koma skeletal --timing: no "
+                                     "drawing column); koma curves reads its drawing sheet") \
+        in done.stderr, done.stderr
 
 
 @pytest.mark.parametrize("command,clip", [("curves", CURVES), ("lipblink", LIPBLINK)])
