@@ -119,9 +119,10 @@ void AddCurveFileFlags(CLI::App* cmd, CurveFileArgs& args, const std::string& ti
   AddSendFileFlag(cmd, &args.send_file, "motion3_json or csv_text, csv_fps = --fps");
   cmd->add_option("--timing-from", args.timing_from,
                   "apply the timing of an edited XDTS (the sheet --xdts wrote, edited in CLIP "
-                  "STUDIO PAINT, OpenToonz, TVPaint) instead of computing one; its cells are "
+                  "STUDIO PAINT, OpenToonz, TVPaint) or, for curves, the drawing sheet CSV "
+                  "--timing wrote with --timing-fps 0, instead of computing one; its cells are "
                   "read against koma's answer for the same input and flags (docs/usage.md)")
-      ->type_name("SHEET.xdts");
+      ->type_name("SHEET.xdts|TIMING.csv");
   AddPresetFlag(cmd);
   AddCommonFlags(cmd, &args, "60");
 }

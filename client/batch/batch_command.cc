@@ -283,11 +283,11 @@ int Run(BatchCommandArgs& args, const std::string& rpc_name, const std::string& 
   const bool quiet = call.quiet;
   const bool json = call.json;
   if (json && args.summary == "-") return UsageError("--json and --summary -: one JSON on stdout");
-  if ((rpc_name == "curves" && !args.curves.timing_from.empty()) ||
-      (rpc_name == "lipblink" && !args.lip_blink.timing_from.empty())) {
-    // Not yet per clip in a batch (a second call per clip): refused rather than ignored.
-    return UsageError("--timing-from: koma batch applies sheets to skeletal clips only; run "
-                      "koma " + rpc_name + " IN --timing-from SHEET.xdts per clip");
+  if (rpc_name == "lipblink" && !args.lip_blink.timing_from.empty() &&
+      (args.audio_beside || HasVoice(args.lip_blink) || HasSpineFlags(args.lip_blink))) {
+    // As `koma lipblink` refuses them: a sheet times a motion's own mouth and eyes.
+    return UsageError("--timing-from: not with a voice (--audio-beside, --audio, --rhubarb) "
+                      "or a Spine skeleton");
   }
   if (rpc_name == "lipblink" && args.audio_beside && !args.lip_blink.speech.empty()) {
     // The server would refuse every clip (mouth.speech with a voice): say it once, up front.

@@ -1,6 +1,8 @@
 #include "client/batch/batch_rpc.h"
 
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <system_error>
 #include <utility>
@@ -18,6 +20,7 @@
 #include "client/spine_curves.h"
 #include "client/spine_lip_blink.h"
 #include "client/timing_from.h"
+#include "client/timing_from_curves.h"
 #include "client/xdts_sheets.h"
 #include "formats/xdts.h"
 
@@ -60,20 +63,53 @@ void StartCall(v1::Retime::Stub& stub, grpc::ClientContext* context,
 }
 
 // A clip's request and answer, and the Start every clip shares (a retry clears the answer).
+// With a sheet to apply (--timing-from, SetSheet): each Start first asks for koma's own answer
+// to the request as built (the sheet's cells name its drawings), applies the sheet to a copy
+// of the request, then sends that, as `koma curves|lipblink --timing-from` does.
 template <typename Request, typename Response>
 class CallClip : public Clip {
  public:
+  using ApplySheet = std::function<absl::Status(const Response& computed, Request* request)>;
+
   void Start(v1::Retime::Stub& stub, grpc::ClientContext* context,
              std::function<void(grpc::Status)> done) final {
     response_.Clear();
-    StartCall(stub, context, &request_, &response_, std::move(done));
+    if (!apply_sheet_) {
+      StartCall(stub, context, &request_, &response_, std::move(done));
+      return;
+    }
+    request_ = unapplied_;
+    computed_.Clear();
+    // Its own context (a context serves one call), under the batch's deadline for the clip.
+    computed_context_ = std::make_unique<grpc::ClientContext>();
+    computed_context_->set_deadline(context->deadline());
+    StartCall(stub, computed_context_.get(), &unapplied_, &computed_,
+              [this, &stub, context, done = std::move(done)](grpc::Status status) mutable {
+                if (!status.ok()) return done(status);
+                if (absl::Status s = apply_sheet_(computed_, &request_); !s.ok()) {
+                  return done(grpc::Status(static_cast<grpc::StatusCode>(s.code()),
+                                           std::string(s.message())));
+                }
+                StartCall(stub, context, &request_, &response_, std::move(done));
+              });
   }
 
  protected:
   explicit CallClip(Request request) : request_(std::move(request)) {}
 
+  void SetSheet(ApplySheet apply) {
+    unapplied_ = request_;
+    apply_sheet_ = std::move(apply);
+  }
+
   Request request_;
   Response response_;
+
+ private:
+  ApplySheet apply_sheet_;
+  Request unapplied_;  // the request as built, for koma's own answer
+  Response computed_;
+  std::unique_ptr<grpc::ClientContext> computed_context_;
 };
 using SkeletalCall = CallClip<v1::RetimeSkeletalRequest, v1::RetimeSkeletalResponse>;
 using CurvesCall = CallClip<v1::RetimeCurvesRequest, v1::RetimeCurvesResponse>;
@@ -177,6 +213,14 @@ class CurvesClipCall final : public CurvesCall {
   CurvesClipCall(const CurvesArgs& args, CurveInput input, v1::RetimeCurvesRequest request)
       : CurvesCall(std::move(request)), args_(args), input_(std::move(input)) {}
 
+  // --timing-from: this clip's sheet (SetCurvesTimingFrom), its tracks named after `name`.
+  void ApplyTimingFrom(const std::string& sheet, const std::string& name) {
+    SetSheet([sheet, name](const v1::RetimeCurvesResponse& computed,
+                           v1::RetimeCurvesRequest* request) {
+      return SetCurvesTimingFrom(sheet, name, computed, request, nullptr);
+    });
+  }
+
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
     CurvesArgs args = args_;
@@ -211,9 +255,20 @@ class CurvesRpc final : public Rpc {
         return WithPath(item, s);
       }
     }
+    if (input->spine && !args_.timing_from.empty()) {  // as `koma curves` refuses it
+      return absl::InvalidArgumentError(
+          absl::StrCat("--timing-from: not for a Spine skeleton (", item.input, ")"));
+    }
     absl::StatusOr<v1::RetimeCurvesRequest> request = BuildCurvesRequest(args_, input->curves);
     if (!request.ok()) return WithPath(item, request.status());
-    return std::make_unique<CurvesClipCall>(args_, *std::move(input), *std::move(request));
+    auto call = std::make_unique<CurvesClipCall>(args_, *std::move(input), *std::move(request));
+    if (!args_.timing_from.empty()) {
+      // One sheet for every clip, or a folder with each clip's NAME.xdts / NAME.timing.csv.
+      absl::StatusOr<std::string> sheet = TimingFromFor(args_.timing_from, item.input);
+      if (!sheet.ok()) return sheet.status();
+      call->ApplyTimingFrom(*sheet, XdtsClipName(item.input, *sheet));
+    }
+    return call;
   }
 
  private:
@@ -226,6 +281,15 @@ class LipBlinkClipCall final : public LipBlinkCall {
       : LipBlinkCall(BuildLipBlinkRequest(args, input.curves)),
         args_(args),
         input_(std::move(input)) {}
+
+  // --timing-from: this clip's sheet (SetLipBlinkTimingFrom), its tracks named after `name`.
+  void ApplyTimingFrom(const std::string& sheet, const std::string& name) {
+    const double source_fps = input_.curves.fps;
+    SetSheet([sheet, name, source_fps](const v1::LipBlinkResponse& computed,
+                                       v1::LipBlinkRequest* request) {
+      return SetLipBlinkTimingFrom(sheet, name, source_fps, computed, request, nullptr);
+    });
+  }
 
   absl::Status Write(const BatchItem& item) override {
     if (absl::Status s = MakeParentFolder(item.output); !s.ok()) return s;
@@ -355,6 +419,10 @@ class LipBlinkRpc final : public Rpc {
   absl::StatusOr<std::unique_ptr<Clip>> Read(const BatchItem& item) const override {
     if (!item.audio_error.empty()) return absl::InvalidArgumentError(item.audio_error);
     if (IsAudioPath(item.input)) {
+      if (!args_.timing_from.empty()) {  // as `koma lipblink` refuses a voice with a sheet
+        return absl::InvalidArgumentError(
+            absl::StrCat("--timing-from: not with a voice (", item.input, ")"));
+      }
       if (HasSpineFlags(args_)) {
         return absl::InvalidArgumentError(absl::StrCat(
             "--animation, --mouth-slot, --eye-slot: for Spine skeletons, not a recording (",
@@ -396,7 +464,13 @@ class LipBlinkRpc final : public Rpc {
       return std::make_unique<LipBlinkVoiceCall>(args_, *std::move(input), csv_output, item.audio,
                                                  std::move(voice));
     }
-    return std::make_unique<LipBlinkClipCall>(args_, *std::move(input));
+    auto call = std::make_unique<LipBlinkClipCall>(args_, *std::move(input));
+    if (!args_.timing_from.empty()) {
+      absl::StatusOr<std::string> sheet = TimingFromFor(args_.timing_from, item.input);
+      if (!sheet.ok()) return sheet.status();
+      call->ApplyTimingFrom(*sheet, XdtsClipName(item.input, *sheet));
+    }
+    return call;
   }
 
  private:

@@ -367,12 +367,83 @@ def test_drawing_sheet_csv_that_does_not_fit(server, tmp_path):
         in done.stderr, done.stderr
 
 
-@pytest.mark.parametrize("command,clip", [("curves", CURVES), ("lipblink", LIPBLINK)])
-def test_batch_refuses_a_sheet_for_curves_and_lipblink(server, tmp_path, command, clip):
-    """Not applied per clip in a batch yet: refused (exit 2) rather than ignored."""
-    done = run_cli("batch", command, source_path(clip), "--output-dir", str(tmp_path / "out"),
-                   "--timing-from", str(tmp_path / "edit.xdts"), "--server", server.address,
-                   check=False)
-    assert done.returncode == 2
-    assert "--timing-from: koma batch applies sheets to skeletal clips only" in done.stderr
-    assert not (tmp_path / "out").exists()
+def test_batch_curves_and_lipblink_apply_one_sheet_or_each_clips_own(server, tmp_path):
+    """koma batch curves|lipblink --timing-from SHEET (every clip) or FOLDER (each clip's
+    NAME.xdts or NAME.timing.csv): each clip's output is the bytes `koma curves|lipblink IN
+    --timing-from` writes with that clip's sheet (those are checked frame by frame above);
+    a rerun is up to date until a sheet is edited; a clip without a sheet is an error."""
+    flags = ("--timing-fps", "0", "--server", server.address)
+    clips = tmp_path / "clips"
+    clips.mkdir()
+    for name in ("arm", "arm_copy"):
+        (clips / f"{name}.motion3.json").write_bytes(open(source_path(CURVES), "rb").read())
+    _, [(track, rows)], _ = written(tmp_path, server, "curves", source_path(CURVES), *flags[:2])
+    sheets = tmp_path / "sheets"
+    sheets.mkdir()
+    (sheets / "arm.xdts").write_text(koma_sheet(EDITS["all four"](rows), track))
+    timing = tmp_path / "timing.csv"
+    run_cli("curves", source_path(CURVES), "-o", str(tmp_path / "x.csv"), "--timing",
+            str(timing), *flags)
+    header, csv_body = drawing_sheet(timing)
+    (sheets / "arm_copy.timing.csv").write_text(
+        spreadsheet_edit(header, csv_body, swap_drawings([int(r[1]) for r in csv_body])),
+        newline="")
+
+    def single(clip, sheet):
+        out = tmp_path / "single.motion3.json"
+        run_cli("curves", str(clip), "-o", str(out), "--timing-from", str(sheet), *flags)
+        return out.read_bytes()
+
+    out = tmp_path / "one"
+    run_cli("batch", "curves", str(clips), "-o", str(out), "--timing-from",
+            str(sheets / "arm.xdts"), *flags)
+    for name in ("arm", "arm_copy"):
+        assert (out / f"{name}.motion3.json").read_bytes() == \
+            single(clips / f"{name}.motion3.json", sheets / "arm.xdts"), name
+    out = tmp_path / "each"
+    run_cli("batch", "curves", str(clips), "-o", str(out), "--timing-from", str(sheets), *flags)
+    assert (out / "arm.motion3.json").read_bytes() == \
+        single(clips / "arm.motion3.json", sheets / "arm.xdts")
+    assert (out / "arm_copy.motion3.json").read_bytes() == \
+        single(clips / "arm_copy.motion3.json", sheets / "arm_copy.timing.csv")
+    assert (out / "arm.motion3.json").read_bytes() != (out / "arm_copy.motion3.json").read_bytes()
+    rerun = run_cli("batch", "curves", str(clips), "-o", str(out), "--timing-from", str(sheets),
+                    *flags)
+    assert "0 done, 2 up to date" in rerun.stderr + rerun.stdout
+    (sheets / "arm.xdts").write_text(koma_sheet(EDITS["two drawings swapped"](rows), track))
+    rerun = run_cli("batch", "curves", str(clips), "-o", str(out), "--timing-from", str(sheets),
+                    *flags)
+    assert "2 done, 0 up to date" in rerun.stderr + rerun.stdout
+    assert (out / "arm.motion3.json").read_bytes() == \
+        single(clips / "arm.motion3.json", sheets / "arm.xdts")
+    (sheets / "arm_copy.timing.csv").unlink()
+    done = run_cli("batch", "curves", str(clips), "-o", str(tmp_path / "none"), "--timing-from",
+                   str(sheets), *flags, check=False)
+    assert done.returncode == 1 and f"no sheet for {clips / 'arm_copy.motion3.json'}" in \
+        done.stderr, done.stderr
+    # A sheet that does not fit fails its clip with the single command's message.
+    (sheets / "arm_copy.xdts").write_text(koma_sheet([99] + rows[1:], track))
+    done = run_cli("batch", "curves", str(clips), "-o", str(tmp_path / "bad"), "--timing-from",
+                   str(sheets), *flags, check=False)
+    assert done.returncode == 1 and f'track "{track}", frame 1: cell "100" names no drawing' \
+        in done.stderr, done.stderr
+
+    # lipblink: the mouth edited, one sheet for the clip.
+    lip_clips = tmp_path / "lip_clips"
+    lip_clips.mkdir()
+    (lip_clips / "talk.motion3.json").write_bytes(open(source_path(LIPBLINK), "rb").read())
+    _, tracks, _ = written(tmp_path, server, "lipblink", source_path(LIPBLINK), *flags[:2])
+    lip_sheet = tmp_path / "talk_edit.xdts"
+    lip_sheet.write_text(two_track_sheet(tracks, [swap_drawings(tracks[0][1]), tracks[1][1]]))
+    out = tmp_path / "lip"
+    run_cli("batch", "lipblink", str(lip_clips), "-o", str(out), "--timing-from", str(lip_sheet),
+            *flags)
+    alone, unedited = tmp_path / "talk_alone.motion3.json", tmp_path / "talk.motion3.json"
+    run_cli("lipblink", str(lip_clips / "talk.motion3.json"), "-o", str(alone), "--timing-from",
+            str(lip_sheet), *flags)
+    run_cli("lipblink", str(lip_clips / "talk.motion3.json"), "-o", str(unedited), *flags)
+    assert (out / "talk.motion3.json").read_bytes() == alone.read_bytes()
+    assert alone.read_bytes() != unedited.read_bytes()
+    done = run_cli("batch", "lipblink", str(lip_clips), "-o", str(tmp_path / "v"),
+                   "--audio-beside", "--timing-from", str(lip_sheet), *flags, check=False)
+    assert done.returncode == 2 and "--timing-from: not with a voice" in done.stderr
