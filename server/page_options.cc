@@ -84,7 +84,8 @@ absl::StatusOr<client::FileJob> PageJobFromQuery(std::string_view query, std::st
     if (name == "name") job.input_name = value;
   }
   if (job.command.empty() || job.input_name.empty()) {
-    return absl::InvalidArgumentError("the query needs command=skeletal|curves|lipblink and name=FILE");
+    return absl::InvalidArgumentError(
+        "the query needs command=skeletal|curves|lipblink and name=FILE");
   }
   for (const auto& [name, value] : *pairs) {
     if (name == "command" || name == "name") continue;
@@ -96,16 +97,17 @@ absl::StatusOr<client::FileJob> PageJobFromQuery(std::string_view query, std::st
       continue;
     }
     const auto& options = PageOptions();
-    const auto option = std::find_if(options.begin(), options.end(),
-                                     [&](const PageOption& o) { return name == o.name; });
+    const auto option =
+        std::find_if(options.begin(), options.end(),
+                     [&name = name](const PageOption& o) { return name == o.name; });
     if (option == options.end()) {
       return absl::InvalidArgumentError(absl::StrCat("unknown parameter \"", name, "\""));
     }
     if (std::find(option->commands.begin(), option->commands.end(), job.command) ==
         option->commands.end()) {
-      return absl::InvalidArgumentError(absl::StrCat(name, ": koma ", job.command, " has no ",
-                                                     option->flag, " (it is for koma ",
-                                                     absl::StrJoin(option->commands, ", koma "), ")"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(name, ": koma ", job.command, " has no ", option->flag, " (it is for koma ",
+                       absl::StrJoin(option->commands, ", koma "), ")"));
     }
     if (value.empty()) continue;  // the page sends an untouched field empty: the default
     if (!OfForm(value, option->form)) {
