@@ -14,6 +14,7 @@
 #include <string>
 #include <thread>
 #include <utility>
+#include <vector>
 
 #include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
@@ -373,9 +374,11 @@ int HttpServer::OnRequest(mg_connection* connection, void* self_pointer) {
   // read is bounded in time besides civetweb's per-read timeout.
   const auto time_limit = std::chrono::milliseconds(self.config_.request_timeout_ms);
   if (info->content_length > 0) request.body.reserve(static_cast<size_t>(info->content_length));
-  char buffer[64 * 1024];
+  // On the heap: civetweb's threads have 100 KiB stacks (below), and civetweb's own printf
+  // puts 8 KiB more on them when the answer is sent (ASan's redzones overflowed 64 KiB here).
+  std::vector<char> buffer(64 * 1024);
   while (true) {
-    const int n = mg_read(connection, buffer, sizeof(buffer));
+    const int n = mg_read(connection, buffer.data(), buffer.size());
     if (n == 0) break;
     if (n < 0 || Clock::now() - start > time_limit) {
       return fail(JsonError(408, "deadline_exceeded", absl::StrCat("request body: not received within "
@@ -387,7 +390,7 @@ int HttpServer::OnRequest(mg_connection* connection, void* self_pointer) {
                                                "--http_max_body_bytes=",
                                                limit, " bytes")));
     }
-    request.body.append(buffer, static_cast<size_t>(n));
+    request.body.append(buffer.data(), static_cast<size_t>(n));
   }
   // The handler runs on a thread of its own: Debian builds civetweb with 100 KiB thread stacks
   // (USE_STACK_SIZE=102400), too small for protobuf's JSON parser, a gRPC call (whose inline
