@@ -61,11 +61,7 @@ absl::Status ValidateGivenBlinks(const std::vector<Blink>& blinks, int frame_cou
 MouthResult PaintGivenMouth(absl::Span<const double> input, const MouthOptions& options,
                             const std::vector<MouthHold>& holds) {
   MouthResult result;
-  result.values.assign(input.begin(), input.end());
-  const lip_blink_internal::Extent extent = lip_blink_internal::ExtentOf(input);
-  result.closed = options.min.value_or(extent.min);
-  result.open = options.max.value_or(extent.max);
-  result.mid = result.closed + options.mid_ratio * (result.open - result.closed);
+  lip_blink_internal::BeginMouthResult(input, options, &result);
   result.holds = holds;
   for (const MouthHold& h : holds) {
     const double level = h.shape == MouthShape::kClosed

@@ -34,6 +34,11 @@ struct Extent {
 };
 Extent ExtentOf(absl::Span<const double> values);
 
+// A mouth's answer begun: `input` copied into result->values and the closed, mid and open
+// levels set (options' min and max, else the input's extent). Returns the input's extent.
+Extent BeginMouthResult(absl::Span<const double> input, const MouthOptions& options,
+                        MouthResult* result);
+
 // Intervals sorted, disjoint, non-empty and within [0, frame_count]; messages name
 // `path`[i] and the interval ("speech[2]: [40, 38) is empty or reversed").
 absl::Status CheckIntervals(const std::vector<FrameInterval>& intervals, absl::string_view path,

@@ -107,15 +107,26 @@ void ConvertInterval(absl::Span<const double> input, const MouthOptions& options
 
 }  // namespace
 
+namespace lip_blink_internal {
+
+Extent BeginMouthResult(absl::Span<const double> input, const MouthOptions& options,
+                        MouthResult* result) {
+  result->values.assign(input.begin(), input.end());
+  const Extent extent = ExtentOf(input);
+  result->closed = options.min.value_or(extent.min);
+  result->open = options.max.value_or(extent.max);
+  result->mid = result->closed + options.mid_ratio * (result->open - result->closed);
+  return extent;
+}
+
+}  // namespace lip_blink_internal
+
 MouthResult ConvertMouth(absl::Span<const double> input, const MouthOptions& options,
                          uint64_t seed) {
   assert(ValidateMouthOptions(options, static_cast<int>(input.size())).ok());
   MouthResult result;
-  result.values.assign(input.begin(), input.end());
-  const lip_blink_internal::Extent extent = lip_blink_internal::ExtentOf(input);
-  result.closed = options.min.value_or(extent.min);
-  result.open = options.max.value_or(extent.max);
-  result.mid = result.closed + options.mid_ratio * (result.open - result.closed);
+  const lip_blink_internal::Extent extent =
+      lip_blink_internal::BeginMouthResult(input, options, &result);
   // Given intervals are used as they are (no merging): the caller knows the dialogue.
   result.speech = options.speech.empty() && options.detect_speech
                       ? DetectSpeech(input, extent.max - extent.min, options.frames_per_shape)
